@@ -1,0 +1,112 @@
+//! The Beckmann distribution and the corrected Smith shadowing term (paper Eq. (10); MODEL.md §1.1–1.2).
+
+use crate::math::special::{erfc, FRAC_1_SQRT_PI};
+
+/// Beckmann distribution `D_B(h) = exp(−tan²θ_h/α²) / (π α² cos⁴θ_h)` for `cos_theta_h > 0`,
+/// else 0. Normalized so that `∫ D_B cos θ_h dω_h = 1`.
+///
+/// ```
+/// use woven::fiber::beckmann_d;
+/// // At the peak, D_B = 1/(π α²).
+/// assert!((beckmann_d(1.0, 0.5) - 1.0 / (std::f64::consts::PI * 0.25)).abs() < 1e-15);
+/// ```
+#[inline]
+pub fn beckmann_d(cos_theta_h: f64, alpha: f64) -> f64 {
+    if cos_theta_h <= 0.0 {
+        return 0.0;
+    }
+    let c2 = cos_theta_h * cos_theta_h;
+    let tan2 = (1.0 - c2).max(0.0) / c2;
+    let a2 = alpha * alpha;
+    (-tan2 / a2).exp() / (std::f64::consts::PI * a2 * c2 * c2)
+}
+
+/// Smith's `Λ(a) = ½ (exp(−a²)/(a√π) − erfc(a))` for a Gaussian (Beckmann) surface, `a > 0`.
+///
+/// Implements the corrected `Λ` of Eq. (10): the transcription drops `exp(−a²)` (MODEL.md §1.2).
+#[inline]
+pub fn smith_lambda(a: f64) -> f64 {
+    // Beyond a = 26 both terms underflow far below any use (exp(−676) ≈ 1e−294).
+    if a >= 26.0 {
+        return 0.0;
+    }
+    0.5 * ((-a * a).exp() * FRAC_1_SQRT_PI / a - erfc(a))
+}
+
+/// The per-direction shadowing factor `S1(θ) = (1 − ½ erfc(a)) / (1 + Λ(a))`, `a = cot θ / α`.
+///
+/// Implements Eq. (10) as corrected by MODEL.md §1.2 (the paper's extra `(1 − ½ erfc a)`
+/// factor is kept). Takes `cos θ ∈ [0, 1]`; `S1 = 1` at normal incidence and 0 at grazing, with
+/// no NaN or infinity at either end.
+///
+/// ```
+/// use woven::fiber::smith_s1;
+/// assert_eq!(smith_s1(1.0, 0.3), 1.0);
+/// assert_eq!(smith_s1(0.0, 0.3), 0.0);
+/// ```
+#[inline]
+pub fn smith_s1(cos_theta: f64, alpha: f64) -> f64 {
+    if cos_theta <= 0.0 {
+        return 0.0;
+    }
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    if sin_theta == 0.0 {
+        return 1.0;
+    }
+    let a = cos_theta / (sin_theta * alpha);
+    (1.0 - 0.5 * erfc(a)) / (1.0 + smith_lambda(a))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn beckmann_projected_area_is_one() {
+        // ∫ D cosθh dω = 2π ∫_0^{π/2} D cos sin dθ.
+        for alpha in [0.05, 0.2, 0.7] {
+            let i = crate::math::quadrature::adaptive(
+                0.0,
+                std::f64::consts::FRAC_PI_2,
+                1e-12,
+                0.0,
+                40,
+                |t: f64| beckmann_d(t.cos(), alpha) * t.cos() * t.sin(),
+            ) * 2.0
+                * std::f64::consts::PI;
+            assert!((i - 1.0).abs() < 1e-9, "alpha {alpha}: {i}");
+        }
+    }
+
+    #[test]
+    fn s1_is_monotone_and_bounded() {
+        let alpha = 0.2;
+        let mut prev = 1.0;
+        for k in 0..=1000 {
+            let theta = k as f64 / 1000.0 * std::f64::consts::FRAC_PI_2;
+            let s = smith_s1(theta.cos(), alpha);
+            assert!(s.is_finite() && (0.0..=1.0).contains(&s), "{theta}: {s}");
+            assert!(s <= prev + 1e-15, "not monotone at {theta}");
+            prev = s;
+        }
+    }
+
+    #[test]
+    fn s1_near_grazing_is_linear_in_cot() {
+        // For a → 0, Λ ≈ 1/(2a√π), so S1 ≈ a√π.
+        let alpha = 0.3;
+        let c = 1e-7;
+        let a = c / alpha;
+        let s = smith_s1(c, alpha);
+        assert!((s / (a * std::f64::consts::PI.sqrt()) - 1.0).abs() < 1e-5, "{s}");
+    }
+
+    #[test]
+    fn lambda_matches_walter_form() {
+        // Walter et al. (2007) eq. 27: Λ(a) = (erf(a) − 1)/2 + exp(−a²)/(2a√π).
+        for a in [0.01, 0.3, 1.0, 2.5, 6.0] {
+            let w = (libm::erf(a) - 1.0) / 2.0 + (-a * a as f64).exp() / (2.0 * a * std::f64::consts::PI.sqrt());
+            assert!((smith_lambda(a) - w).abs() < 1e-14, "a {a}");
+        }
+    }
+}

@@ -1,0 +1,347 @@
+//! The fiber-surface BRDF of the paper's §2 (MODEL.md §1).
+//!
+//! | parameter | meaning | unit | default | valid range |
+//! |---|---|---|---|---|
+//! | `model` | `rough` (Eq. (16'), MODEL.md §1.3) or `htsg` (Eqs. (9)–(13), §1.4) | — | `rough` | — |
+//! | `eta` | refractive index `η`, constant or Cauchy `A + B/λ²` | — | — | `[1, 4]` over 380–780 nm |
+//! | `roughness` | `σ_h/τ` (rough model); Beckmann `α = 2σ_h/τ` | — | — | `[0.005, 2]` |
+//! | `sigma_h_um` | rms height `σ_h` (htsg) | µm | — | `(0, 10]` |
+//! | `tau_um` | autocorrelation length `τ` (htsg) | µm | — | `(0, 100]`, with `σ_h/τ ∈ [0.005, 2]` |
+//! | `diffuse` | uniform diffuse albedo `ρ0` | — | 0 | `[0, 1)` |
+//! | `normalization` | `paper` (β of §1.5) or `none` (β = 1) | — | `paper` | — |
+//!
+//! The BRDF is `β(θ_i) F(θ_d) D_B(h) S(s, v) / (4 cos θ_i cos θ_r) + ρ0/π` in the rough limit
+//! (Torrance–Sparrow with a Beckmann distribution and the paper's Smith term), and
+//! `β F S G D / (π cos θ_i cos θ_r) + ρ0/π` plus a specular spike `R_sp` in the full model.
+
+mod fresnel;
+mod htsg;
+mod microfacet;
+mod normalization;
+
+pub use fresnel::{fresnel_dielectric, Ior};
+pub use htsg::series as htsg_series;
+pub use microfacet::{beckmann_d, smith_lambda, smith_s1};
+pub use normalization::BetaTable;
+
+use crate::error::{check_open, check_range, Error, Result};
+use crate::math::hemisphere::reflected_hemisphere_integral;
+use crate::math::Vec3;
+use std::f64::consts::{FRAC_1_PI, PI};
+use std::sync::Arc;
+
+/// The default evaluation wavelength, nm.
+pub const DEFAULT_WAVELENGTH_NM: f64 = 550.0;
+
+/// Which fiber model and its roughness parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FiberModel {
+    /// The rough limit (16') — Torrance–Sparrow/Beckmann with Beckmann `α = 2 σ_h/τ`.
+    Rough {
+        /// `σ_h/τ`, dimensionless.
+        roughness: f64,
+    },
+    /// The full physical-optics model of He et al. (§1.4).
+    Htsg {
+        /// rms height `σ_h`, µm.
+        sigma_h_um: f64,
+        /// autocorrelation length `τ`, µm.
+        tau_um: f64,
+    },
+}
+
+impl FiberModel {
+    /// `σ_h/τ`.
+    pub fn roughness(&self) -> f64 {
+        match *self {
+            FiberModel::Rough { roughness } => roughness,
+            FiberModel::Htsg { sigma_h_um, tau_um } => sigma_h_um / tau_um,
+        }
+    }
+
+    /// Beckmann slope parameter `α = 2 σ_h / τ` (MODEL.md §1.1).
+    pub fn alpha(&self) -> f64 {
+        2.0 * self.roughness()
+    }
+}
+
+/// How the single-scattering lobe is scaled (MODEL.md §1.5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Normalization {
+    /// `β = 1`: pure Torrance–Sparrow, reciprocal.
+    None,
+    /// `β(θ_i)` of Eq. (15) made precise: the lobe carries `1 − ρ0` of the energy before Fresnel.
+    /// Not reciprocal.
+    #[default]
+    Paper,
+}
+
+/// The user-facing fiber parameters (the `[fiber]` table of a material file).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FiberParams {
+    /// Model and roughness.
+    pub model: FiberModel,
+    /// Refractive index.
+    pub eta: Ior,
+    /// Uniform diffuse albedo `ρ0 ∈ [0, 1)`.
+    pub diffuse: f64,
+    /// Normalization mode.
+    pub normalization: Normalization,
+}
+
+impl FiberParams {
+    /// A rough-limit fiber with index `eta`, roughness `σ_h/τ`, diffuse albedo `ρ0`, `paper` mode.
+    pub fn rough(eta: f64, roughness: f64, diffuse: f64) -> Self {
+        FiberParams {
+            model: FiberModel::Rough { roughness },
+            eta: Ior::Constant(eta),
+            diffuse,
+            normalization: Normalization::Paper,
+        }
+    }
+
+    /// The same parameters with another normalization mode.
+    pub fn with_normalization(mut self, normalization: Normalization) -> Self {
+        self.normalization = normalization;
+        self
+    }
+
+    /// Checks every parameter against its valid range.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first offending key.
+    pub fn validate(&self) -> Result<()> {
+        self.eta.validate()?;
+        check_range("fiber.diffuse", self.diffuse, 0.0, 1.0 - 1e-12).map_err(|_| {
+            Error::invalid("fiber.diffuse", self.diffuse, "a number in [0, 1)")
+        })?;
+        match self.model {
+            FiberModel::Rough { roughness } => {
+                check_range("fiber.roughness", roughness, ROUGHNESS_MIN, ROUGHNESS_MAX)?;
+            }
+            FiberModel::Htsg { sigma_h_um, tau_um } => {
+                check_open("fiber.sigma_h_um", sigma_h_um, 0.0, 10.0 + 1e-12)?;
+                check_open("fiber.tau_um", tau_um, 0.0, 100.0 + 1e-12)?;
+                let r = sigma_h_um / tau_um;
+                if !(ROUGHNESS_MIN..=ROUGHNESS_MAX).contains(&r) {
+                    return Err(Error::invalid(
+                        "fiber.sigma_h_um / fiber.tau_um",
+                        r,
+                        format!("a ratio in [{ROUGHNESS_MIN}, {ROUGHNESS_MAX}]"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Smallest supported `σ_h/τ`: below it the lobe is narrower than the quadratures resolve cheaply.
+pub const ROUGHNESS_MIN: f64 = 0.005;
+/// Largest supported `σ_h/τ` (`α = 4`: a nearly uniform lobe).
+pub const ROUGHNESS_MAX: f64 = 2.0;
+
+/// A fiber BRDF ready to evaluate at one wavelength: parameters validated, `η(λ)` resolved and the
+/// β table built. Cheap to clone (the table is shared).
+#[derive(Clone, Debug)]
+pub struct Fiber {
+    params: FiberParams,
+    lambda_nm: f64,
+    eta: f64,
+    alpha: f64,
+    /// `k = 2π/λ` in µm⁻¹, `σ_h`, `τ` in µm (htsg only).
+    k: f64,
+    sigma_h: f64,
+    tau: f64,
+    unit_fresnel: bool,
+    beta: Option<Arc<BetaTable>>,
+}
+
+impl Fiber {
+    /// Prepares the fiber for evaluation at `wavelength_nm` (380–780 nm is the visible range;
+    /// 200–2500 nm is accepted).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for any parameter out of range.
+    ///
+    /// ```
+    /// use woven::{fiber::{Fiber, FiberParams}, Vec3};
+    /// let f = Fiber::new(&FiberParams::rough(1.5, 0.1, 0.0), 550.0)?;
+    /// let v = Vec3::from_spherical(0.5, std::f64::consts::PI);
+    /// let s = Vec3::from_spherical(0.5, 0.0);
+    /// assert!(f.eval(s, v) > 1.0); // the specular peak of a smooth fiber
+    /// # Ok::<(), woven::Error>(())
+    /// ```
+    pub fn new(params: &FiberParams, wavelength_nm: f64) -> Result<Self> {
+        params.validate()?;
+        check_range("wavelength_nm", wavelength_nm, 200.0, 2500.0)?;
+        let mut fiber = Self::unnormalized(params, wavelength_nm);
+        if params.normalization == Normalization::Paper {
+            fiber.beta = Some(Arc::new(BetaTable::build(&fiber)));
+        }
+        Ok(fiber)
+    }
+
+    fn unnormalized(params: &FiberParams, wavelength_nm: f64) -> Self {
+        let lambda_um = wavelength_nm * 1e-3;
+        let (sigma_h, tau) = match params.model {
+            FiberModel::Htsg { sigma_h_um, tau_um } => (sigma_h_um, tau_um),
+            FiberModel::Rough { .. } => (0.0, 0.0),
+        };
+        Fiber {
+            params: *params,
+            lambda_nm: wavelength_nm,
+            eta: params.eta.at(wavelength_nm),
+            alpha: params.model.alpha(),
+            k: 2.0 * PI / lambda_um,
+            sigma_h,
+            tau,
+            unit_fresnel: false,
+            beta: None,
+        }
+    }
+
+    /// The same fiber with Fresnel reflectance replaced by 1 — the "white furnace" used to check
+    /// that the `paper` normalization conserves energy exactly (MODEL.md §6.2).
+    pub fn with_unit_fresnel(mut self) -> Self {
+        self.unit_fresnel = true;
+        self
+    }
+
+    /// The parameters this fiber was built from.
+    pub fn params(&self) -> &FiberParams {
+        &self.params
+    }
+
+    /// The wavelength, nm.
+    pub fn wavelength_nm(&self) -> f64 {
+        self.lambda_nm
+    }
+
+    /// The refractive index at this wavelength.
+    pub fn eta(&self) -> f64 {
+        self.eta
+    }
+
+    /// Beckmann `α = 2 σ_h/τ`.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// `β(θ_i)` (1 in `none` mode), from the table.
+    #[inline]
+    pub fn beta(&self, cos_theta_i: f64) -> f64 {
+        match &self.beta {
+            Some(t) => t.eval(cos_theta_i),
+            None => 1.0,
+        }
+    }
+
+    #[inline]
+    fn fresnel(&self, cos_theta: f64) -> f64 {
+        if self.unit_fresnel {
+            1.0
+        } else {
+            fresnel_dielectric(cos_theta, self.eta)
+        }
+    }
+
+    /// The BRDF (sr⁻¹) for light from `s` toward a viewer at `v`, both unit vectors pointing away
+    /// from a fiber surface whose normal is `z`. 0 below the horizon. The specular spike of the
+    /// full model is not included (see [`specular_reflectance`](Self::specular_reflectance)).
+    ///
+    /// Implements Eq. (16) as (16') of MODEL.md §1.3, or Eqs. (9), (13), (14) (§1.4).
+    #[inline]
+    pub fn eval(&self, s: Vec3, v: Vec3) -> f64 {
+        self.eval_with_normal(s, v, Vec3::Z)
+    }
+
+    /// The BRDF at a surface point whose unit normal is `a` (MODEL.md §2.3): the fiber is isotropic,
+    /// so only `a` matters. `β` is taken at the local incidence `s·a`.
+    #[inline]
+    pub fn eval_with_normal(&self, s: Vec3, v: Vec3, a: Vec3) -> f64 {
+        let ci = s.dot(a);
+        let cr = v.dot(a);
+        if ci <= 0.0 || cr <= 0.0 {
+            return 0.0;
+        }
+        self.beta(ci) * self.lobe(s, v, a, ci, cr) + self.params.diffuse * FRAC_1_PI
+    }
+
+    /// The single-scattering lobe with `β = 1` (Fresnel included, `ρ0` excluded).
+    #[inline]
+    fn lobe(&self, s: Vec3, v: Vec3, a: Vec3, ci: f64, cr: f64) -> f64 {
+        let w = s + v;
+        let w2 = w.dot(w);
+        if w2 <= 0.0 {
+            return 0.0;
+        }
+        let wa = w.dot(a);
+        let cos_d = s.dot(w) / w2.sqrt();
+        let shadow = smith_s1(ci, self.alpha) * smith_s1(cr, self.alpha);
+        match self.params.model {
+            FiberModel::Rough { .. } => {
+                // Eq. (16'): F D_B S / (4 cos θi cos θr).
+                let cos_h = wa / w2.sqrt();
+                self.fresnel(cos_d) * beckmann_d(cos_h, self.alpha) * shadow / (4.0 * ci * cr)
+            }
+            FiberModel::Htsg { .. } => {
+                // Eqs. (9), (13): F S G D / (π cos θi cos θr).
+                let lambda_um = self.lambda_nm * 1e-3;
+                let kr = self.k * self.sigma_h * (ci + cr);
+                let g = kr * kr;
+                let wxy2 = (w2 - wa * wa).max(0.0);
+                let k_big = self.k * self.k * wxy2 * self.tau * self.tau / 4.0;
+                let d = PI * PI * self.tau * self.tau / (4.0 * lambda_um * lambda_um)
+                    * htsg::series(g, k_big);
+                let geo = (w2 / wa) * (w2 / wa);
+                self.fresnel(cos_d) * shadow * geo * d / (PI * ci * cr)
+            }
+        }
+    }
+
+    /// The reflectance of the full model's mirror spike, `R_sp(θ_i) = β F(θ_i) e^{−g(θ_i,θ_i)} S1(θ_i)²`
+    /// (Eq. (12); MODEL.md §1.4). 0 for the rough model. A Dirac lobe: never part of [`eval`](Self::eval).
+    pub fn specular_reflectance(&self, cos_theta_i: f64) -> f64 {
+        if cos_theta_i <= 0.0 {
+            return 0.0;
+        }
+        self.beta(cos_theta_i) * self.fresnel(cos_theta_i) * self.specular_unnormalized(cos_theta_i)
+    }
+
+    /// `e^{−g(θ_i,θ_i)} S1(θ_i)²` (0 for the rough model).
+    fn specular_unnormalized(&self, ci: f64) -> f64 {
+        match self.params.model {
+            FiberModel::Rough { .. } => 0.0,
+            FiberModel::Htsg { .. } => {
+                let kr = 2.0 * self.k * self.sigma_h * ci;
+                let s1 = smith_s1(ci, self.alpha);
+                (-kr * kr).exp() * s1 * s1
+            }
+        }
+    }
+
+    /// The directional albedo `∫ f cos θ_r dω_r + R_sp(θ_i)`: all light reflected for unit
+    /// irradiance from `θ_i` (`cos_theta_i ∈ (0, 1]`), by adaptive half-vector quadrature.
+    /// `≤ 1` in `paper` mode; exactly 1 with unit Fresnel.
+    pub fn albedo(&self, cos_theta_i: f64) -> f64 {
+        let ci = cos_theta_i.clamp(1e-9, 1.0);
+        let lobe = reflected_hemisphere_integral(ci, self.lobe_width(ci), 1e-8, |s, v, _| {
+            let cr = v.z;
+            self.beta(ci) * self.lobe(s, v, Vec3::Z, ci, cr)
+        });
+        lobe + self.params.diffuse + self.specular_reflectance(ci)
+    }
+
+    /// The half-vector width of the lobe at incidence `ci`: `α`, or for the full model at low `g`
+    /// the wider diffraction lobe `~2/(kτ)`.
+    pub(crate) fn lobe_width(&self, _ci: f64) -> f64 {
+        match self.params.model {
+            FiberModel::Rough { .. } => self.alpha,
+            // The m-th series term has width 2√m/(kτ) in |w_xy|; m ≥ 1.
+            FiberModel::Htsg { .. } => self.alpha.max(2.0 / (self.k * self.tau)),
+        }
+    }
+}

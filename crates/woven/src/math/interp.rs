@@ -1,0 +1,97 @@
+//! Monotone cubic interpolation on a uniform grid (Fritsch–Carlson), used for the β table.
+
+/// A monotone piecewise-cubic Hermite interpolant of samples on a uniform grid over `[x0, x1]`.
+///
+/// Between nodes it never overshoots the data, so a positive table stays positive.
+#[derive(Clone, Debug)]
+pub struct MonotoneCubic {
+    x0: f64,
+    inv_h: f64,
+    y: Vec<f64>,
+    m: Vec<f64>,
+}
+
+impl MonotoneCubic {
+    /// Builds the interpolant of `y[k]` at `x0 + k (x1 − x0)/(n − 1)`; needs `n ≥ 2`.
+    pub fn new(x0: f64, x1: f64, y: Vec<f64>) -> Self {
+        let n = y.len();
+        assert!(n >= 2, "need at least two samples");
+        let h = (x1 - x0) / (n - 1) as f64;
+        let d: Vec<f64> = y.windows(2).map(|w| (w[1] - w[0]) / h).collect();
+        let mut m = vec![0.0; n];
+        m[0] = d[0];
+        m[n - 1] = d[n - 2];
+        for k in 1..n - 1 {
+            m[k] = if d[k - 1] * d[k] <= 0.0 {
+                0.0
+            } else {
+                // Three-point (centred) slope, limited below to keep monotonicity.
+                0.5 * (d[k - 1] + d[k])
+            };
+        }
+        // Fritsch–Carlson limiter: keep (α, β) inside the circle of radius 3.
+        for k in 0..n - 1 {
+            if d[k] == 0.0 {
+                m[k] = 0.0;
+                m[k + 1] = 0.0;
+                continue;
+            }
+            let a = m[k] / d[k];
+            let b = m[k + 1] / d[k];
+            let r = a * a + b * b;
+            if r > 9.0 {
+                let t = 3.0 / r.sqrt();
+                m[k] = t * a * d[k];
+                m[k + 1] = t * b * d[k];
+            }
+        }
+        MonotoneCubic { x0, inv_h: 1.0 / h, y, m }
+    }
+
+    /// The interpolated value at `x` (clamped to the grid's range).
+    #[inline]
+    pub fn eval(&self, x: f64) -> f64 {
+        let n = self.y.len();
+        let t = ((x - self.x0) * self.inv_h).clamp(0.0, (n - 1) as f64);
+        let k = (t as usize).min(n - 2);
+        let u = t - k as f64;
+        let h = 1.0 / self.inv_h;
+        let (y0, y1) = (self.y[k], self.y[k + 1]);
+        let (m0, m1) = (self.m[k] * h, self.m[k + 1] * h);
+        let u2 = u * u;
+        let u3 = u2 * u;
+        (2.0 * u3 - 3.0 * u2 + 1.0) * y0
+            + (u3 - 2.0 * u2 + u) * m0
+            + (-2.0 * u3 + 3.0 * u2) * y1
+            + (u3 - u2) * m1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reproduces_nodes_and_a_smooth_function() {
+        let n = 65;
+        let y: Vec<f64> = (0..n).map(|k| (k as f64 / 64.0).exp()).collect();
+        let c = MonotoneCubic::new(0.0, 1.0, y.clone());
+        for k in 0..n {
+            assert!((c.eval(k as f64 / 64.0) - y[k]).abs() < 1e-15);
+        }
+        for k in 0..1000 {
+            let x = k as f64 / 999.0;
+            assert!((c.eval(x) - x.exp()).abs() < 1e-6, "at {x}");
+        }
+    }
+
+    #[test]
+    fn never_overshoots_a_step() {
+        let y = vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0];
+        let c = MonotoneCubic::new(0.0, 5.0, y);
+        for k in 0..=500 {
+            let v = c.eval(k as f64 / 100.0);
+            assert!((0.0..=1.0).contains(&v), "{v}");
+        }
+    }
+}

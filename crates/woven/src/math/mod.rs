@@ -1,0 +1,10 @@
+//! Small numerical building blocks: vectors and frames, special functions, quadrature and
+//! interpolation. Everything the model's integrals need, written and tested here.
+
+pub mod interp;
+pub mod hemisphere;
+pub mod quadrature;
+pub mod special;
+pub mod vec3;
+
+pub use vec3::Vec3;

@@ -1,0 +1,31 @@
+//! Helpers shared by the integration tests.
+
+use std::path::PathBuf;
+use woven::Vec3;
+
+/// Directions from `(θ_i, φ_i, θ_r, φ_r)`.
+pub fn dirs(ti: f64, pi: f64, tr: f64, pr: f64) -> (Vec3, Vec3) {
+    (Vec3::from_spherical(ti, pi), Vec3::from_spherical(tr, pr))
+}
+
+/// The vector folders: the project's copy in `tests/data/vectors`, and `../shared/vectors` when the
+/// checkout sits beside a `shared/` folder (it may carry newer cases).
+pub fn vector_roots() -> Vec<PathBuf> {
+    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut roots = vec![here.join("tests/data/vectors")];
+    let shared = here.join("../../../shared/vectors");
+    if shared.is_dir() {
+        roots.push(shared);
+    }
+    roots
+}
+
+/// Asserts `|got − want| ≤ rel · |want|` (or `≤ abs_floor` absolutely), printing both.
+#[track_caller]
+pub fn assert_close(got: f64, want: f64, rel: f64, abs_floor: f64, what: &str) {
+    let err = (got - want).abs();
+    assert!(
+        err <= rel * want.abs() || err <= abs_floor,
+        "{what}: got {got:.12e}, want {want:.12e}, |err| {err:.3e}, rel tolerance {rel:.1e}"
+    );
+}

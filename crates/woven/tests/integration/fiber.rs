@@ -1,0 +1,1 @@
+//! Fiber BRDF properties (MODEL.md §1, §6).

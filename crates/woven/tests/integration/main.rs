@@ -1,0 +1,5 @@
+//! Integration tests of the `woven` library (one binary, per STYLE.md).
+
+mod common;
+mod fiber;
+mod golden;
