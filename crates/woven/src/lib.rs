@@ -25,6 +25,8 @@ pub mod error;
 pub mod fiber;
 pub mod material;
 pub mod math;
+pub mod weave;
+pub mod yarn;
 mod model;
 
 pub use error::{Error, Result};

@@ -1,0 +1,1 @@
+//! Weave patterns and their weft fraction `γ` (paper Eq. (23); MODEL.md §2.7).
