@@ -22,7 +22,7 @@ mod normalization;
 pub use fresnel::{fresnel_dielectric, Ior};
 pub use htsg::series as htsg_series;
 pub use microfacet::{beckmann_d, smith_lambda, smith_s1};
-pub use normalization::BetaTable;
+pub use normalization::{beta_direct, rough_single_scattering, single_scattering_adaptive, BetaTable};
 
 use crate::error::{check_open, check_range, Error, Result};
 use crate::math::hemisphere::reflected_hemisphere_integral;

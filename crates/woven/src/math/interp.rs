@@ -19,8 +19,9 @@ impl MonotoneCubic {
         let h = (x1 - x0) / (n - 1) as f64;
         let d: Vec<f64> = y.windows(2).map(|w| (w[1] - w[0]) / h).collect();
         let mut m = vec![0.0; n];
-        m[0] = d[0];
-        m[n - 1] = d[n - 2];
+        // End slopes by the one-sided three-point formula (exact for quadratics), kept monotone.
+        m[0] = end_slope(d[0], *d.get(1).unwrap_or(&d[0]));
+        m[n - 1] = end_slope(d[n - 2], if n >= 3 { d[n - 3] } else { d[n - 2] });
         for k in 1..n - 1 {
             m[k] = if d[k - 1] * d[k] <= 0.0 {
                 0.0
@@ -67,6 +68,19 @@ impl MonotoneCubic {
     }
 }
 
+/// The PCHIP end condition: `(3 d0 − d1)/2`, zeroed if it turns against `d0` and limited to
+/// `3 d0` when the data turns.
+fn end_slope(d0: f64, d1: f64) -> f64 {
+    let m = 0.5 * (3.0 * d0 - d1);
+    if m * d0 <= 0.0 {
+        0.0
+    } else if d0 * d1 <= 0.0 && m.abs() > 3.0 * d0.abs() {
+        3.0 * d0
+    } else {
+        m
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,6 +97,14 @@ mod tests {
             let x = k as f64 / 999.0;
             assert!((c.eval(x) - x.exp()).abs() < 1e-6, "at {x}");
         }
+    }
+
+    #[test]
+    fn end_slope_is_exact_for_a_quadratic() {
+        // y = x² on [0, 1]: the end slope at 0 must be 0, so values near 0 stay accurate.
+        let y: Vec<f64> = (0..11).map(|k| (k as f64 / 10.0).powi(2)).collect();
+        let c = MonotoneCubic::new(0.0, 1.0, y);
+        assert!((c.eval(0.05) - 0.0025).abs() < 1e-12, "{}", c.eval(0.05));
     }
 
     #[test]
