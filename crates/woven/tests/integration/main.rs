@@ -3,3 +3,4 @@
 mod common;
 mod fiber;
 mod golden;
+mod weave;
