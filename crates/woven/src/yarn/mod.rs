@@ -2,3 +2,4 @@
 //! slopes and twist (paper §3; MODEL.md §2.1–§2.6).
 
 pub mod profile;
+pub mod raycast;

@@ -3,3 +3,5 @@
 mod common;
 mod fiber;
 mod golden;
+mod masking;
+mod weave;
