@@ -21,6 +21,8 @@
 //! - [`material`]: material descriptions and their TOML files.
 //! - [`math`]: vectors, special functions, quadrature.
 
+mod albedo;
+pub mod cloth;
 pub mod error;
 pub mod fiber;
 pub mod material;

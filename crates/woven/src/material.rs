@@ -10,6 +10,19 @@
 //! tau_um = 2.0                  # for "htsg"
 //! diffuse = 0.1                 # ρ0, in [0, 1)
 //! normalization = "paper"       # "paper" (default) | "none"
+//!
+//! [yarn]                        # absent: a flat fiber surface
+//! lateral_length = 20.0         # L (the arc radius is 1)
+//! slope_mean = 0.0              # μ, radians
+//! slope_std = 1.2               # σ, radians; 0 = the single profile θ_a = μ
+//! interreflection = 0.2         # ħ in [0, 1]
+//! interreflection_albedo = 0.5  # ρ in [0, 1]
+//! twist_std = 0.0               # σ_t, radians; 0 = fibers along the yarn axis
+//! isotropic = false             # true: Eq. (22) (twist_std is then an error)
+//!
+//! [weave]                       # absent: γ = 1, one yarn orientation along x (φ = 0)
+//! weft_fraction = 0.5           # γ, or instead:
+//! pattern = "satin-5"           # "plain" | "twill-2/1" | "satin-5" | [[1,0],[0,1]] | { wif = "file.wif" }
 //! ```
 //!
 //! All angles in files are radians. Unknown keys, missing required keys, out-of-range values and
@@ -17,22 +30,75 @@
 //! valid range.
 
 use crate::error::{Error, Result};
+use crate::cloth::Structure;
+use crate::error::check_range;
 use crate::fiber::{Fiber, FiberModel, FiberParams, Ior, Normalization};
-use std::path::Path;
+use crate::weave::Pattern;
+use crate::yarn::{Yarn, YarnParams};
+use std::path::{Path, PathBuf};
 
-/// A complete material: a fiber surface (and, later, yarn and weave structure).
+/// A complete material: a fiber surface, optionally arranged in yarns and a weave.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Optional human-readable name.
     pub name: Option<String>,
     /// The `[fiber]` table.
     pub fiber: FiberParams,
+    /// The `[yarn]` table; `None` for a flat fiber surface.
+    pub yarn: Option<YarnParams>,
+    /// The `[weave]` table; `None` means `γ = 1` (one yarn orientation, along `x`).
+    pub weave: Option<Weave>,
+}
+
+/// The `[weave]` table: the weft fraction `γ`, given directly or by a pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Weave {
+    /// `weft_fraction = γ`.
+    WeftFraction(f64),
+    /// `pattern = …`: `γ` is the pattern's weft fraction.
+    Pattern {
+        /// How the file named the pattern (kept so the material writes back as it was read).
+        spec: PatternSpec,
+        /// The pattern.
+        pattern: Pattern,
+    },
+}
+
+/// How a material file names its weave pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PatternSpec {
+    /// `"plain"`, `"twill-2/1"`, `"satin-5"`, `"sateen-5"`, …
+    Name(String),
+    /// An explicit 0/1 matrix, rows = weft picks.
+    Matrix(Vec<Vec<u8>>),
+    /// `{ wif = "file.wif" }`, relative to the material file's folder.
+    Wif(PathBuf),
+}
+
+impl Weave {
+    /// `γ`, the visible fraction of weft.
+    pub fn weft_fraction(&self) -> f64 {
+        match self {
+            Weave::WeftFraction(g) => *g,
+            Weave::Pattern { pattern, .. } => pattern.weft_fraction(),
+        }
+    }
 }
 
 impl Material {
     /// A flat fiber surface.
     pub fn flat(fiber: FiberParams) -> Self {
-        Material { name: None, fiber }
+        Material {
+            name: None,
+            fiber,
+            yarn: None,
+            weave: None,
+        }
+    }
+
+    /// `γ` (1 when there is no `[weave]` table).
+    pub fn weft_fraction(&self) -> f64 {
+        self.weave.as_ref().map_or(1.0, Weave::weft_fraction)
     }
 
     /// Validates every parameter.
@@ -40,7 +106,21 @@ impl Material {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first offending key.
     pub fn validate(&self) -> Result<()> {
-        self.fiber.validate()
+        self.fiber.validate()?;
+        if let Some(y) = &self.yarn {
+            y.validate()?;
+        }
+        if let Some(Weave::WeftFraction(g)) = &self.weave {
+            check_range("weave.weft_fraction", *g, 0.0, 1.0)?;
+        }
+        if self.weave.is_some() && self.yarn.is_none() {
+            return Err(Error::invalid(
+                "weave",
+                "(a [weave] table)",
+                "a [yarn] table too: a weave arranges yarns, and a flat fiber surface has none",
+            ));
+        }
+        Ok(())
     }
 
     /// Prepares the material for evaluation at `wavelength_nm` (builds the β table).
@@ -48,9 +128,31 @@ impl Material {
     /// # Errors
     /// [`Error::InvalidParameter`] for an out-of-range parameter or wavelength.
     pub fn build(&self, wavelength_nm: f64) -> Result<crate::Model> {
-        Ok(crate::Model {
-            fiber: Fiber::new(&self.fiber, wavelength_nm)?,
-        })
+        self.validate()?;
+        let fiber = Fiber::new(&self.fiber, wavelength_nm)?;
+        let structure = match &self.yarn {
+            None => Structure::Flat(fiber),
+            Some(y) => Structure::Woven {
+                yarn: Yarn::new(fiber, *y)?,
+                weft_fraction: self.weft_fraction(),
+            },
+        };
+        Ok(crate::Model::new(structure))
+    }
+
+    /// The names of the built-in presets (MODEL.md §5), usable wherever a material file is.
+    pub fn preset_names() -> &'static [&'static str] {
+        &["polyester-sateen", "belt-cloth", "silk"]
+    }
+
+    /// The TOML text of a built-in preset, or `None` for an unknown name.
+    pub fn preset_toml(name: &str) -> Option<&'static str> {
+        match name {
+            "polyester-sateen" => Some(include_str!("../presets/polyester-sateen.toml")),
+            "belt-cloth" => Some(include_str!("../presets/belt-cloth.toml")),
+            "silk" => Some(include_str!("../presets/silk.toml")),
+            _ => None,
+        }
     }
 }
 
@@ -65,6 +167,172 @@ mod file {
         #[serde(skip_serializing_if = "Option::is_none")]
         name: Option<String>,
         fiber: RawFiber,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        yarn: Option<RawYarn>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        weave: Option<RawWeave>,
+    }
+
+    #[derive(Deserialize, Serialize)]
+    #[serde(deny_unknown_fields)]
+    struct RawYarn {
+        lateral_length: Option<f64>,
+        slope_mean: Option<f64>,
+        #[serde(default)]
+        slope_std: f64,
+        #[serde(default)]
+        interreflection: f64,
+        #[serde(default)]
+        interreflection_albedo: f64,
+        #[serde(default)]
+        twist_std: f64,
+        #[serde(default)]
+        isotropic: bool,
+    }
+
+    #[derive(Deserialize, Serialize)]
+    #[serde(deny_unknown_fields)]
+    struct RawWeave {
+        #[serde(skip_serializing_if = "Option::is_none")]
+        weft_fraction: Option<f64>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pattern: Option<toml::Value>,
+    }
+
+    impl RawYarn {
+        fn into_params(self) -> Result<YarnParams> {
+            let p = YarnParams {
+                lateral_length: self.lateral_length.ok_or_else(|| {
+                    missing("yarn.lateral_length", "L in [0, 1e6] arc radii (required in [yarn])")
+                })?,
+                slope_mean: self.slope_mean.ok_or_else(|| {
+                    missing("yarn.slope_mean", "μ in [0, π/2] radians (required in [yarn])")
+                })?,
+                slope_std: self.slope_std,
+                interreflection: self.interreflection,
+                interreflection_albedo: self.interreflection_albedo,
+                twist_std: self.twist_std,
+                isotropic: self.isotropic,
+            };
+            p.validate()?;
+            Ok(p)
+        }
+
+        fn from_params(p: &YarnParams) -> Self {
+            RawYarn {
+                lateral_length: Some(p.lateral_length),
+                slope_mean: Some(p.slope_mean),
+                slope_std: p.slope_std,
+                interreflection: p.interreflection,
+                interreflection_albedo: p.interreflection_albedo,
+                twist_std: p.twist_std,
+                isotropic: p.isotropic,
+            }
+        }
+    }
+
+    impl RawWeave {
+        fn into_weave(self, base: Option<&Path>) -> Result<Weave> {
+            match (self.weft_fraction, self.pattern) {
+                (Some(_), Some(_)) => Err(Error::invalid(
+                    "weave.pattern",
+                    "(given with weave.weft_fraction)",
+                    "either weft_fraction or pattern, not both",
+                )),
+                (None, None) => Err(missing(
+                    "weave.weft_fraction",
+                    "weft_fraction in [0, 1] or a pattern (the [weave] table is empty)",
+                )),
+                (Some(g), None) => {
+                    check_range("weave.weft_fraction", g, 0.0, 1.0)?;
+                    Ok(Weave::WeftFraction(g))
+                }
+                (None, Some(v)) => parse_pattern(v, base),
+            }
+        }
+
+        fn from_weave(w: &Weave) -> Self {
+            match w {
+                Weave::WeftFraction(g) => RawWeave {
+                    weft_fraction: Some(*g),
+                    pattern: None,
+                },
+                Weave::Pattern { spec, .. } => RawWeave {
+                    weft_fraction: None,
+                    pattern: Some(match spec {
+                        PatternSpec::Name(n) => toml::Value::String(n.clone()),
+                        PatternSpec::Matrix(m) => toml::Value::Array(
+                            m.iter()
+                                .map(|row| {
+                                    toml::Value::Array(
+                                        row.iter().map(|&c| toml::Value::Integer(c as i64)).collect(),
+                                    )
+                                })
+                                .collect(),
+                        ),
+                        PatternSpec::Wif(p) => {
+                            let mut t = toml::map::Map::new();
+                            t.insert("wif".into(), toml::Value::String(p.display().to_string()));
+                            toml::Value::Table(t)
+                        }
+                    }),
+                },
+            }
+        }
+    }
+
+    fn parse_pattern(v: toml::Value, base: Option<&Path>) -> Result<Weave> {
+        let expected = "a name (\"plain\", \"twill-2/1\", \"satin-5\", \"sateen-5\"), a 0/1 matrix like [[1,0],[0,1]], or { wif = \"file.wif\" }";
+        match v {
+            toml::Value::String(name) => Ok(Weave::Pattern {
+                pattern: Pattern::from_name(&name)?,
+                spec: PatternSpec::Name(name),
+            }),
+            toml::Value::Array(rows) => {
+                let mut m = Vec::with_capacity(rows.len());
+                for (i, row) in rows.iter().enumerate() {
+                    let toml::Value::Array(cells) = row else {
+                        return Err(Error::invalid(format!("weave.pattern[{i}]"), row, expected));
+                    };
+                    let mut r = Vec::with_capacity(cells.len());
+                    for (j, c) in cells.iter().enumerate() {
+                        match c {
+                            toml::Value::Integer(x @ (0 | 1)) => r.push(*x as u8),
+                            other => {
+                                return Err(Error::invalid(
+                                    format!("weave.pattern[{i}][{j}]"),
+                                    other,
+                                    "0 or 1",
+                                ))
+                            }
+                        }
+                    }
+                    m.push(r);
+                }
+                Ok(Weave::Pattern {
+                    pattern: Pattern::from_matrix(m.clone())?,
+                    spec: PatternSpec::Matrix(m),
+                })
+            }
+            toml::Value::Table(t) => {
+                if let Some(k) = t.keys().find(|k| *k != "wif") {
+                    return Err(Error::invalid(format!("weave.pattern.{k}"), &t[k], "only `wif` in a pattern table"));
+                }
+                let Some(toml::Value::String(file)) = t.get("wif") else {
+                    return Err(Error::invalid("weave.pattern.wif", "(missing or not a string)", "a path to a WIF file"));
+                };
+                let rel = PathBuf::from(file);
+                let full = match base {
+                    Some(dir) if rel.is_relative() => dir.join(&rel),
+                    _ => rel.clone(),
+                };
+                Ok(Weave::Pattern {
+                    pattern: Pattern::from_wif_path(&full)?,
+                    spec: PatternSpec::Wif(rel),
+                })
+            }
+            other => Err(Error::invalid("weave.pattern", other, expected)),
+        }
     }
 
     #[derive(Deserialize, Serialize, Default)]
@@ -242,6 +510,10 @@ mod file {
         /// # Ok::<(), woven::Error>(())
         /// ```
         pub fn from_toml_str(text: &str, origin: &str) -> Result<Self> {
+            Self::parse(text, origin, None)
+        }
+
+        fn parse(text: &str, origin: &str, base: Option<&Path>) -> Result<Self> {
             let raw: RawMaterial = toml::from_str(text).map_err(|e| Error::Parse {
                 path: origin.to_string(),
                 message: e.to_string().trim_end().to_string(),
@@ -249,9 +521,40 @@ mod file {
             let material = Material {
                 name: raw.name,
                 fiber: raw.fiber.into_params()?,
+                yarn: raw.yarn.map(RawYarn::into_params).transpose()?,
+                weave: raw.weave.map(|w| w.into_weave(base)).transpose()?,
             };
             material.validate()?;
             Ok(material)
+        }
+
+        /// A built-in preset by name (see [`Material::preset_names`]).
+        ///
+        /// # Errors
+        /// [`Error::InvalidParameter`] naming `material` for an unknown name.
+        pub fn preset(name: &str) -> Result<Self> {
+            let text = Material::preset_toml(name).ok_or_else(|| {
+                Error::invalid(
+                    "material",
+                    format!("{name:?}"),
+                    format!("a material file or a preset: {}", Material::preset_names().join(", ")),
+                )
+            })?;
+            Self::parse(text, &format!("<preset {name}>"), None)
+        }
+
+        /// A preset name or a material file path: what a `--material` argument accepts.
+        ///
+        /// # Errors
+        /// As [`preset`](Self::preset) and [`from_path`](Self::from_path).
+        pub fn from_preset_or_path(arg: &str) -> Result<Self> {
+            if Material::preset_toml(arg).is_some() {
+                Self::preset(arg)
+            } else if Path::new(arg).exists() || arg.contains('/') || arg.ends_with(".toml") {
+                Self::from_path(arg)
+            } else {
+                Self::preset(arg)
+            }
         }
 
         /// Reads and parses a material file.
@@ -264,7 +567,7 @@ mod file {
                 path: path.to_path_buf(),
                 source,
             })?;
-            Self::from_toml_str(&text, &path.display().to_string())
+            Self::parse(&text, &path.display().to_string(), path.parent())
         }
 
         /// The material as TOML text that [`from_toml_str`](Self::from_toml_str) reads back
@@ -273,6 +576,8 @@ mod file {
             let raw = RawMaterial {
                 name: self.name.clone(),
                 fiber: RawFiber::from_params(&self.fiber),
+                yarn: self.yarn.as_ref().map(RawYarn::from_params),
+                weave: self.weave.as_ref().map(RawWeave::from_weave),
             };
             toml::to_string_pretty(&raw).expect("a material always serializes")
         }

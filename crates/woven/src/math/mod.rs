@@ -2,6 +2,7 @@
 //! interpolation. Everything the model's integrals need, written and tested here.
 
 pub mod interp;
+pub mod legendre;
 pub mod hemisphere;
 pub mod quadrature;
 pub mod special;

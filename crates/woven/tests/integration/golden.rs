@@ -63,3 +63,13 @@ fn golden_fiber_rough() {
 fn golden_fiber_htsg() {
     check_sets("fiber-htsg");
 }
+
+#[test]
+fn golden_profile() {
+    check_sets("profile-");
+}
+
+#[test]
+fn golden_cloth() {
+    check_sets("cloth-");
+}

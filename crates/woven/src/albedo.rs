@@ -1,0 +1,117 @@
+//! Directional albedo of woven materials: `∫ f(s, v) cos θ_r dω_r` over the hemisphere
+//! (MODEL.md §6.2).
+//!
+//! The cloth BRDF is linear in its parts (Eqs. (18)–(23)), so the albedo is the same mix of the
+//! albedos of single fiber orientations. For fibers along `e_f`, the reflected light gathers on
+//! the specular cone `v·e_f = −s·e_f`, a ridge of width `≈ α`; the hemisphere is parametrized
+//! around `e_f`, `v = cos χ e_f + sin χ (cos ω e_u + sin ω z)` (`v_z > 0` ⇔ `ω ∈ (0, π)`), with
+//! `dω_r = sin χ dχ dω`, so the ridge is the line `χ = χ₀` and panels in `χ` resolve it.
+
+use crate::cloth::Structure;
+use crate::math::quadrature::GaussLegendre;
+use crate::math::Vec3;
+use crate::yarn::Yarn;
+use crate::Model;
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::sync::OnceLock;
+
+fn rules() -> &'static (GaussLegendre, GaussLegendre) {
+    static R: OnceLock<(GaussLegendre, GaussLegendre)> = OnceLock::new();
+    R.get_or_init(|| (GaussLegendre::new(8), GaussLegendre::new(16)))
+}
+
+/// The directional albedo of `model` for light from `(theta_i, phi_i)`.
+pub fn hemisphere_albedo(model: &Model, theta_i: f64, phi_i: f64) -> f64 {
+    let s = Vec3::from_spherical(theta_i.min(FRAC_PI_2 - 1e-9), phi_i);
+    match model.structure() {
+        Structure::Flat(fiber) => fiber.albedo(s.z),
+        Structure::Woven {
+            yarn,
+            weft_fraction,
+        } => {
+            let g = *weft_fraction;
+            let mut a = 0.0;
+            if g > 0.0 {
+                a += g * yarn_albedo(yarn, s, 0.0);
+            }
+            if g < 1.0 {
+                a += (1.0 - g) * yarn_albedo(yarn, s, FRAC_PI_2);
+            }
+            a
+        }
+    }
+}
+
+/// Albedo of a yarn with axis azimuth `phi_y`: `ħρ + (1 − ħ) ⟨A_θ(φ_a)⟩` over its fiber azimuths.
+fn yarn_albedo(yarn: &Yarn, s: Vec3, phi_y: f64) -> f64 {
+    let p = yarn.params();
+    let (_, gl) = rules();
+    let oriented = if p.isotropic {
+        // (1/π) ∫ over one period, on 4 panels.
+        (0..4)
+            .map(|k| {
+                let a = phi_y + k as f64 * PI / 4.0;
+                gl.integrate(a, a + PI / 4.0, |phi_a| oriented_albedo(yarn, s, phi_a))
+            })
+            .sum::<f64>()
+            / PI
+    } else if p.twist_std > 0.0 {
+        let st = p.twist_std;
+        let w = |d: f64| (-d * d / (2.0 * st * st)).exp();
+        // Panels graded by the twist spread, out to ±π/2.
+        let mut edges = vec![-FRAC_PI_2, FRAC_PI_2];
+        for k in [-4.0, -2.0, -1.0, 0.0, 1.0, 2.0, 4.0] {
+            let e = k * st;
+            if e.abs() < FRAC_PI_2 {
+                edges.push(e);
+            }
+        }
+        edges.sort_by(f64::total_cmp);
+        let (mut num, mut den) = (0.0, 0.0);
+        for e in edges.windows(2) {
+            num += gl.integrate(e[0], e[1], |d| w(d) * oriented_albedo(yarn, s, phi_y + d));
+            den += gl.integrate(e[0], e[1], w);
+        }
+        num / den
+    } else {
+        oriented_albedo(yarn, s, phi_y)
+    };
+    (1.0 - p.interreflection) * oriented + p.interreflection * p.interreflection_albedo
+}
+
+/// `∫ f_θ(s, v; φ_a) cos θ_r dω_r` for fibers at azimuth `phi_a`.
+fn oriented_albedo(yarn: &Yarn, s: Vec3, phi_a: f64) -> f64 {
+    let (gl_chi, gl_omega) = rules();
+    let (sp, cp) = phi_a.sin_cos();
+    let e_f = Vec3::new(cp, sp, 0.0);
+    let e_u = Vec3::new(-sp, cp, 0.0);
+    let chi0 = (-s.dot(e_f)).clamp(-1.0, 1.0).acos();
+    let w = yarn.fiber().alpha().clamp(1e-3, 0.5);
+    let mut edges = vec![0.0, PI];
+    for k in [-16.0, -8.0, -4.0, -2.0, -1.0, 0.0, 1.0, 2.0, 4.0, 8.0, 16.0] {
+        let e = chi0 + k * w;
+        if e > 0.0 && e < PI {
+            edges.push(e);
+        }
+    }
+    edges.sort_by(f64::total_cmp);
+    // The in-plane mirror direction ψ_v = −ψ_s splits the ω range (the arc highlight).
+    let psi_s = s.dot(e_u).atan2(s.z);
+    let omega_m = FRAC_PI_2 + psi_s;
+    let mut total = 0.0;
+    for e in edges.windows(2) {
+        total += gl_chi.integrate(e[0], e[1], |chi| {
+            let (sc, cc) = chi.sin_cos();
+            let inner = |omega: f64| {
+                let (so, co) = omega.sin_cos();
+                let v = e_f * cc + (e_u * co + Vec3::Z * so) * sc;
+                if v.z <= 0.0 {
+                    return 0.0;
+                }
+                yarn.slope_averaged(s, v, phi_a) * v.z
+            };
+            sc * (gl_omega.integrate(0.0, omega_m, inner) + gl_omega.integrate(omega_m, PI, inner))
+        });
+    }
+    total
+}

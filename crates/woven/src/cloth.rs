@@ -1,0 +1,55 @@
+//! The cloth BRDF: fiber → yarn → weave (paper Eq. (23); MODEL.md §2.7).
+
+use crate::fiber::Fiber;
+use crate::math::Vec3;
+use crate::yarn::Yarn;
+use std::f64::consts::FRAC_PI_2;
+
+/// The structure a material's fiber surface is arranged in.
+#[derive(Clone, Debug)]
+pub enum Structure {
+    /// A flat fiber surface (no `[yarn]` table).
+    Flat(Fiber),
+    /// Weft yarns along `x` (weight `γ`) and warp yarns along `y` (weight `1 − γ`).
+    Woven {
+        /// The yarn model (the same yarn for weft and warp).
+        yarn: Yarn,
+        /// `γ`, the visible fraction of weft.
+        weft_fraction: f64,
+    },
+}
+
+impl Structure {
+    /// `f_cloth(s, v) = γ f_yarn(s, v; 0) + (1 − γ) f_yarn(s, v; π/2)` (Eq. (23)), or the fiber BRDF.
+    #[inline]
+    pub fn eval(&self, s: Vec3, v: Vec3) -> f64 {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return 0.0;
+        }
+        match self {
+            Structure::Flat(fiber) => fiber.eval(s, v),
+            Structure::Woven {
+                yarn,
+                weft_fraction,
+            } => {
+                let g = *weft_fraction;
+                let mut f = 0.0;
+                if g > 0.0 {
+                    f += g * yarn.eval(s, v, 0.0);
+                }
+                if g < 1.0 {
+                    f += (1.0 - g) * yarn.eval(s, v, FRAC_PI_2);
+                }
+                f
+            }
+        }
+    }
+
+    /// The fiber surface.
+    pub fn fiber(&self) -> &Fiber {
+        match self {
+            Structure::Flat(f) => f,
+            Structure::Woven { yarn, .. } => yarn.fiber(),
+        }
+    }
+}

@@ -1,0 +1,180 @@
+//! Piecewise Legendre interpolants: a function sampled at Gauss–Legendre nodes on panels, with
+//! exact integrals of the interpolant between any two points.
+//!
+//! The cross-section integrals of the yarn (MODEL.md §2.3–§2.4) integrate one function of the
+//! facet angle — the fiber BRDF at normal `a(θ)` times the two cosines — over many different
+//! intervals (one per slope `θ_a`, cut by masking). Sampling it once on lobe-resolving panels and
+//! integrating the interpolant over each interval turns a nested integral into one sampling pass.
+//! On a panel with `n` nodes the interpolant is the degree-`n − 1` polynomial through the samples;
+//! its integral over the whole panel equals the `n`-point Gauss–Legendre rule.
+
+use super::quadrature::GaussLegendre;
+
+/// Nodes per panel.
+pub const PANEL_NODES: usize = 10;
+
+/// The fixed `PANEL_NODES`-point rule and `P_k(x_i)` for `k < PANEL_NODES`.
+struct Basis {
+    gl: GaussLegendre,
+    /// `(2k+1)/2 · w_i · P_k(x_i)`: row `k` maps samples to the `k`-th Legendre coefficient.
+    analysis: [[f64; PANEL_NODES]; PANEL_NODES],
+}
+
+fn basis() -> &'static Basis {
+    static B: std::sync::OnceLock<Basis> = std::sync::OnceLock::new();
+    B.get_or_init(|| {
+        let gl = GaussLegendre::new(PANEL_NODES);
+        let mut analysis = [[0.0; PANEL_NODES]; PANEL_NODES];
+        for (i, (&x, &w)) in gl.nodes().iter().zip(gl.weights()).enumerate() {
+            let p = legendre_all(x);
+            for k in 0..PANEL_NODES {
+                analysis[k][i] = (2 * k + 1) as f64 / 2.0 * w * p[k];
+            }
+        }
+        Basis { gl, analysis }
+    })
+}
+
+/// `P_0(x) … P_{N}(x)` by the three-term recurrence (one more than the panel degree, for the
+/// antiderivative).
+#[inline]
+fn legendre_all(x: f64) -> [f64; PANEL_NODES + 1] {
+    let mut p = [0.0; PANEL_NODES + 1];
+    p[0] = 1.0;
+    p[1] = x;
+    for k in 1..PANEL_NODES {
+        let kf = k as f64;
+        p[k + 1] = ((2.0 * kf + 1.0) * x * p[k] - kf * p[k - 1]) / (kf + 1.0);
+    }
+    p
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Panel {
+    a: f64,
+    b: f64,
+    /// Legendre coefficients of the interpolant in the panel's local variable `x ∈ [−1, 1]`.
+    coeffs: [f64; PANEL_NODES],
+    /// `∫` of the interpolant from the first panel's start to this panel's start.
+    cumulative: f64,
+}
+
+/// A function represented on `[edges[0], edges[last]]` by one polynomial per panel.
+#[derive(Clone, Debug, Default)]
+pub struct PiecewiseLegendre {
+    panels: Vec<Panel>,
+}
+
+impl PiecewiseLegendre {
+    /// Samples `f` at `PANEL_NODES` Gauss–Legendre nodes on each panel between consecutive
+    /// `edges` (ascending; empty panels are skipped).
+    pub fn sample(edges: &[f64], mut f: impl FnMut(f64) -> f64) -> Self {
+        let mut out = PiecewiseLegendre::default();
+        out.resample(edges, &mut f);
+        out
+    }
+
+    /// As [`sample`](Self::sample), reusing this value's storage.
+    pub fn resample(&mut self, edges: &[f64], mut f: impl FnMut(f64) -> f64) {
+        let b = basis();
+        self.panels.clear();
+        let mut cumulative = 0.0;
+        for e in edges.windows(2) {
+            let (a, bb) = (e[0], e[1]);
+            if bb <= a {
+                continue;
+            }
+            let h = 0.5 * (bb - a);
+            let c = 0.5 * (bb + a);
+            let mut y = [0.0; PANEL_NODES];
+            for (yi, &x) in y.iter_mut().zip(b.gl.nodes()) {
+                *yi = f(c + h * x);
+            }
+            let mut coeffs = [0.0; PANEL_NODES];
+            for k in 0..PANEL_NODES {
+                coeffs[k] = b.analysis[k].iter().zip(&y).map(|(m, v)| m * v).sum();
+            }
+            self.panels.push(Panel {
+                a,
+                b: bb,
+                coeffs,
+                cumulative,
+            });
+            // ∫_{−1}^{1} of the series is 2 c_0.
+            cumulative += 2.0 * coeffs[0] * h;
+        }
+    }
+
+    /// `∫` of the interpolant over the whole domain.
+    pub fn total(&self) -> f64 {
+        self.panels
+            .last()
+            .map_or(0.0, |p| p.cumulative + 2.0 * p.coeffs[0] * 0.5 * (p.b - p.a))
+    }
+
+    /// `∫` of the interpolant from the domain's start to `x` (clamped to the domain).
+    pub fn cumulative(&self, x: f64) -> f64 {
+        let Some(first) = self.panels.first() else {
+            return 0.0;
+        };
+        if x <= first.a {
+            return 0.0;
+        }
+        // Panels are few (tens): a binary search on their starts.
+        let k = self.panels.partition_point(|p| p.a <= x) - 1;
+        let p = &self.panels[k];
+        if x >= p.b {
+            return p.cumulative + 2.0 * p.coeffs[0] * 0.5 * (p.b - p.a);
+        }
+        let h = 0.5 * (p.b - p.a);
+        let t = (x - 0.5 * (p.a + p.b)) / h;
+        let pl = legendre_all(t);
+        // ∫_{−1}^{t} P_0 = t + 1; ∫_{−1}^{t} P_k = (P_{k+1}(t) − P_{k−1}(t)) / (2k + 1), k ≥ 1.
+        let mut s = p.coeffs[0] * (t + 1.0);
+        for k in 1..PANEL_NODES {
+            s += p.coeffs[k] * (pl[k + 1] - pl[k - 1]) / (2 * k + 1) as f64;
+        }
+        p.cumulative + s * h
+    }
+
+    /// `∫_lo^hi` of the interpolant (0 if `hi ≤ lo`).
+    #[inline]
+    pub fn integral(&self, lo: f64, hi: f64) -> f64 {
+        if hi <= lo {
+            return 0.0;
+        }
+        self.cumulative(hi) - self.cumulative(lo)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integrates_polynomials_exactly_between_any_points() {
+        let f = |x: f64| 3.0 * x.powi(7) - x.powi(4) + 2.0 * x - 1.0;
+        let big_f = |x: f64| 3.0 / 8.0 * x.powi(8) - x.powi(5) / 5.0 + x * x - x;
+        let pl = PiecewiseLegendre::sample(&[-1.0, -0.3, 0.4, 1.2], f);
+        for (lo, hi) in [(-1.0, 1.2), (-0.7, 0.1), (0.5, 0.9), (-0.2, -0.1)] {
+            let want = big_f(hi) - big_f(lo);
+            let got = pl.integral(lo, hi);
+            assert!((got - want).abs() < 1e-13, "[{lo}, {hi}]: {got} vs {want}");
+        }
+        assert!((pl.total() - (big_f(1.2) - big_f(-1.0))).abs() < 1e-13);
+    }
+
+    #[test]
+    fn resolves_a_gaussian_on_fine_panels() {
+        let w = 0.01;
+        let f = |x: f64| (-(x / w).powi(2)).exp();
+        let edges: Vec<f64> = (-10..=10).map(|k| k as f64 * w).collect();
+        let pl = PiecewiseLegendre::sample(&edges, f);
+        // ∫_0^x of the Gaussian = w √π/2 erf(x/w).
+        for x in [0.003, 0.0123, 0.05] {
+            let want = w * std::f64::consts::PI.sqrt() / 2.0 * libm::erf(x / w);
+            let got = pl.integral(0.0, x);
+            assert!((got - want).abs() < 1e-11, "x {x}: {got} vs {want}");
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! The profile BRDF (paper Eq. (17); MODEL.md §2.3) and its average over lateral slopes
+//! (Eqs. (18)–(19); MODEL.md §2.4) for one fiber orientation and one pair of directions.
+//!
+//! Every facet of a cross-section — a point of the arc at angle `θ`, or a lateral of slope `±θ_a`
+//! — has the normal `a(θ) = sin θ e_u + cos θ z`, and the fiber BRDF there weighted by both
+//! cosines, `g(θ) = f_fiber(s, v; a(θ)) (s·a)(v·a)`, depends on `θ` alone, not on the profile.
+//! So `g` is sampled once per `(s, v, φ_a)` on panels that resolve its highlight (at
+//! `θ* = atan2(h·e_u, h·z)`, `h = s + v`, of width `≈ α ρ`, `ρ` the in-plane length of `ĥ`) and
+//! each profile only integrates that interpolant over its lit-and-visible arc interval; the
+//! laterals evaluate `g(±θ_a)` directly.
+
+use super::profile::{PieceIntervals, Profile};
+use super::slope::SlopeDistribution;
+use crate::fiber::Fiber;
+use crate::math::legendre::PiecewiseLegendre;
+use crate::math::quadrature::adaptive;
+use crate::math::Vec3;
+use std::f64::consts::FRAC_PI_2;
+
+/// Relative tolerance of the slope average (MODEL.md §2.4 asks ≤ 1e-4 for the whole model).
+const SLOPE_TOL: f64 = 1e-6;
+
+/// The cross-section of fibers of azimuth `φ_a`, seen by one pair of directions.
+#[derive(Debug)]
+pub struct CrossSection<'a> {
+    fiber: &'a Fiber,
+    s: Vec3,
+    v: Vec3,
+    e_u: Vec3,
+    /// Projected angles `ψ = atan2(d·e_u, d·z)` (MODEL.md §2.2).
+    psi_s: f64,
+    psi_v: f64,
+    /// Highlight angle `θ*` and its width in `θ`.
+    theta_peak: f64,
+    peak_width: f64,
+    g: PiecewiseLegendre,
+}
+
+impl<'a> CrossSection<'a> {
+    /// Prepares the cross-section of fibers along `e_f = (cos φ_a, sin φ_a, 0)` for light from `s`
+    /// and a viewer at `v` (both with positive `z`).
+    pub fn new(fiber: &'a Fiber, s: Vec3, v: Vec3, phi_a: f64) -> Self {
+        let (sp, cp) = phi_a.sin_cos();
+        let e_u = Vec3::new(-sp, cp, 0.0);
+        let psi_s = s.dot(e_u).atan2(s.z);
+        let psi_v = v.dot(e_u).atan2(v.z);
+        let h = s + v;
+        let (hu, hw) = (h.dot(e_u), h.z);
+        let theta_peak = hu.atan2(hw);
+        let rho = (hu * hu + hw * hw).sqrt() / h.length();
+        let peak_width = (rho * fiber.lobe_width(0.0)).max(1e-6);
+        let mut cs = CrossSection {
+            fiber,
+            s,
+            v,
+            e_u,
+            psi_s,
+            psi_v,
+            theta_peak,
+            peak_width,
+            g: PiecewiseLegendre::default(),
+        };
+        cs.sample_g();
+        cs
+    }
+
+    /// `g(θ) = f_fiber(s, v; a(θ)) (s·a)(v·a)`, 0 where either cosine is not positive.
+    #[inline]
+    fn g_direct(&self, theta: f64) -> f64 {
+        let (st, ct) = theta.sin_cos();
+        let a = self.e_u * st + Vec3::Z * ct;
+        let (sa, va) = (self.s.dot(a), self.v.dot(a));
+        if sa <= 0.0 || va <= 0.0 {
+            return 0.0;
+        }
+        self.fiber.eval_with_normal(self.s, self.v, a) * sa * va
+    }
+
+    /// The facing range of `θ` (both cosines positive), within `[−π/2, π/2]`.
+    fn facing_range(&self) -> (f64, f64) {
+        let lo = (self.psi_s.max(self.psi_v) - FRAC_PI_2).max(-FRAC_PI_2);
+        let hi = (self.psi_s.min(self.psi_v) + FRAC_PI_2).min(FRAC_PI_2);
+        (lo, hi)
+    }
+
+    fn sample_g(&mut self) {
+        let (lo, hi) = self.facing_range();
+        let (c, w) = (self.theta_peak, self.peak_width);
+        // Panels of 1.5 widths within 6 widths of the highlight, then doubling outward.
+        let mut edges: Vec<f64> = vec![lo, hi];
+        for k in -4..=4 {
+            edges.push(c + 1.5 * k as f64 * w);
+        }
+        let mut d = 12.0 * w;
+        while d < 4.0 {
+            edges.push(c - d);
+            edges.push(c + d);
+            d *= 2.0;
+        }
+        edges.retain(|&e| e >= lo && e <= hi);
+        edges.sort_by(f64::total_cmp);
+        edges.dedup();
+        let mut g = std::mem::take(&mut self.g);
+        g.resample(&edges, |t| self.g_direct(t));
+        self.g = g;
+    }
+
+    /// The macro BRDF `f_p` of one profile (Eq. (17) with exact masking; MODEL.md §2.3).
+    ///
+    /// `f_p = [∫_arc g dθ + g(θ_a) ℓ_right + g(−θ_a) ℓ_left] / (P s_z v_z)` over the lit-and-visible
+    /// sets, `ℓ` their lengths. A profile of zero period (`θ_a = 0`, `L = 0`) is its flat limit,
+    /// the fiber BRDF at normal `z`.
+    pub fn profile_brdf(&self, profile: &Profile) -> f64 {
+        let period = profile.period();
+        // Below this the profile is flat to double precision: use the limit.
+        if period < 1e-12 {
+            return self.fiber.eval(self.s, self.v);
+        }
+        let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
+        self.profile_sum(profile, &lv) / (period * self.s.z * self.v.z)
+    }
+
+    /// `∫_arc g + g(θ_a) ℓ_right + g(−θ_a) ℓ_left` over the given intervals.
+    #[inline]
+    fn profile_sum(&self, profile: &Profile, lv: &PieceIntervals) -> f64 {
+        let mut sum = 0.0;
+        if let Some((lo, hi)) = lv.arc {
+            sum += self.g.integral(lo, hi);
+        }
+        let len = |iv: Option<(f64, f64)>| iv.map_or(0.0, |(a, b)| b - a);
+        let (lr, ll) = (len(lv.right), len(lv.left));
+        if lr > 0.0 {
+            sum += self.g_direct(profile.theta_a) * lr;
+        }
+        if ll > 0.0 {
+            sum += self.g_direct(-profile.theta_a) * ll;
+        }
+        sum
+    }
+
+    /// The slope-averaged BRDF `f_θ = ∫ P(θ_a) f_p(θ_a) dθ_a` (Eq. (18); MODEL.md §2.4) for
+    /// laterals of length `lateral_length`.
+    ///
+    /// Adaptive Gauss–Kronrod, split where the integrand breaks or peaks (MODEL.md §2.4): at the
+    /// masking onsets `θ_a = π/2 − |ψ_s|`, `π/2 − |ψ_v|`, around the lateral highlight
+    /// `θ_a = |θ*|` (width `≈ αρ`), and around the mean slope when the distribution is narrow.
+    pub fn slope_average(&self, slopes: &SlopeDistribution, lateral_length: f64) -> f64 {
+        if let Some(mu) = slopes.single() {
+            return self.profile_brdf(&Profile {
+                theta_a: mu,
+                lateral_length,
+            });
+        }
+        // θ_a = π/2 is allowed only with L = 0; its weight (∝ cos θ_a) vanishes anyway.
+        let top = if lateral_length > 0.0 {
+            FRAC_PI_2 * (1.0 - 1e-12)
+        } else {
+            FRAC_PI_2
+        };
+        let mut breaks = vec![0.0, top];
+        breaks.push(FRAC_PI_2 - self.psi_s.abs());
+        breaks.push(FRAC_PI_2 - self.psi_v.abs());
+        let (c, w) = (self.theta_peak.abs(), self.peak_width);
+        for k in [-6.0, -3.0, -1.5, 0.0, 1.5, 3.0, 6.0] {
+            breaks.push(c + k * w);
+        }
+        let (mu, sigma) = (slopes.mean(), slopes.std());
+        if sigma < 0.2 {
+            for k in [-6.0, -3.0, -1.0, 0.0, 1.0, 3.0, 6.0] {
+                breaks.push(mu + k * sigma);
+            }
+        }
+        breaks.retain(|&b| (0.0..=top).contains(&b));
+        breaks.sort_by(f64::total_cmp);
+        breaks.dedup();
+        let sz_vz = self.s.z * self.v.z;
+        let integrand = |theta_a: f64| -> f64 {
+            let profile = Profile {
+                theta_a,
+                lateral_length,
+            };
+            let period = profile.period();
+            if period < 1e-12 {
+                return slopes.density(theta_a) * self.fiber.eval(self.s, self.v);
+            }
+            let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
+            slopes.density(theta_a) * self.profile_sum(&profile, &lv) / (period * sz_vz)
+        };
+        let mut total = 0.0;
+        for b in breaks.windows(2) {
+            total += adaptive(b[0], b[1], SLOPE_TOL, 1e-14, 20, integrand);
+        }
+        total
+    }
+}
