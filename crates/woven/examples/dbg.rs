@@ -1,14 +1,33 @@
 //! scratch
-use woven::fiber::*;
+use woven::material::Material;
 fn main() {
-    for roughness in [0.005, 0.02, 0.1, 0.5, 2.0] {
-        let f = Fiber::new(&FiberParams::rough(1.5, roughness, 0.0).with_normalization(Normalization::None), 550.0).unwrap();
-        for ci in [1e-6, 1e-4, 0.003, 0.02, 0.1, 0.4, 0.8, 1.0] {
-            let t = std::time::Instant::now();
-            let fast = rough_single_scattering(f.alpha(), ci);
-            let t1 = t.elapsed();
-            let slow = single_scattering_adaptive(&f, ci, 1e-9);
-            println!("r {roughness} ci {ci}: fast {fast:.10} slow {slow:.10} rel {:.2e} ({t1:?} vs {:?})", (fast-slow)/slow, t.elapsed()-t1);
+    for dir in std::fs::read_dir("crates/woven/tests/data/vectors").unwrap() {
+        let dir = dir.unwrap().path(); if !dir.is_dir() { continue; }
+        let m = Material::from_path(dir.join("material.toml")).unwrap();
+        let model = m.build(550.0).unwrap();
+        let text = std::fs::read_to_string(dir.join("cases.csv")).unwrap();
+        let mut worst: f64 = 0.0;
+        let t = std::time::Instant::now();
+        let mut n = 0;
+        for line in text.lines().skip(1) {
+            let x: Vec<f64> = line.split(',').map(|t| t.parse().unwrap()).collect();
+            let s = woven::Vec3::from_spherical(x[0], x[1]);
+            let v = woven::Vec3::from_spherical(x[2], x[3]);
+            let got = model.eval(s, v);
+            if x[4].abs() > 1e-9 { worst = worst.max(((got - x[4]) / x[4]).abs()); }
+            n += 1;
         }
+        println!("{:30} worst rel {:.2e}  {:?}/eval", dir.file_name().unwrap().to_string_lossy(), worst, t.elapsed() / n);
+    }
+    for name in Material::preset_names() {
+        let model = Material::preset(name).unwrap().build(550.0).unwrap();
+        let t = std::time::Instant::now();
+        let mut acc = 0.0;
+        for k in 0..20 {
+            let s = woven::Vec3::from_spherical(0.2 + 0.06 * k as f64, 0.3 * k as f64);
+            let v = woven::Vec3::from_spherical(0.9 - 0.03 * k as f64, 2.0 + 0.2 * k as f64);
+            acc += model.eval(s, v);
+        }
+        println!("{name:20} {:?}/eval ({acc:.6})", t.elapsed() / 20);
     }
 }

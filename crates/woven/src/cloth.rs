@@ -33,14 +33,7 @@ impl Structure {
                 weft_fraction,
             } => {
                 let g = *weft_fraction;
-                let mut f = 0.0;
-                if g > 0.0 {
-                    f += g * yarn.eval(s, v, 0.0);
-                }
-                if g < 1.0 {
-                    f += (1.0 - g) * yarn.eval(s, v, FRAC_PI_2);
-                }
-                f
+                yarn.eval_mix(s, v, &[(0.0, g), (FRAC_PI_2, 1.0 - g)])
             }
         }
     }

@@ -137,6 +137,22 @@ impl PiecewiseLegendre {
         p.cumulative + s * h
     }
 
+    /// The interpolant's value at `x` (0 outside the domain).
+    pub fn value(&self, x: f64) -> f64 {
+        let Some(first) = self.panels.first() else {
+            return 0.0;
+        };
+        let last = self.panels[self.panels.len() - 1].b;
+        if x < first.a || x > last {
+            return 0.0;
+        }
+        let k = (self.panels.partition_point(|p| p.a <= x).max(1)) - 1;
+        let p = &self.panels[k];
+        let t = ((x - 0.5 * (p.a + p.b)) / (0.5 * (p.b - p.a))).clamp(-1.0, 1.0);
+        let pl = legendre_all(t);
+        p.coeffs.iter().zip(&pl).map(|(c, l)| c * l).sum()
+    }
+
     /// `∫_lo^hi` of the interpolant (0 if `hi ≤ lo`).
     #[inline]
     pub fn integral(&self, lo: f64, hi: f64) -> f64 {
@@ -162,6 +178,10 @@ mod tests {
             assert!((got - want).abs() < 1e-13, "[{lo}, {hi}]: {got} vs {want}");
         }
         assert!((pl.total() - (big_f(1.2) - big_f(-1.0))).abs() < 1e-13);
+        for x in [-1.0, -0.3, 0.0, 0.77, 1.2] {
+            assert!((pl.value(x) - f(x)).abs() < 1e-12, "value at {x}");
+        }
+        assert_eq!(pl.value(1.3), 0.0);
     }
 
     #[test]

@@ -13,12 +13,9 @@ use super::profile::{PieceIntervals, Profile};
 use super::slope::SlopeDistribution;
 use crate::fiber::Fiber;
 use crate::math::legendre::PiecewiseLegendre;
-use crate::math::quadrature::adaptive;
+use crate::math::quadrature::GaussLegendre;
 use crate::math::Vec3;
 use std::f64::consts::FRAC_PI_2;
-
-/// Relative tolerance of the slope average (MODEL.md §2.4 asks ≤ 1e-4 for the whole model).
-const SLOPE_TOL: f64 = 1e-6;
 
 /// The cross-section of fibers of azimuth `φ_a`, seen by one pair of directions.
 #[derive(Debug)]
@@ -33,13 +30,21 @@ pub struct CrossSection<'a> {
     /// Highlight angle `θ*` and its width in `θ`.
     theta_peak: f64,
     peak_width: f64,
+    /// Width of the sampling panels near the highlight, in highlight widths.
+    panel_widths: f64,
     g: PiecewiseLegendre,
 }
 
+/// Panel width (in highlight widths) for a single profile: golden-value accuracy (~1e-8).
+pub const FINE_PANELS: f64 = 1.5;
+/// Panel width for slope averages, whose own quadrature error (~1e-6) dominates anyway.
+pub const COARSE_PANELS: f64 = 2.5;
+
 impl<'a> CrossSection<'a> {
     /// Prepares the cross-section of fibers along `e_f = (cos φ_a, sin φ_a, 0)` for light from `s`
-    /// and a viewer at `v` (both with positive `z`).
-    pub fn new(fiber: &'a Fiber, s: Vec3, v: Vec3, phi_a: f64) -> Self {
+    /// and a viewer at `v` (both with positive `z`), sampling the facet lobe on panels
+    /// `panel_widths` highlight widths wide ([`FINE_PANELS`] or [`COARSE_PANELS`]).
+    pub fn new(fiber: &'a Fiber, s: Vec3, v: Vec3, phi_a: f64, panel_widths: f64) -> Self {
         let (sp, cp) = phi_a.sin_cos();
         let e_u = Vec3::new(-sp, cp, 0.0);
         let psi_s = s.dot(e_u).atan2(s.z);
@@ -58,6 +63,7 @@ impl<'a> CrossSection<'a> {
             psi_v,
             theta_peak,
             peak_width,
+            panel_widths,
             g: PiecewiseLegendre::default(),
         };
         cs.sample_g();
@@ -86,12 +92,14 @@ impl<'a> CrossSection<'a> {
     fn sample_g(&mut self) {
         let (lo, hi) = self.facing_range();
         let (c, w) = (self.theta_peak, self.peak_width);
-        // Panels of 1.5 widths within 6 widths of the highlight, then doubling outward.
+        // Panels of `panel` widths within ~6 widths of the highlight, then doubling outward.
+        let panel = self.panel_widths;
+        let n = (6.0 / panel).ceil() as i32;
         let mut edges: Vec<f64> = vec![lo, hi];
-        for k in -4..=4 {
-            edges.push(c + 1.5 * k as f64 * w);
+        for k in -n..=n {
+            edges.push(c + panel * k as f64 * w);
         }
-        let mut d = 12.0 * w;
+        let mut d = 2.0 * panel * n as f64 * w;
         while d < 4.0 {
             edges.push(c - d);
             edges.push(c + d);
@@ -117,12 +125,18 @@ impl<'a> CrossSection<'a> {
             return self.fiber.eval(self.s, self.v);
         }
         let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
-        self.profile_sum(profile, &lv) / (period * self.s.z * self.v.z)
+        self.profile_sum(profile, &lv, |t| self.g_direct(t)) / (period * self.s.z * self.v.z)
     }
 
-    /// `∫_arc g + g(θ_a) ℓ_right + g(−θ_a) ℓ_left` over the given intervals.
+    /// `∫_arc g + g(θ_a) ℓ_right + g(−θ_a) ℓ_left` over the given intervals; `lateral_g` gives
+    /// `g` at a lateral's normal angle (exact, or from the interpolant).
     #[inline]
-    fn profile_sum(&self, profile: &Profile, lv: &PieceIntervals) -> f64 {
+    fn profile_sum(
+        &self,
+        profile: &Profile,
+        lv: &PieceIntervals,
+        lateral_g: impl Fn(f64) -> f64,
+    ) -> f64 {
         let mut sum = 0.0;
         if let Some((lo, hi)) = lv.arc {
             sum += self.g.integral(lo, hi);
@@ -130,21 +144,27 @@ impl<'a> CrossSection<'a> {
         let len = |iv: Option<(f64, f64)>| iv.map_or(0.0, |(a, b)| b - a);
         let (lr, ll) = (len(lv.right), len(lv.left));
         if lr > 0.0 {
-            sum += self.g_direct(profile.theta_a) * lr;
+            sum += lateral_g(profile.theta_a) * lr;
         }
         if ll > 0.0 {
-            sum += self.g_direct(-profile.theta_a) * ll;
+            sum += lateral_g(-profile.theta_a) * ll;
         }
         sum
     }
 
     /// The slope-averaged BRDF `f_θ = ∫ P(θ_a) f_p(θ_a) dθ_a` (Eq. (18); MODEL.md §2.4) for
-    /// laterals of length `lateral_length`.
+    /// laterals of length `lateral_length`, with `nodes` Gauss–Legendre nodes per panel.
     ///
-    /// Adaptive Gauss–Kronrod, split where the integrand breaks or peaks (MODEL.md §2.4): at the
+    /// The panels split the integral where the integrand breaks or peaks (MODEL.md §2.4): at the
     /// masking onsets `θ_a = π/2 − |ψ_s|`, `π/2 − |ψ_v|`, around the lateral highlight
     /// `θ_a = |θ*|` (width `≈ αρ`), and around the mean slope when the distribution is narrow.
-    pub fn slope_average(&self, slopes: &SlopeDistribution, lateral_length: f64) -> f64 {
+    /// The lateral facets read `g` from the interpolant, so a node costs no fiber evaluation.
+    pub fn slope_average(
+        &self,
+        slopes: &SlopeDistribution,
+        lateral_length: f64,
+        nodes: &GaussLegendre,
+    ) -> f64 {
         if let Some(mu) = slopes.single() {
             return self.profile_brdf(&Profile {
                 theta_a: mu,
@@ -157,7 +177,8 @@ impl<'a> CrossSection<'a> {
         } else {
             FRAC_PI_2
         };
-        let mut breaks = vec![0.0, top];
+        let mut breaks: Vec<f64> = Vec::with_capacity(24);
+        breaks.extend([0.0, top, 0.25 * top, 0.5 * top, 0.75 * top]);
         breaks.push(FRAC_PI_2 - self.psi_s.abs());
         breaks.push(FRAC_PI_2 - self.psi_v.abs());
         let (c, w) = (self.theta_peak.abs(), self.peak_width);
@@ -165,15 +186,16 @@ impl<'a> CrossSection<'a> {
             breaks.push(c + k * w);
         }
         let (mu, sigma) = (slopes.mean(), slopes.std());
-        if sigma < 0.2 {
-            for k in [-6.0, -3.0, -1.0, 0.0, 1.0, 3.0, 6.0] {
+        if sigma < 0.3 {
+            for k in [-6.0, -3.0, -1.5, 0.0, 1.5, 3.0, 6.0] {
                 breaks.push(mu + k * sigma);
             }
         }
         breaks.retain(|&b| (0.0..=top).contains(&b));
         breaks.sort_by(f64::total_cmp);
-        breaks.dedup();
+        breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
         let sz_vz = self.s.z * self.v.z;
+        let flat = self.fiber.eval(self.s, self.v);
         let integrand = |theta_a: f64| -> f64 {
             let profile = Profile {
                 theta_a,
@@ -181,14 +203,15 @@ impl<'a> CrossSection<'a> {
             };
             let period = profile.period();
             if period < 1e-12 {
-                return slopes.density(theta_a) * self.fiber.eval(self.s, self.v);
+                return slopes.density(theta_a) * flat;
             }
             let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
-            slopes.density(theta_a) * self.profile_sum(&profile, &lv) / (period * sz_vz)
+            slopes.density(theta_a) * self.profile_sum(&profile, &lv, |t| self.g.value(t))
+                / (period * sz_vz)
         };
         let mut total = 0.0;
         for b in breaks.windows(2) {
-            total += adaptive(b[0], b[1], SLOPE_TOL, 1e-14, 20, integrand);
+            total += nodes.integrate(b[0], b[1], integrand);
         }
         total
     }
