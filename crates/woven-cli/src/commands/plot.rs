@@ -212,7 +212,7 @@ const COLORS: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
 ];
 
-/// Font sizes and line widths, scaled with the image height (tuned at 800 px).
+/// Font sizes and line widths, scaled with the image size (tuned at 1200 × 800).
 struct Sizes {
     title: f64,
     axis: f64,
@@ -223,8 +223,10 @@ struct Sizes {
 }
 
 impl Sizes {
-    fn for_height(height: u32) -> Self {
-        let k = (height as f64 / 800.0).max(0.5);
+    fn for_size(width: u32, height: u32) -> Self {
+        // Text grows more slowly than the image: a small image keeps readable labels, a large
+        // one gains room for the curves.
+        let k = (width as f64 / 1200.0).min(height as f64 / 800.0).sqrt();
         Sizes {
             title: 26.0 * k,
             axis: 19.0 * k,
@@ -241,8 +243,8 @@ fn draw<DB: DrawingBackend>(
     figure: &Figure,
     scale: YScale,
 ) -> Result<()> {
-    let (_, height) = root.dim_in_pixel();
-    let sizes = Sizes::for_height(height);
+    let (width, height) = root.dim_in_pixel();
+    let sizes = Sizes::for_size(width, height);
     root.fill(&WHITE).map_err(plot_error)?;
 
     // The caption lines go under the chart.
@@ -303,6 +305,23 @@ where
         .build_cartesian_2d(-90.0..90.0, y_range)
         .map_err(plot_error)?;
 
+    // Axis descriptions no longer than the axes they label: shrink the font when they would be.
+    let (plot_w, plot_h) = chart.plotting_area().dim_in_pixel();
+    let desc_font = TextStyle::from((FONT, sizes.axis).into_font());
+    let (x_w, _) = area
+        .estimate_text_size(&figure.x_label, &desc_font)
+        .map_err(plot_error)?;
+    let (y_w, _) = area
+        .estimate_text_size(&figure.y_label, &desc_font)
+        .map_err(plot_error)?;
+    let fit = [
+        plot_w as f64 / x_w.max(1) as f64,
+        plot_h as f64 / y_w.max(1) as f64,
+    ]
+    .into_iter()
+    .fold(1.0, f64::min);
+    let axis_size = sizes.axis * fit;
+
     let x_fmt = |x: &f64| format!("{x:.0}");
     let y_fmt = |y: &f64| tick_label(*y);
     chart
@@ -313,7 +332,7 @@ where
         .y_label_formatter(&y_fmt)
         .x_desc(&figure.x_label)
         .y_desc(&figure.y_label)
-        .axis_desc_style((FONT, sizes.axis))
+        .axis_desc_style((FONT, axis_size))
         .label_style((FONT, sizes.ticks))
         .light_line_style(BLACK.mix(0.06))
         .bold_line_style(BLACK.mix(0.18))
