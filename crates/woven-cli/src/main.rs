@@ -1,1 +1,92 @@
-fn main(){}
+//! `woven`: evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model.
+//!
+//! This file only declares the command line and dispatches; each subcommand lives in
+//! [`commands`]. Exit status: 0 on success, 2 for usage errors (reported by clap), 1 for any
+//! other error.
+
+mod args;
+mod commands;
+mod figures;
+mod glyphs;
+mod io;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model.
+#[derive(Parser, Debug)]
+#[command(
+    name = "woven",
+    version,
+    about = "Evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model",
+    long_about = "Evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model.
+
+Materials are TOML files (see the `woven` library's `material` module). Angles in files are \
+radians; options that take degrees end in `-deg`. Directions use the cloth's local frame: z is \
+the macro normal, the weft runs along x and the warp along y; theta is the polar angle from z, \
+phi the azimuth from x; i is the light, r the viewer.
+
+Exit status: 0 on success, 1 on an error, 2 on a command-line usage error.",
+    after_help = "Examples:
+  woven eval --material polyester.toml --input dirs.csv --output brdf.csv
+  woven albedo --material polyester.toml --theta-deg 0:85:5
+  woven plot fig3 -o fig3.svg
+
+Run `woven help <COMMAND>` for a command's options and examples.",
+    propagate_version = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    Eval(commands::eval::EvalArgs),
+    Albedo(commands::albedo::AlbedoArgs),
+    Plot(commands::plot::PlotArgs),
+}
+
+fn main() -> ExitCode {
+    // Usage errors print clap's message and exit with status 2; --help and --version exit 0.
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Eval(args) => commands::eval::run(args),
+        Command::Albedo(args) => commands::albedo::run(args),
+        Command::Plot(args) => commands::plot::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        // A closed pipe (`woven eval … | head`) means the reader has all it wants.
+        Err(err) if is_broken_pipe(&err) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err}");
+            for cause in err.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    err.chain().any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+            || cause
+                .downcast_ref::<csv::Error>()
+                .is_some_and(|e| matches!(e.kind(), csv::ErrorKind::Io(io) if io.kind() == std::io::ErrorKind::BrokenPipe))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn command_line_is_consistent() {
+        Cli::command().debug_assert();
+    }
+}

@@ -1,0 +1,405 @@
+//! `woven eval`: the BRDF for a CSV file of direction pairs.
+
+use crate::args::MaterialArgs;
+use crate::io::{self, InputSource};
+use anyhow::{Context, Result};
+use clap::Args;
+use csv::ByteRecord;
+use rayon::prelude::*;
+use std::f64::consts::FRAC_PI_2;
+use std::fmt;
+use std::io::{Read, Write};
+use std::path::PathBuf;
+use woven::{Model, Vec3};
+
+/// Arguments of `woven eval`.
+#[derive(Args, Debug)]
+#[command(
+    about = "Evaluate the BRDF for direction pairs read from a CSV file",
+    long_about = "Evaluate the BRDF (sr⁻¹, without the cosine factor) for direction pairs read \
+from a CSV file.
+
+The input has the header `theta_i,phi_i,theta_r,phi_r`: polar and azimuthal angles in radians of \
+the direction toward the light (theta_i, phi_i) and toward the viewer (theta_r, phi_r), both \
+pointing away from the surface, in the cloth's local frame (z = macro normal, weft along x, warp \
+along y). Polar angles must lie in [0, π/2]; azimuths may be any finite number. theta = π/2 \
+(grazing) gives a BRDF of 0.
+
+The output repeats the four input columns exactly as read and appends `brdf`. Rows are processed \
+in chunks, in parallel on all cores, and written in input order. A malformed row stops the run \
+with an error naming its line and column; with --output no file is created then.",
+    after_help = "Examples:
+  woven eval --material polyester.toml --input dirs.csv --output brdf.csv
+  woven eval -m polyester.toml --input dirs.csv --wavelength-nm 650 > brdf.csv
+  cat dirs.csv | woven eval -m polyester.toml --input - > brdf.csv"
+)]
+pub struct EvalArgs {
+    #[command(flatten)]
+    pub material: MaterialArgs,
+
+    /// Input CSV with header `theta_i,phi_i,theta_r,phi_r` (radians); `-` reads standard input.
+    #[arg(short, long, value_name = "FILE", value_parser = InputSource::parse)]
+    pub input: InputSource,
+
+    /// Output CSV (written atomically); standard output when absent.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+}
+
+/// Runs `woven eval`.
+pub fn run(args: &EvalArgs) -> Result<()> {
+    let model = args.material.build()?;
+    let input = args.input.open()?;
+    let progress = progress_spinner(args.output.is_some());
+    let rows = io::write_output(args.output.as_deref(), |out| {
+        eval_csv(&model, input, out, |n| progress.set_position(n))
+    })
+    .with_context(|| format!("evaluating `{}`", args.input))?;
+    progress.finish_and_clear();
+    if let Some(path) = &args.output {
+        if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+            eprintln!("wrote {rows} rows to {}", path.display());
+        }
+    }
+    Ok(())
+}
+
+/// A row counter on standard error, shown only when it is a terminal and stdout is not the data.
+fn progress_spinner(visible: bool) -> indicatif::ProgressBar {
+    if !visible {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new_spinner();
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{spinner} {pos} rows ({per_sec})") {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// The input columns, in order.
+pub const COLUMNS: [&str; 4] = ["theta_i", "phi_i", "theta_r", "phi_r"];
+
+/// Rows evaluated per parallel batch: large enough to keep every core busy, small enough that
+/// memory stays flat for any input size.
+const CHUNK_ROWS: usize = 1 << 16;
+
+/// What is wrong with one input row.
+#[derive(Debug)]
+pub struct RowError {
+    /// 1-based line number in the input.
+    pub line: u64,
+    /// 0-based column index, where one column is to blame.
+    pub column: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for RowError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.column {
+            Some(c) => write!(
+                f,
+                "line {}, column {} `{}`: {}",
+                self.line,
+                c + 1,
+                COLUMNS[c],
+                self.message
+            ),
+            None => write!(f, "line {}: {}", self.line, self.message),
+        }
+    }
+}
+
+impl std::error::Error for RowError {}
+
+/// Reads direction pairs from `input` and writes them with their BRDF to `output`.
+/// `progress` is told the number of rows done after each chunk. Returns the number of rows.
+pub fn eval_csv(
+    model: &Model,
+    input: impl Read + Send,
+    output: &mut dyn Write,
+    progress: impl Fn(u64),
+) -> Result<u64> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(input);
+
+    // The header: exactly the four column names.
+    let mut header = ByteRecord::new();
+    if !reader
+        .read_byte_record(&mut header)
+        .context("cannot read the header")?
+    {
+        anyhow::bail!(
+            "the input is empty: expected the header `{}`",
+            COLUMNS.join(",")
+        );
+    }
+    check_header(&header)?;
+    writeln!(output, "{},brdf", COLUMNS.join(","))?;
+
+    // Two buffers of records: one is evaluated while the other is read, so reading (one thread)
+    // overlaps the parallel evaluation.
+    let mut current: Vec<ByteRecord> = Vec::new();
+    let mut next: Vec<ByteRecord> = Vec::new();
+    let mut more = fill_chunk(&mut reader, &mut current)?;
+    let mut rows = 0u64;
+    while !current.is_empty() {
+        let (blocks, read) = rayon::join(
+            || evaluate_chunk(model, &current),
+            || {
+                if more {
+                    fill_chunk(&mut reader, &mut next)
+                } else {
+                    next.clear();
+                    Ok(false)
+                }
+            },
+        );
+        for block in blocks {
+            output.write_all(&block?)?;
+        }
+        rows += current.len() as u64;
+        progress(rows);
+        more = read?;
+        std::mem::swap(&mut current, &mut next);
+    }
+    output.flush()?;
+    Ok(rows)
+}
+
+/// Reads up to [`CHUNK_ROWS`] records into `chunk` (reusing its buffers); returns whether the
+/// input may hold more.
+fn fill_chunk(
+    reader: &mut csv::Reader<impl Read + Send>,
+    chunk: &mut Vec<ByteRecord>,
+) -> Result<bool> {
+    let mut n = 0;
+    loop {
+        if n == CHUNK_ROWS {
+            chunk.truncate(n);
+            return Ok(true);
+        }
+        if n == chunk.len() {
+            chunk.push(ByteRecord::new());
+        }
+        let line = reader.position().line();
+        let got = reader
+            .read_byte_record(&mut chunk[n])
+            .with_context(|| format!("cannot read the input near line {line}"))?;
+        if !got {
+            chunk.truncate(n);
+            return Ok(false);
+        }
+        n += 1;
+    }
+}
+
+fn check_header(header: &ByteRecord) -> Result<()> {
+    let fields: Vec<String> = header
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let s = String::from_utf8_lossy(f);
+            // A UTF-8 byte-order mark from spreadsheet exports is not part of the name.
+            let s = if i == 0 {
+                s.trim_start_matches('\u{feff}')
+            } else {
+                &s
+            };
+            s.to_string()
+        })
+        .collect();
+    if fields != COLUMNS {
+        let line = header.position().map_or(1, |p| p.line());
+        anyhow::bail!(
+            "line {line}: expected the header `{}`, found `{}`",
+            COLUMNS.join(","),
+            fields.join(",")
+        );
+    }
+    Ok(())
+}
+
+/// Rows per parallel task: enough to amortize scheduling, few enough to balance two to many
+/// cores over a chunk.
+const BLOCK_ROWS: usize = 2048;
+
+/// Parses and evaluates every record of a chunk in parallel, formatting the output lines there
+/// too (validated numbers need no CSV quoting): one buffer of lines per block, in input order, or
+/// the first bad row of the block.
+fn evaluate_chunk(model: &Model, chunk: &[ByteRecord]) -> Vec<Result<Vec<u8>, RowError>> {
+    chunk
+        .par_chunks(BLOCK_ROWS)
+        .map(|block| {
+            // ~100 bytes a row: four echoed angles of up to 20 characters, the BRDF, commas.
+            let mut out = Vec::with_capacity(block.len() * 100);
+            let mut number = String::new();
+            for record in block {
+                let [theta_i, phi_i, theta_r, phi_r] = parse_row(record)?;
+                for field in record.iter() {
+                    out.extend_from_slice(field);
+                    out.push(b',');
+                }
+                number.clear();
+                io::push_f64(&mut number, brdf(model, theta_i, phi_i, theta_r, phi_r));
+                out.extend_from_slice(number.as_bytes());
+                out.push(b'\n');
+            }
+            Ok(out)
+        })
+        .collect()
+}
+
+/// The BRDF for one direction pair (validated angles). Exactly 0 at grazing `θ = π/2`, where
+/// `cos θ` is not exactly 0 in floating point.
+pub fn brdf(model: &Model, theta_i: f64, phi_i: f64, theta_r: f64, phi_r: f64) -> f64 {
+    if theta_i >= FRAC_PI_2 || theta_r >= FRAC_PI_2 {
+        return 0.0;
+    }
+    model.eval(
+        Vec3::from_spherical(theta_i, phi_i),
+        Vec3::from_spherical(theta_r, phi_r),
+    )
+}
+
+fn parse_row(record: &ByteRecord) -> Result<[f64; 4], RowError> {
+    let line = record.position().map_or(0, |p| p.line());
+    let error = |column: Option<usize>, message: String| RowError {
+        line,
+        column,
+        message,
+    };
+    if record.len() != COLUMNS.len() {
+        let message = if record.len() < COLUMNS.len() {
+            format!(
+                "expected 4 columns ({}), found {}: column `{}` is missing",
+                COLUMNS.join(","),
+                record.len(),
+                COLUMNS[record.len()]
+            )
+        } else {
+            format!(
+                "expected 4 columns ({}), found {}: extra column {}",
+                COLUMNS.join(","),
+                record.len(),
+                COLUMNS.len() + 1
+            )
+        };
+        return Err(error(None, message));
+    }
+    let mut angles = [0.0; 4];
+    for (c, field) in record.iter().enumerate() {
+        let text = std::str::from_utf8(field)
+            .map_err(|_| error(Some(c), "not valid UTF-8 text".into()))?;
+        if text.is_empty() {
+            return Err(error(
+                Some(c),
+                "empty value: expected a number of radians".into(),
+            ));
+        }
+        let x: f64 = text
+            .parse()
+            .map_err(|_| error(Some(c), format!("`{text}` is not a number")))?;
+        if !x.is_finite() {
+            return Err(error(
+                Some(c),
+                format!("`{text}` is not a finite number of radians"),
+            ));
+        }
+        // Polar angles: the hemisphere above the surface.
+        if (c == 0 || c == 2) && !(0.0..=FRAC_PI_2).contains(&x) {
+            return Err(error(
+                Some(c),
+                format!(
+                    "value {text} is outside the valid range [0, π/2] = [0, {FRAC_PI_2}] radians"
+                ),
+            ));
+        }
+        angles[c] = x;
+    }
+    Ok(angles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use woven::fiber::FiberParams;
+    use woven::material::Material;
+
+    fn model() -> Model {
+        Material::flat(FiberParams::rough(1.5, 0.1, 0.1))
+            .build(550.0)
+            .unwrap()
+    }
+
+    fn run(input: &str) -> Result<String> {
+        let mut out = Vec::new();
+        eval_csv(&model(), input.as_bytes(), &mut out, |_| {})?;
+        Ok(String::from_utf8(out).unwrap())
+    }
+
+    #[test]
+    fn evaluates_rows_and_keeps_input_text() {
+        let out =
+            run("theta_i,phi_i,theta_r,phi_r\n0.5,0,0.5,2.5\n 0.1 , 1e-3 ,1.5707963267948966,-7\n")
+                .unwrap();
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines[0], "theta_i,phi_i,theta_r,phi_r,brdf");
+        assert!(lines[1].starts_with("0.5,0,0.5,2.5,"));
+        assert_eq!(lines[2], "0.1,1e-3,1.5707963267948966,-7,0");
+        let f: f64 = lines[1].rsplit(',').next().unwrap().parse().unwrap();
+        let m = model();
+        let want = m.eval(
+            Vec3::from_spherical(0.5, 0.0),
+            Vec3::from_spherical(0.5, 2.5),
+        );
+        assert_eq!(f, want);
+    }
+
+    #[test]
+    fn many_chunks_stay_in_order() {
+        let n = CHUNK_ROWS * 2 + 17;
+        let mut input = String::from("theta_i,phi_i,theta_r,phi_r\n");
+        for k in 0..n {
+            input.push_str(&format!("{},0,0.3,{}\n", (k % 100) as f64 * 0.01, k));
+        }
+        let out = run(&input).unwrap();
+        assert_eq!(out.lines().count(), n + 1);
+        for (k, line) in out.lines().skip(1).enumerate().step_by(9973) {
+            assert!(line.starts_with(&format!("{},0,0.3,{k},", (k % 100) as f64 * 0.01)));
+        }
+    }
+
+    #[test]
+    fn bad_rows_name_line_and_column() {
+        let h = "theta_i,phi_i,theta_r,phi_r\n";
+        let e = |body: &str| format!("{:#}", run(&format!("{h}{body}")).unwrap_err());
+        assert!(e("0.1,0,0.1,0\n0.1,x,0.2,0\n").contains("line 3, column 2 `phi_i`"));
+        assert!(e("0.1,0,0.1,NaN\n").contains("line 2, column 4 `phi_r`"));
+        assert!(e("0.1,0,inf,0\n").contains("column 3 `theta_r`"));
+        assert!(e("0.1,0,0.1\n").contains("column `phi_r` is missing"));
+        assert!(e("0.1,0,0.1,0,9\n").contains("extra column 5"));
+        assert!(e("0.1,,0.1,0\n").contains("empty value"));
+        let msg = e("1.6,0,0.1,0\n");
+        assert!(msg.contains("line 2, column 1 `theta_i`"), "{msg}");
+        assert!(msg.contains("1.6") && msg.contains("[0, π/2]"), "{msg}");
+        assert!(e("-0.1,0,0.1,0\n").contains("outside the valid range"));
+        let header = format!("{:#}", run("theta_i,phi_i,theta_o,phi_o\n").unwrap_err());
+        assert!(
+            header.contains("line 1") && header.contains("theta_o"),
+            "{header}"
+        );
+        assert!(format!("{:#}", run("").unwrap_err()).contains("empty"));
+    }
+
+    #[test]
+    fn header_only_gives_header_only() {
+        assert_eq!(
+            run("\u{feff}theta_i,phi_i,theta_r,phi_r\n").unwrap(),
+            "theta_i,phi_i,theta_r,phi_r,brdf\n"
+        );
+    }
+}

@@ -1,0 +1,417 @@
+//! End-to-end tests of the `woven` binary.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use std::path::{Path, PathBuf};
+use woven::material::Material;
+use woven::Vec3;
+
+const HEADER: &str = "theta_i,phi_i,theta_r,phi_r";
+
+fn woven() -> Command {
+    Command::cargo_bin("woven").unwrap()
+}
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+fn material() -> PathBuf {
+    fixture("polyester.toml")
+}
+
+/// A material file with `body` in a fresh directory (kept alive by the returned guard).
+fn material_file(body: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.toml");
+    std::fs::write(&path, body).unwrap();
+    (dir, path)
+}
+
+/// Direction pairs covering normal, specular, back-scatter, out-of-plane and grazing cases.
+const ROWS: &[[&str; 4]] = &[
+    ["0", "0", "0", "0"],
+    [
+        "0.7853981633974483",
+        "0",
+        "0.7853981633974483",
+        "3.141592653589793",
+    ],
+    ["0.5", "1.0", "0.3", "-2.0"],
+    ["1.2", "0.1", "1.2", "0.1"],
+    ["0.3", "12.5", "1.4", "4.0"],
+    ["1.5707963267948966", "0", "0.5", "3.14"],
+    ["0.25", "0", "1.5707963267948966", "3.14"],
+];
+
+fn rows_csv() -> String {
+    let mut s = format!("{HEADER}\n");
+    for row in ROWS {
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+/// Checks `woven eval` output against the library, row by row.
+fn check_eval_output(out: &str) {
+    let model = Material::from_path(material())
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some("theta_i,phi_i,theta_r,phi_r,brdf"));
+    let mut n = 0;
+    for (line, row) in lines.zip(ROWS) {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(fields.len(), 5, "{line}");
+        assert_eq!(&fields[..4], row, "input columns are echoed as read");
+        let a: Vec<f64> = row.iter().map(|x| x.parse().unwrap()).collect();
+        let want = if a[0] >= std::f64::consts::FRAC_PI_2 || a[2] >= std::f64::consts::FRAC_PI_2 {
+            0.0
+        } else {
+            model.eval(
+                Vec3::from_spherical(a[0], a[1]),
+                Vec3::from_spherical(a[2], a[3]),
+            )
+        };
+        let got: f64 = fields[4].parse().unwrap();
+        assert_eq!(got, want, "row {row:?}: got {got}, library gives {want}");
+        n += 1;
+    }
+    assert_eq!(n, ROWS.len());
+}
+
+#[test]
+fn eval_matches_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("dirs.csv");
+    let output = dir.path().join("brdf.csv");
+    std::fs::write(&input, rows_csv()).unwrap();
+    woven()
+        .args(["eval", "--material"])
+        .arg(material())
+        .arg("--input")
+        .arg(&input)
+        .arg("--output")
+        .arg(&output)
+        .assert()
+        .success()
+        .stdout("");
+    let out = std::fs::read_to_string(&output).unwrap();
+    check_eval_output(&out);
+    // The specular direction is bright, back-scatter far off it dim, grazing exactly 0.
+    let brdf = |row: usize| -> f64 {
+        let line = out.lines().nth(row + 1).unwrap();
+        line.rsplit(',').next().unwrap().parse().unwrap()
+    };
+    assert!(brdf(1) > 10.0 * brdf(3), "{} vs {}", brdf(1), brdf(3));
+    assert!(out.lines().nth(6).unwrap().ends_with(",0"));
+    // Only the output file is left: no temporary file.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+}
+
+#[test]
+fn eval_reads_stdin_and_writes_stdout() {
+    let assert = woven()
+        .args(["eval", "-m"])
+        .arg(material())
+        .args(["--input", "-"])
+        .write_stdin(rows_csv())
+        .assert()
+        .success();
+    check_eval_output(&String::from_utf8(assert.get_output().stdout.clone()).unwrap());
+}
+
+#[test]
+fn eval_bad_row_names_line_and_column_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("out.csv");
+    woven()
+        .args(["eval", "-m"])
+        .arg(material())
+        .args(["--input", "-", "--output"])
+        .arg(&output)
+        .write_stdin(format!("{HEADER}\n0.1,0,0.2,0\n0.1,0,abc,0\n0.3,0,0.2,0\n"))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("line 3, column 3 `theta_r`"))
+        .stderr(predicate::str::contains("`abc` is not a number"));
+    assert!(!output.exists());
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "no temporary file left"
+    );
+
+    // An existing output is left untouched by a failed run.
+    std::fs::write(&output, "previous").unwrap();
+    woven()
+        .args(["eval", "-m"])
+        .arg(material())
+        .args(["--input", "-", "--output"])
+        .arg(&output)
+        .write_stdin(format!("{HEADER}\n0.1,0,0.2\n"))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("line 2"))
+        .stderr(predicate::str::contains("column `phi_r` is missing"));
+    assert_eq!(std::fs::read_to_string(&output).unwrap(), "previous");
+}
+
+#[test]
+fn eval_rejects_non_finite_and_extra_columns() {
+    for (body, needle) in [
+        ("0.1,NaN,0.2,0\n", "line 2, column 2 `phi_i`"),
+        ("0.1,0,0.2,inf\n", "line 2, column 4 `phi_r`"),
+        ("0.1,0,0.2,0,7\n", "extra column 5"),
+    ] {
+        woven()
+            .args(["eval", "-m"])
+            .arg(material())
+            .args(["--input", "-"])
+            .write_stdin(format!("{HEADER}\n{body}"))
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(needle));
+    }
+}
+
+#[test]
+fn eval_rejects_a_wrong_header() {
+    woven()
+        .args(["eval", "-m"])
+        .arg(material())
+        .args(["--input", "-"])
+        .write_stdin("theta_in,phi_in,theta_out,phi_out\n0.1,0,0.2,0\n")
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("line 1"))
+        .stderr(predicate::str::contains(
+            "expected the header `theta_i,phi_i,theta_r,phi_r`",
+        ))
+        .stderr(predicate::str::contains("theta_in"));
+}
+
+#[test]
+fn eval_rejects_theta_out_of_range() {
+    woven()
+        .args(["eval", "-m"])
+        .arg(material())
+        .args(["--input", "-"])
+        .write_stdin(format!("{HEADER}\n0.1,0,0.2,0\n0.1,0,0.2,0\n2.0,0,0.2,0\n"))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("line 4, column 1 `theta_i`"))
+        .stderr(predicate::str::contains(
+            "value 2.0 is outside the valid range [0, π/2]",
+        ));
+}
+
+#[test]
+fn eval_reports_a_missing_input_file() {
+    woven()
+        .args(["eval", "-m"])
+        .arg(material())
+        .args(["--input", "/nonexistent/dirs.csv"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("/nonexistent/dirs.csv"));
+}
+
+#[test]
+fn material_file_errors_name_the_key() {
+    let (_dir, unknown) = material_file("[fiber]\neta = 1.6\nroughness = 0.1\nshininess = 3\n");
+    woven()
+        .args(["albedo", "--theta-deg", "45", "-m"])
+        .arg(&unknown)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("shininess"))
+        .stderr(predicate::str::contains("m.toml"));
+
+    let (_dir, rough) = material_file("[fiber]\neta = 1.6\nroughness = 7.5\n");
+    woven()
+        .args(["eval", "--input", "-", "-m"])
+        .arg(&rough)
+        .write_stdin(rows_csv())
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr(predicate::str::contains("fiber.roughness"))
+        .stderr(predicate::str::contains("7.5"))
+        .stderr(predicate::str::contains("[0.005, 2]"));
+
+    woven()
+        .args(["albedo", "-m", "/nonexistent/material.toml"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("/nonexistent/material.toml"));
+}
+
+#[test]
+fn albedo_table_is_at_most_one() {
+    let assert = woven()
+        .args(["albedo", "--theta-deg", "0:80:20", "-m"])
+        .arg(material())
+        .assert()
+        .success();
+    let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some("theta_i_deg,albedo"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let (t, a) = l.split_once(',').unwrap();
+            (t.parse().unwrap(), a.parse().unwrap())
+        })
+        .collect();
+    assert_eq!(
+        rows.iter().map(|r| r.0).collect::<Vec<_>>(),
+        [0.0, 20.0, 40.0, 60.0, 80.0]
+    );
+    for (theta, albedo) in rows {
+        assert!(albedo > 0.0 && albedo <= 1.0, "albedo {albedo} at {theta}°");
+    }
+}
+
+#[test]
+fn albedo_rejects_bad_angle_lists() {
+    for (value, needle) in [
+        (
+            "0:95:5",
+            "angle 90° is outside the valid range [0, 90) degrees",
+        ),
+        ("10:0:5", "STOP = 0 is below START = 10"),
+        ("0:10:0", "STEP = 0 must be greater than 0"),
+        ("0:10", "START:STOP:STEP"),
+        ("5,x", "`x` is not a finite number"),
+        ("-10", "[0, 90)"),
+    ] {
+        woven()
+            .args(["albedo", "-m"])
+            .arg(material())
+            .args(["--theta-deg", value])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains("--theta-deg"))
+            .stderr(predicate::str::contains(needle));
+    }
+}
+
+#[test]
+fn plots_write_valid_svg_and_png() {
+    let dir = tempfile::tempdir().unwrap();
+    for fig in ["fig3", "fig4", "fig5"] {
+        let svg = dir.path().join(format!("{fig}.svg"));
+        let png = dir.path().join(format!("{fig}.png"));
+        woven()
+            .args(["plot", fig, "--width", "640", "--height", "420", "-o"])
+            .arg(&svg)
+            .arg("-o")
+            .arg(&png)
+            .assert()
+            .success();
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.starts_with("<svg"), "{fig}.svg");
+        assert!(text.trim_end().ends_with("</svg>"), "{fig}.svg");
+        assert!(
+            text.matches("<polyline").count() >= 3,
+            "{fig}.svg has its curves"
+        );
+        assert!(text.contains("Fig. "), "{fig}.svg has a title");
+        assert!(
+            text.contains("η = 1.6"),
+            "{fig}.svg states the assumed index"
+        );
+        assert!(text.contains("sr⁻¹"), "{fig}.svg has the y unit");
+        let bytes = std::fs::read(&png).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{fig}.png");
+        assert!(
+            bytes.len() > 10_000,
+            "{fig}.png is only {} bytes",
+            bytes.len()
+        );
+        // The IHDR chunk records the requested size.
+        assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 640);
+        assert_eq!(u32::from_be_bytes(bytes[20..24].try_into().unwrap()), 420);
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 6);
+}
+
+#[test]
+fn plot_rejects_unknown_formats_and_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let jpg = dir.path().join("fig3.jpg");
+    woven()
+        .args(["plot", "fig3", "-o"])
+        .arg(&jpg)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(".svg or .png"));
+    assert!(!jpg.exists());
+    woven()
+        .args(["plot", "fig42", "-o", "x.svg"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("fig42"));
+    woven()
+        .args(["plot", "fig3", "-o", "x.svg", "--width", "10"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--width"));
+}
+
+#[test]
+fn help_is_complete() {
+    woven()
+        .arg("--help")
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("eval"))
+        .stdout(predicate::str::contains("albedo"))
+        .stdout(predicate::str::contains("plot"))
+        .stdout(predicate::str::contains("Examples:"));
+    for (command, needle) in [
+        ("eval", "theta_i,phi_i,theta_r,phi_r"),
+        ("albedo", "--theta-deg"),
+        ("plot", "fig4"),
+    ] {
+        woven()
+            .args([command, "--help"])
+            .assert()
+            .success()
+            .stdout(predicate::str::contains(needle))
+            .stdout(predicate::str::contains("Examples:"))
+            .stdout(predicate::str::contains("--help"));
+    }
+    woven().arg("--version").assert().success();
+}
+
+#[test]
+fn usage_errors_exit_with_status_2() {
+    woven().assert().code(2);
+    woven().arg("frobnicate").assert().code(2);
+    woven()
+        .args(["eval", "--input", "-"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--material"));
+    woven()
+        .args(["albedo", "-m", "x.toml", "--wavelength-nm", "abc"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--wavelength-nm"));
+}
+
+#[test]
+fn wavelength_out_of_range_is_reported() {
+    woven()
+        .args(["albedo", "--theta-deg", "45", "--wavelength-nm", "5", "-m"])
+        .arg(material())
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("--wavelength-nm 5"))
+        .stderr(predicate::str::contains("wavelength_nm"));
+}
