@@ -5,9 +5,10 @@
 //! // A polyester-like fiber surface: η = 1.6, σ_h/τ = 0.05, a little diffuse.
 //! let fiber = Fiber::new(&FiberParams::rough(1.6, 0.05, 0.1), 550.0)?;
 //! let s = Vec3::from_spherical(45f64.to_radians(), 0.0);
-//! // The mirror direction carries the specular peak; the directional albedo stays ≤ 1.
-//! let v = Vec3::from_spherical(45f64.to_radians(), std::f64::consts::PI);
-//! assert!(fiber.eval(s, v) > 10.0);
+//! // The mirror direction carries the specular peak, ten times the retro-reflection direction;
+//! // the directional albedo stays ≤ 1.
+//! let mirror = Vec3::from_spherical(45f64.to_radians(), std::f64::consts::PI);
+//! assert!(fiber.eval(s, mirror) > 10.0 * fiber.eval(s, s));
 //! assert!(fiber.albedo(s.z) <= 1.0);
 //! # Ok::<(), woven::Error>(())
 //! ```

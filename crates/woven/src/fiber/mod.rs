@@ -171,7 +171,8 @@ impl Fiber {
     /// let f = Fiber::new(&FiberParams::rough(1.5, 0.1, 0.0), 550.0)?;
     /// let v = Vec3::from_spherical(0.5, std::f64::consts::PI);
     /// let s = Vec3::from_spherical(0.5, 0.0);
-    /// assert!(f.eval(s, v) > 1.0); // the specular peak of a smooth fiber
+    /// // The mirror direction holds the peak of a smooth fiber: f = β F D_B S / (4 cos² θ) ≈ 0.1.
+    /// assert!(f.eval(s, v) > 0.09 && f.eval(s, v) > 20.0 * f.eval(s, s));
     /// # Ok::<(), woven::Error>(())
     /// ```
     pub fn new(params: &FiberParams, wavelength_nm: f64) -> Result<Self> {
