@@ -3,6 +3,30 @@
 //! The model's averages (MODEL.md §1.5, §2.3–§2.6) all reduce to one-dimensional integrals of
 //! smooth pieces with known breaks; these two rules, applied per piece, carry them.
 
+/// Sorts `breaks`, drops duplicates and points outside `[lo, hi]`, adds the ends, and splits any
+/// panel wider than `max_width` into equal parts: the panel edges for a piecewise rule.
+pub fn panel_edges(breaks: &mut Vec<f64>, lo: f64, hi: f64, max_width: f64) {
+    breaks.retain(|&b| b > lo && b < hi);
+    breaks.push(lo);
+    breaks.push(hi);
+    breaks.sort_by(f64::total_cmp);
+    breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12 * (1.0 + b.abs()));
+    let mut k = 1;
+    while k < breaks.len() {
+        let w = breaks[k] - breaks[k - 1];
+        if w > max_width {
+            let n = (w / max_width).ceil() as usize;
+            let a = breaks[k - 1];
+            for j in 1..n {
+                breaks.insert(k + j - 1, a + w * j as f64 / n as f64);
+            }
+            k += n;
+        } else {
+            k += 1;
+        }
+    }
+}
+
 /// Gauss–Legendre nodes and weights on `[-1, 1]`.
 #[derive(Clone, Debug)]
 pub struct GaussLegendre {
@@ -214,6 +238,13 @@ mod tests {
             let got = gl.integrate(0.0, 2.0, |x| x.powi(d));
             assert!(((got - exact) / exact).abs() < 1e-12, "n = {n}: {got} vs {exact}");
         }
+    }
+
+    #[test]
+    fn panel_edges_sorts_clips_and_splits() {
+        let mut b = vec![0.9, -1.0, 0.3, 0.3, 5.0];
+        panel_edges(&mut b, 0.0, 2.0, 0.5);
+        assert_eq!(b, vec![0.0, 0.3, 0.6, 0.9, 1.2666666666666666, 1.6333333333333333, 2.0]);
     }
 
     #[test]

@@ -13,7 +13,7 @@ use super::profile::{PieceIntervals, Profile};
 use super::slope::SlopeDistribution;
 use crate::fiber::Fiber;
 use crate::math::legendre::PiecewiseLegendre;
-use crate::math::quadrature::GaussLegendre;
+use crate::math::quadrature::{panel_edges, GaussLegendre};
 use crate::math::Vec3;
 use std::f64::consts::FRAC_PI_2;
 
@@ -178,7 +178,6 @@ impl<'a> CrossSection<'a> {
             FRAC_PI_2
         };
         let mut breaks: Vec<f64> = Vec::with_capacity(24);
-        breaks.extend([0.0, top, 0.25 * top, 0.5 * top, 0.75 * top]);
         breaks.push(FRAC_PI_2 - self.psi_s.abs());
         breaks.push(FRAC_PI_2 - self.psi_v.abs());
         let (c, w) = (self.theta_peak.abs(), self.peak_width);
@@ -191,9 +190,7 @@ impl<'a> CrossSection<'a> {
                 breaks.push(mu + k * sigma);
             }
         }
-        breaks.retain(|&b| (0.0..=top).contains(&b));
-        breaks.sort_by(f64::total_cmp);
-        breaks.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+        panel_edges(&mut breaks, 0.0, top, 0.25 * top);
         let sz_vz = self.s.z * self.v.z;
         let flat = self.fiber.eval(self.s, self.v);
         let integrand = |theta_a: f64| -> f64 {

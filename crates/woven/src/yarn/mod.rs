@@ -21,7 +21,7 @@ pub use slope::SlopeDistribution;
 
 use crate::error::{check_range, Error, Result};
 use crate::fiber::Fiber;
-use crate::math::quadrature::{adaptive, GaussLegendre};
+use crate::math::quadrature::{adaptive, panel_edges, GaussLegendre};
 use crate::math::Vec3;
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 
@@ -274,9 +274,6 @@ impl Yarn {
         let perp = |d: Vec3| d.y.atan2(d.x);
         let mut breaks: Vec<f64> = Vec::with_capacity(32);
         breaks.extend([
-            0.25 * PI,
-            0.5 * PI,
-            0.75 * PI,
             perp(s),
             perp(v),
             perp(s * (1.0 / s.z) - v * (1.0 / v.z)),
@@ -306,10 +303,7 @@ impl Yarn {
             .filter(|b| b.is_finite())
             .map(|b| b.rem_euclid(PI))
             .collect();
-        edges.push(0.0);
-        edges.push(PI);
-        edges.sort_by(f64::total_cmp);
-        edges.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+        panel_edges(&mut edges, 0.0, PI, 0.25 * PI);
         let mut total = 0.0;
         for e in edges.windows(2) {
             total += self.azimuth_rule.integrate(e[0], e[1], |phi_a| {
