@@ -23,10 +23,13 @@
 //! - [`math`]: vectors, special functions, quadrature.
 
 mod albedo;
+pub mod bsdf;
 pub mod cloth;
 pub mod error;
 pub mod fiber;
 pub mod material;
+#[cfg(feature = "serde")]
+pub mod table;
 pub mod math;
 pub mod weave;
 pub mod yarn;

@@ -1,0 +1,494 @@
+//! Tabulated cloth BRDFs: fast evaluation and importance sampling for renderers.
+//!
+//! The exact model (MODEL.md §2) nests up to four integrals; a [`Table`] stores it on a grid in
+//! incidence `(θ_i, φ_i)` and warped half-vector coordinates `(t_x, t_y)` (see [`grid`]) and
+//! interpolates quadrilinearly. The material's symmetries shrink the grid: every woven material is
+//! invariant under the mirrors `x → −x` and `y → −y` (profiles are symmetric, twist densities even),
+//! so `φ_i ∈ [0, π/2]` suffices; isotropic materials (flat fibers, `isotropic = true` yarns) need
+//! `φ_i = 0` only.
+//!
+//! Building: single-orientation materials are evaluated exactly at every node. Twisted and
+//! isotropic yarns (≈ 1 ms per exact evaluation) first tabulate the slope-averaged BRDF of fibers
+//! along `x`, `F₀ = f_θ(s, v; φ_a = 0)`, then average rotated look-ups of `F₀` over fiber azimuths
+//! with the twist (or uniform) weights: Eqs. (21)–(23) applied to the table, exactly linear like
+//! the model.
+//!
+//! | option | meaning | default |
+//! |---|---|---|
+//! | `n_theta` | nodes in `θ_i`, uniform on `[0, theta_max]` | 30 |
+//! | `theta_max_deg` | last `θ_i` node (beyond: clamped) | 87° |
+//! | `n_phi` | nodes in `φ_i` on `[0, π/2]` (anisotropic materials) | 7 |
+//! | `n_h` | nodes per half-vector axis, `t ∈ [−1, 1]`, `h = t\|t\|` | 81 |
+//! | `azimuth_nodes` | fiber azimuths per period for twisted/isotropic yarns | 180 |
+
+pub mod format;
+pub mod grid;
+pub mod report;
+mod sampler;
+
+use crate::bsdf::{Bsdf, BsdfSample};
+use crate::cloth::Structure;
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::Model;
+use grid::{slope_of_t, t_of_slope, v_of_slopes, Axis};
+use sampler::Sampler;
+use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Which symmetry the table exploits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Symmetry {
+    /// `f` depends on `φ_r − φ_i` only: one `φ_i` slice.
+    Isotropic,
+    /// `f` is invariant under `x → −x` and `y → −y`: `φ_i ∈ [0, π/2]`.
+    Mirror,
+}
+
+/// Grid resolution and build settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableOptions {
+    /// Nodes in `θ_i`.
+    pub n_theta: usize,
+    /// Last `θ_i` node, degrees.
+    pub theta_max_deg: f64,
+    /// Nodes in `φ_i` over `[0, π/2]` (ignored for isotropic materials).
+    pub n_phi: usize,
+    /// Nodes per half-vector axis.
+    pub n_h: usize,
+    /// Fiber azimuths per period when averaging twisted or isotropic yarns.
+    pub azimuth_nodes: usize,
+    /// Worker threads (0: all available cores).
+    pub threads: usize,
+}
+
+impl Default for TableOptions {
+    fn default() -> Self {
+        TableOptions {
+            n_theta: 30,
+            theta_max_deg: 87.0,
+            n_phi: 7,
+            n_h: 81,
+            azimuth_nodes: 180,
+            threads: 0,
+        }
+    }
+}
+
+impl TableOptions {
+    /// Checks the options.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the option.
+    pub fn validate(&self) -> Result<()> {
+        let int = |name: &str, x: usize, lo: usize, hi: usize| {
+            if (lo..=hi).contains(&x) {
+                Ok(())
+            } else {
+                Err(Error::invalid(name, x, format!("an integer in [{lo}, {hi}]")))
+            }
+        };
+        int("n_theta", self.n_theta, 2, 1024)?;
+        int("n_phi", self.n_phi, 2, 1024)?;
+        int("n_h", self.n_h, 3, 4097)?;
+        int("azimuth_nodes", self.azimuth_nodes, 8, 100_000)?;
+        crate::error::check_range("theta_max_deg", self.theta_max_deg, 1.0, 89.9)?;
+        Ok(())
+    }
+}
+
+/// A tabulated BRDF. `Send + Sync`; [`eval`](Table::eval), [`pdf`](Bsdf::pdf) and
+/// [`sample`](Bsdf::sample) allocate nothing.
+#[derive(Clone, Debug)]
+pub struct Table {
+    symmetry: Symmetry,
+    theta: Axis,
+    phi: Axis,
+    t: Axis,
+    values: Vec<f32>,
+    /// The material (TOML) and wavelength the table was built from.
+    material_toml: String,
+    wavelength_nm: f64,
+    sampler: Sampler,
+}
+
+/// The mirror folds that bring `s` into the table's domain, to undo on a sampled `v`.
+#[derive(Clone, Copy, Debug)]
+enum Fold {
+    Mirror { flip_x: bool, flip_y: bool },
+    Rotate { cos: f64, sin: f64 },
+}
+
+impl Fold {
+    #[inline]
+    fn apply(&self, d: Vec3) -> Vec3 {
+        match *self {
+            Fold::Mirror { flip_x, flip_y } => Vec3::new(
+                if flip_x { -d.x } else { d.x },
+                if flip_y { -d.y } else { d.y },
+                d.z,
+            ),
+            // Rotation by −φ_i about z.
+            Fold::Rotate { cos, sin } => Vec3::new(cos * d.x + sin * d.y, -sin * d.x + cos * d.y, d.z),
+        }
+    }
+
+    #[inline]
+    fn undo(&self, d: Vec3) -> Vec3 {
+        match *self {
+            Fold::Mirror { .. } => self.apply(d),
+            Fold::Rotate { cos, sin } => Vec3::new(cos * d.x - sin * d.y, sin * d.x + cos * d.y, d.z),
+        }
+    }
+}
+
+impl Table {
+    /// Builds the table of `model` (prepared at `wavelength_nm` from `material_toml`, which is
+    /// stored in the file for provenance). `progress(done, total)` is called as rows complete,
+    /// from worker threads.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid options.
+    pub fn build(
+        model: &Model,
+        material_toml: &str,
+        options: &TableOptions,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Table> {
+        options.validate()?;
+        let symmetry = symmetry_of(model);
+        let theta = Axis {
+            lo: 0.0,
+            hi: options.theta_max_deg.to_radians(),
+            n: options.n_theta,
+        };
+        let phi = Axis {
+            lo: 0.0,
+            hi: FRAC_PI_2,
+            n: if symmetry == Symmetry::Isotropic { 1 } else { options.n_phi },
+        };
+        let t = Axis {
+            lo: -1.0,
+            hi: 1.0,
+            n: options.n_h,
+        };
+        let structure = model.structure();
+        let values = match structure {
+            Structure::Woven { yarn, weft_fraction } if !yarn.is_single_orientation() => {
+                // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
+                let f0_phi = Axis {
+                    lo: 0.0,
+                    hi: FRAC_PI_2,
+                    n: options.n_phi.max(7),
+                };
+                let stage = |done: usize, total: usize| progress(done, 2 * total);
+                let f0_values = fill(theta, f0_phi, t, options.threads, &stage, |s, v| {
+                    yarn.slope_averaged(s, v, 0.0)
+                });
+                let f0 = Table::assemble(Symmetry::Mirror, theta, f0_phi, t, f0_values, String::new(), 0.0);
+                // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)).
+                let p = yarn.params();
+                let n = options.azimuth_nodes;
+                let weights = azimuth_weights(n, p.isotropic, p.twist_std, *weft_fraction);
+                let (hbar, rho) = (p.interreflection, p.interreflection_albedo);
+                let rows = theta.n * phi.n;
+                let stage2 = |done: usize, _total: usize| progress(rows + done, 2 * rows);
+                fill(theta, phi, t, options.threads, &stage2, |s, v| {
+                    let mut acc = 0.0;
+                    for (j, &w) in weights.iter().enumerate() {
+                        if w == 0.0 {
+                            continue;
+                        }
+                        let phi_a = (j as f64 + 0.5) * PI / n as f64;
+                        let (sp, cp) = phi_a.sin_cos();
+                        // Into the frame whose x is the fiber axis e_f.
+                        let to_fiber = |d: Vec3| Vec3::new(cp * d.x + sp * d.y, -sp * d.x + cp * d.y, d.z);
+                        acc += w * f0.eval_folded(to_fiber(s), to_fiber(v));
+                    }
+                    (1.0 - hbar) * acc + hbar * rho * FRAC_1_PI
+                })
+            }
+            _ => fill(theta, phi, t, options.threads, progress, |s, v| model.eval(s, v)),
+        };
+        Ok(Table::assemble(
+            symmetry,
+            theta,
+            phi,
+            t,
+            values,
+            material_toml.to_string(),
+            model.fiber().wavelength_nm(),
+        ))
+    }
+
+    fn assemble(
+        symmetry: Symmetry,
+        theta: Axis,
+        phi: Axis,
+        t: Axis,
+        values: Vec<f32>,
+        material_toml: String,
+        wavelength_nm: f64,
+    ) -> Table {
+        let mut table = Table {
+            symmetry,
+            theta,
+            phi,
+            t,
+            values,
+            material_toml,
+            wavelength_nm,
+            sampler: Sampler::default(),
+        };
+        table.sampler = Sampler::build(&table);
+        table
+    }
+
+    /// The symmetry the table uses.
+    pub fn symmetry(&self) -> Symmetry {
+        self.symmetry
+    }
+
+    /// The material the table was built from, as TOML.
+    pub fn material_toml(&self) -> &str {
+        &self.material_toml
+    }
+
+    /// The wavelength the table was built at, nm.
+    pub fn wavelength_nm(&self) -> f64 {
+        self.wavelength_nm
+    }
+
+    /// `(n_theta, n_phi, n_h)`.
+    pub fn dims(&self) -> (usize, usize, usize) {
+        (self.theta.n, self.phi.n, self.t.n)
+    }
+
+    /// The stored values `f cos θ_i cos θ_r` (`f32`, sr⁻¹), index `((iθ·n_φ + iφ)·n_h + i_y)·n_h + i_x`.
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
+    #[inline]
+    fn index(&self, it: usize, ip: usize, iy: usize, ix: usize) -> usize {
+        ((it * self.phi.n + ip) * self.t.n + iy) * self.t.n + ix
+    }
+
+    /// The fold that brings `s` into the table's domain.
+    #[inline]
+    fn fold_for(&self, s: Vec3) -> Fold {
+        match self.symmetry {
+            Symmetry::Mirror => Fold::Mirror {
+                flip_x: s.x < 0.0,
+                flip_y: s.y < 0.0,
+            },
+            Symmetry::Isotropic => {
+                let r = (s.x * s.x + s.y * s.y).sqrt();
+                if r > 0.0 {
+                    Fold::Rotate {
+                        cos: s.x / r,
+                        sin: s.y / r,
+                    }
+                } else {
+                    Fold::Rotate { cos: 1.0, sin: 0.0 }
+                }
+            }
+        }
+    }
+
+    /// The BRDF (sr⁻¹) by quadrilinear interpolation; 0 below the horizon.
+    #[inline]
+    pub fn eval(&self, s: Vec3, v: Vec3) -> f64 {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return 0.0;
+        }
+        let fold = self.fold_for(s);
+        self.eval_folded(fold.apply(s), fold.apply(v))
+    }
+
+    /// [`eval`](Self::eval) for `s` already in the domain (`s_x, s_y ≥ 0`; `s_y = 0` if isotropic).
+    #[inline]
+    fn eval_folded(&self, s: Vec3, v: Vec3) -> f64 {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return 0.0;
+        }
+        let (s, v) = match self.symmetry {
+            Symmetry::Mirror => (
+                Vec3::new(s.x.abs(), s.y.abs(), s.z),
+                Vec3::new(
+                    if s.x < 0.0 { -v.x } else { v.x },
+                    if s.y < 0.0 { -v.y } else { v.y },
+                    v.z,
+                ),
+            ),
+            Symmetry::Isotropic => (s, v),
+        };
+        let theta_i = s.z.clamp(-1.0, 1.0).acos();
+        let phi_i = s.y.atan2(s.x);
+        let h = s + v;
+        let (it, wt) = self.theta.locate(theta_i);
+        let (ip, wp) = self.phi.locate(phi_i);
+        let (iy, wy) = self.t.locate(t_of_slope(h.y / h.z));
+        let (ix, wx) = self.t.locate(t_of_slope(h.x / h.z));
+        let dp = usize::from(self.phi.n > 1);
+        let mut acc = 0.0;
+        for (a, fa) in [(0, 1.0 - wt), (1, wt)] {
+            for (b, fb) in [(0, 1.0 - wp), (dp, wp)] {
+                let base = self.index(it + a, ip + b, iy, ix);
+                let n = self.t.n;
+                let v00 = self.values[base] as f64;
+                let v01 = self.values[base + 1] as f64;
+                let v10 = self.values[base + n] as f64;
+                let v11 = self.values[base + n + 1] as f64;
+                let bil = (1.0 - wy) * ((1.0 - wx) * v00 + wx * v01) + wy * ((1.0 - wx) * v10 + wx * v11);
+                acc += fa * fb * bil;
+            }
+        }
+        // The table stores f cos θ_i cos θ_r (continued linearly below the horizon).
+        (acc / (s.z * v.z)).max(0.0)
+    }
+}
+
+/// The symmetry of a model's BRDF.
+fn symmetry_of(model: &Model) -> Symmetry {
+    match model.structure() {
+        Structure::Flat(_) => Symmetry::Isotropic,
+        Structure::Woven { yarn, .. } if yarn.params().isotropic => Symmetry::Isotropic,
+        Structure::Woven { .. } => Symmetry::Mirror,
+    }
+}
+
+/// Quadrature weights of the fiber azimuths `φ_j = (j + ½)π/n` over one period, for the weave mix
+/// of twisted (Eq. (21)) or isotropic (Eq. (22)) yarns: normalized per yarn so each sums to its
+/// weight `γ` or `1 − γ` (isotropic: uniform, summing to 1).
+fn azimuth_weights(n: usize, isotropic: bool, twist_std: f64, gamma: f64) -> Vec<f64> {
+    if isotropic {
+        return vec![1.0 / n as f64; n];
+    }
+    let density = |centre: f64| -> Vec<f64> {
+        let w: Vec<f64> = (0..n)
+            .map(|j| {
+                let phi = (j as f64 + 0.5) * PI / n as f64;
+                // δ reduced to [−π/2, π/2): the twist window is one period.
+                let d = (phi - centre + FRAC_PI_2).rem_euclid(PI) - FRAC_PI_2;
+                (-d * d / (2.0 * twist_std * twist_std)).exp()
+            })
+            .collect();
+        let sum: f64 = w.iter().sum();
+        w.into_iter().map(|x| x / sum).collect()
+    };
+    let weft = density(0.0);
+    let warp = density(FRAC_PI_2);
+    weft.iter()
+        .zip(&warp)
+        .map(|(a, b)| gamma * a + (1.0 - gamma) * b)
+        .collect()
+}
+
+/// A value for a node whose `v` lies below the horizon, so that interpolation next to it is not
+/// dragged toward 0: `f` at `v` lifted just above the horizon, times `cos θ_i` and the *signed*
+/// `cos θ_r` of the unlifted `v`. The stored `f cos θ_i cos θ_r` then continues linearly through
+/// the horizon (the BRDF is continuous up to it: the Smith term cancels `1/cos θ_r`), so cells that
+/// straddle it interpolate correctly on their valid side; `eval` returns 0 below it regardless.
+fn extrapolated(s: Vec3, px: f64, py: f64, f: &impl Fn(Vec3, Vec3) -> f64) -> f64 {
+    let h = grid::h_of_slopes(px, py);
+    let sh = s.dot(h);
+    if sh <= 0.0 {
+        return 0.0;
+    }
+    let v = h * (2.0 * sh) - s;
+    // 0.1° above the horizon, same azimuth.
+    let min_z = 0.1f64.to_radians().sin();
+    let r_xy = (v.x * v.x + v.y * v.y).sqrt();
+    if r_xy <= 0.0 {
+        return 0.0;
+    }
+    let c = (1.0 - min_z * min_z).sqrt() / r_xy;
+    let lifted = Vec3::new(v.x * c, v.y * c, min_z);
+    f(s, lifted) * s.z * v.z
+}
+
+/// Evaluates `f(s, v)` at every node, rows of `(θ_i, φ_i)` spread over threads.
+fn fill(
+    theta: Axis,
+    phi: Axis,
+    t: Axis,
+    threads: usize,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    f: impl Fn(Vec3, Vec3) -> f64 + Sync,
+) -> Vec<f32> {
+    let rows = theta.n * phi.n;
+    let row_len = t.n * t.n;
+    let mut values = vec![0f32; rows * row_len];
+    let threads = if threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        threads
+    };
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    // Rows are handed out one at a time; each thread writes only the rows it took.
+    let chunks: Vec<std::sync::Mutex<&mut [f32]>> = values.chunks_mut(row_len).map(std::sync::Mutex::new).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..threads.min(rows) {
+            scope.spawn(|| loop {
+                let r = next.fetch_add(1, Ordering::Relaxed);
+                if r >= rows {
+                    break;
+                }
+                let (it, ip) = (r / phi.n, r % phi.n);
+                let s = Vec3::from_spherical(theta.node(it), phi.node(ip));
+                let mut row = chunks[r].lock().expect("row lock poisoned");
+                for iy in 0..t.n {
+                    let py = slope_of_t(t.node(iy));
+                    for ix in 0..t.n {
+                        let px = slope_of_t(t.node(ix));
+                        // Stored: f cos θ_i cos θ_r, which varies far more slowly with θ_i at fixed h
+                        // than f (whose 1/(cos θ_i cos θ_r) dominates near the highlight).
+                        row[iy * t.n + ix] = match v_of_slopes(s, px, py) {
+                            Some((v, _)) => f(s, v) * s.z * v.z,
+                            None => extrapolated(s, px, py, &f),
+                        } as f32;
+                    }
+                }
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1, rows);
+            });
+        }
+    });
+    drop(chunks);
+    values
+}
+
+impl Bsdf for Table {
+    #[inline]
+    fn eval(&self, s: Vec3, v: Vec3) -> f64 {
+        Table::eval(self, s, v)
+    }
+
+    #[inline]
+    fn pdf(&self, s: Vec3, v: Vec3) -> f64 {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return 0.0;
+        }
+        let fold = self.fold_for(s);
+        self.sampler.pdf(self, fold.apply(s), fold.apply(v))
+    }
+
+    #[inline]
+    fn sample(&self, s: Vec3, u1: f64, u2: f64) -> Option<BsdfSample> {
+        if s.z <= 0.0 {
+            return None;
+        }
+        let fold = self.fold_for(s);
+        let sf = fold.apply(s);
+        let (vf, pdf) = self.sampler.sample(self, sf, u1, u2)?;
+        let f = self.eval_folded(sf, vf);
+        let v = fold.undo(vf);
+        Some(BsdfSample {
+            v,
+            f,
+            pdf,
+            weight: f * v.z / pdf,
+        })
+    }
+}

@@ -1,0 +1,227 @@
+//! Importance sampling of a [`Table`]: per incidence node, a piecewise-constant density over the
+//! cells of the warped half-vector grid, drawn by marginal and conditional CDFs.
+//!
+//! For the node's light direction `s_k`, cell `(i_y, i_x)` gets the weight
+//! `∫_cell f(s_k, v) cos θ_r |∂ω_r/∂t| dt`, where `|∂ω_r/∂t|` is the map's Jacobian
+//! (see [`super::grid::jacobian`]), estimated from the cell's corners and centre, plus a defensive 1 % spread uniformly
+//! over solid angle so no direction the table can reach has zero density. For an arbitrary `s`
+//! the four surrounding nodes are mixed with their bilinear weights (the first uniform picks the
+//! node and is reused), so the density is exact: `p(v) = Σ_k w_k p_k(t(v)) / |∂ω/∂t|`, evaluated
+//! with the actual `s`. Directions a node's cells map below the horizon for the actual `s` are
+//! rejected (`sample` returns `None`); that lost mass, significant only at grazing incidence,
+//! is the gap between `∫ pdf dω` and 1.
+
+use super::grid::{jacobian, t_of_slope};
+use super::Table;
+use crate::math::Vec3;
+
+/// Fraction of each node's sampling mass spread uniformly over solid angle.
+const DEFENSIVE: f64 = 0.01;
+
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Sampler {
+    /// Cells per axis, `n_h − 1`.
+    nc: usize,
+    /// Per node: CDF over rows, `nc + 1` entries from 0 to 1.
+    marginal: Vec<f32>,
+    /// Per node and row: CDF over the row's cells, `nc + 1` entries.
+    conditional: Vec<f32>,
+    /// Per node and cell: the density in `t` space (integrates to 1 over the square).
+    cell_pdf: Vec<f32>,
+}
+
+impl Sampler {
+    pub(crate) fn build(table: &Table) -> Sampler {
+        let n = table.t.n;
+        let nc = n - 1;
+        let dt = (table.t.hi - table.t.lo) / nc as f64;
+        let nodes = table.theta.n * table.phi.n;
+        let mut out = Sampler {
+            nc,
+            marginal: vec![0.0; nodes * (nc + 1)],
+            conditional: vec![0.0; nodes * nc * (nc + 1)],
+            cell_pdf: vec![0.0; nodes * nc * nc],
+        };
+        let mut weights = vec![0.0f64; nc * nc];
+        let mut spread = vec![0.0f64; nc * nc];
+        for node in 0..nodes {
+            let (it, ip) = (node / table.phi.n, node % table.phi.n);
+            let s = Vec3::from_spherical(table.theta.node(it), table.phi.node(ip));
+            // Stored values are f cos θ_i cos θ_r: f cos θ_r is the value over cos θ_i.
+            let value = |iy: usize, ix: usize| (table.values[table.index(it, ip, iy, ix)] as f64 / s.z.max(1e-9)).max(0.0);
+            for iy in 0..nc {
+                for ix in 0..nc {
+                    let (t0y, t0x) = (table.t.node(iy), table.t.node(ix));
+                    let corners = [(0, 0), (0, 1), (1, 0), (1, 1)];
+                    let mut acc = 0.0;
+                    let mut any = false;
+                    for (a, b) in corners {
+                        if let Some((v, j)) = jacobian(s, t0x + b as f64 * dt, t0y + a as f64 * dt) {
+                            acc += value(iy + a, ix + b) * j;
+                            let _ = v;
+                            any = true;
+                        }
+                    }
+                    let centre = jacobian(s, t0x + 0.5 * dt, t0y + 0.5 * dt);
+                    if let Some((v, j)) = centre {
+                        let fc = 0.25 * (value(iy, ix) + value(iy, ix + 1) + value(iy + 1, ix) + value(iy + 1, ix + 1));
+                        acc += 4.0 * fc * j;
+                        let _ = v;
+                        any = true;
+                    }
+                    // Mean of corners and (double-weighted) centre, times the cell's area.
+                    weights[iy * nc + ix] = acc / 8.0 * dt * dt;
+                    // Solid angle of the cell (for the defensive part), if any of it is valid.
+                    spread[iy * nc + ix] = if any {
+                        centre.map_or_else(|| jacobian_abs_mean(s, t0x, t0y, dt), |(_, j)| j) * dt * dt
+                    } else {
+                        0.0
+                    };
+                }
+            }
+            let total: f64 = weights.iter().sum();
+            let total_spread: f64 = spread.iter().sum();
+            let (wf, ws) = if total > 0.0 && total_spread > 0.0 {
+                ((1.0 - DEFENSIVE) / total, DEFENSIVE / total_spread)
+            } else if total_spread > 0.0 {
+                (0.0, 1.0 / total_spread)
+            } else {
+                (0.0, 0.0)
+            };
+            let base_m = node * (nc + 1);
+            let mut row_mass = 0.0;
+            for iy in 0..nc {
+                let base_c = (node * nc + iy) * (nc + 1);
+                let mut c = 0.0;
+                for ix in 0..nc {
+                    let p = wf * weights[iy * nc + ix] + ws * spread[iy * nc + ix];
+                    out.cell_pdf[(node * nc + iy) * nc + ix] = (p / (dt * dt)) as f32;
+                    c += p;
+                    out.conditional[base_c + ix + 1] = c as f32;
+                }
+                // Normalize the row's CDF (an empty row keeps a uniform CDF; it is never chosen).
+                for ix in 1..=nc {
+                    out.conditional[base_c + ix] = if c > 0.0 {
+                        (out.conditional[base_c + ix] as f64 / c) as f32
+                    } else {
+                        ix as f32 / nc as f32
+                    };
+                }
+                row_mass += c;
+                out.marginal[base_m + iy + 1] = row_mass as f32;
+            }
+            for iy in 1..=nc {
+                out.marginal[base_m + iy] = if row_mass > 0.0 {
+                    (out.marginal[base_m + iy] as f64 / row_mass) as f32
+                } else {
+                    iy as f32 / nc as f32
+                };
+            }
+        }
+        out
+    }
+
+    /// The bilinear node mixture for folded `s`: up to four `(node, weight)`.
+    #[inline]
+    fn nodes(table: &Table, s: Vec3) -> [(usize, f64); 4] {
+        let theta_i = s.z.clamp(-1.0, 1.0).acos();
+        let phi_i = s.y.atan2(s.x);
+        let (it, wt) = table.theta.locate(theta_i);
+        let (ip, wp) = table.phi.locate(phi_i);
+        let np = table.phi.n;
+        let dp = usize::from(np > 1);
+        [
+            (it * np + ip, (1.0 - wt) * (1.0 - wp)),
+            (it * np + ip + dp, (1.0 - wt) * wp),
+            ((it + 1) * np + ip, wt * (1.0 - wp)),
+            ((it + 1) * np + ip + dp, wt * wp),
+        ]
+    }
+
+    /// Samples a folded `v` for folded `s`: `(v, pdf)`.
+    pub(crate) fn sample(&self, table: &Table, s: Vec3, u1: f64, u2: f64) -> Option<(Vec3, f64)> {
+        let nc = self.nc;
+        let dt = (table.t.hi - table.t.lo) / nc as f64;
+        // Pick a node with the first uniform, then rescale it.
+        let mut u = u1.clamp(0.0, 1.0 - f64::EPSILON);
+        let mut chosen = None;
+        let mut acc = 0.0;
+        for (node, w) in Self::nodes(table, s) {
+            if w <= 0.0 {
+                continue;
+            }
+            if u < acc + w {
+                chosen = Some(node);
+                u = ((u - acc) / w).clamp(0.0, 1.0 - f64::EPSILON);
+                break;
+            }
+            acc += w;
+        }
+        let node = chosen.or_else(|| Self::nodes(table, s).iter().rev().find(|(_, w)| *w > 0.0).map(|n| n.0))?;
+        let marg = &self.marginal[node * (nc + 1)..(node + 1) * (nc + 1)];
+        let (iy, fy) = invert(marg, u)?;
+        let cond = &self.conditional[(node * nc + iy) * (nc + 1)..(node * nc + iy + 1) * (nc + 1)];
+        let (ix, fx) = invert(cond, u2.clamp(0.0, 1.0 - f64::EPSILON))?;
+        let tx = table.t.node(ix) + fx * dt;
+        let ty = table.t.node(iy) + fy * dt;
+        let (v, _) = jacobian(s, tx, ty)?;
+        let pdf = self.pdf(table, s, v);
+        (pdf > 0.0 && pdf.is_finite()).then_some((v, pdf))
+    }
+
+    /// The density (per unit solid angle) of a folded `v` for folded `s`.
+    pub(crate) fn pdf(&self, table: &Table, s: Vec3, v: Vec3) -> f64 {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return 0.0;
+        }
+        let h = s + v;
+        let (tx, ty) = (t_of_slope(h.x / h.z), t_of_slope(h.y / h.z));
+        let Some((_, j)) = jacobian(s, tx, ty) else {
+            return 0.0;
+        };
+        if j <= 0.0 {
+            return 0.0;
+        }
+        let nc = self.nc;
+        let (iy, _) = table.t.locate(ty);
+        let (ix, _) = table.t.locate(tx);
+        let mut p = 0.0;
+        for (node, w) in Self::nodes(table, s) {
+            if w > 0.0 {
+                p += w * self.cell_pdf[(node * nc + iy) * nc + ix] as f64;
+            }
+        }
+        p / j
+    }
+}
+
+/// Mean `|∂ω/∂t|` over the valid corners of a cell whose centre maps below the horizon.
+fn jacobian_abs_mean(s: Vec3, t0x: f64, t0y: f64, dt: f64) -> f64 {
+    let mut acc = 0.0;
+    let mut k = 0;
+    for (a, b) in [(0.0, 0.0), (0.0, dt), (dt, 0.0), (dt, dt)] {
+        if let Some((_, j)) = jacobian(s, t0x + b, t0y + a) {
+            acc += j;
+            k += 1;
+        }
+    }
+    if k == 0 {
+        0.0
+    } else {
+        acc / k as f64
+    }
+}
+
+/// Finds `i` with `cdf[i] ≤ u < cdf[i+1]` and the fraction within; `None` for an empty CDF.
+#[inline]
+fn invert(cdf: &[f32], u: f64) -> Option<(usize, f64)> {
+    let n = cdf.len() - 1;
+    // First index whose CDF exceeds u.
+    let k = cdf.partition_point(|&c| (c as f64) <= u);
+    let i = k.checked_sub(1)?.min(n - 1);
+    let (lo, hi) = (cdf[i] as f64, cdf[i + 1] as f64);
+    if hi <= lo {
+        return None;
+    }
+    Some((i, ((u - lo) / (hi - lo)).clamp(0.0, 1.0)))
+}
