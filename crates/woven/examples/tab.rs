@@ -12,7 +12,8 @@ fn main() {
     };
     let model = m.build(550.0).unwrap();
     let nt: usize = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(30);
-    let opts = TableOptions { n_h: nh, n_theta: nt, ..Default::default() };
+    let np: usize = args.get(4).map(|s| s.parse().unwrap()).unwrap_or(13);
+    let opts = TableOptions { n_h: nh, n_h_isotropic: nh * 2 - 1, n_theta: nt, n_phi: np, ..Default::default() };
     let t0 = std::time::Instant::now();
     let table = Table::build(&model, &m.to_toml_string(), &opts, &|_, _| {}).unwrap();
     let build = t0.elapsed();

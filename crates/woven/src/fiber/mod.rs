@@ -24,7 +24,7 @@ pub use htsg::series as htsg_series;
 pub use microfacet::{beckmann_d, smith_lambda, smith_s1};
 pub use normalization::{beta_direct, rough_single_scattering, single_scattering_adaptive, BetaTable};
 
-use crate::error::{check_open, check_range, Error, Result};
+use crate::error::{check_range, Error, Result};
 use crate::math::hemisphere::reflected_hemisphere_integral;
 use crate::math::Vec3;
 use std::f64::consts::{FRAC_1_PI, PI};
@@ -122,8 +122,12 @@ impl FiberParams {
                 check_range("fiber.roughness", roughness, ROUGHNESS_MIN, ROUGHNESS_MAX)?;
             }
             FiberModel::Htsg { sigma_h_um, tau_um } => {
-                check_open("fiber.sigma_h_um", sigma_h_um, 0.0, 10.0 + 1e-12)?;
-                check_open("fiber.tau_um", tau_um, 0.0, 100.0 + 1e-12)?;
+                if !(sigma_h_um > 0.0 && sigma_h_um <= 10.0) {
+                    return Err(Error::invalid("fiber.sigma_h_um", sigma_h_um, "a length in µm in (0, 10]"));
+                }
+                if !(tau_um > 0.0 && tau_um <= 100.0) {
+                    return Err(Error::invalid("fiber.tau_um", tau_um, "a length in µm in (0, 100]"));
+                }
                 let r = sigma_h_um / tau_um;
                 if !(ROUGHNESS_MIN..=ROUGHNESS_MAX).contains(&r) {
                     return Err(Error::invalid(
@@ -284,9 +288,17 @@ impl Fiber {
         let shadow = smith_s1(ci, self.alpha) * smith_s1(cr, self.alpha);
         match self.params.model {
             FiberModel::Rough { .. } => {
-                // Eq. (16'): F D_B S / (4 cos θi cos θr).
-                let cos_h = wa / w2.sqrt();
-                self.fresnel(cos_d) * beckmann_d(cos_h, self.alpha) * shadow / (4.0 * ci * cr)
+                // Eq. (16'): F D_B S / (4 cos θi cos θr), with tan²θ_h = |w_⊥|²/(w·a)² (exact to an
+                // ulp, where 1/cos² − 1 would lose ε/α² near the peak).
+                let cos2_h = wa * wa / w2;
+                let tan2_h = (w2 - wa * wa).max(0.0) / (wa * wa);
+                let a2 = self.alpha * self.alpha;
+                let d = if wa > 0.0 {
+                    (-tan2_h / a2).exp() / (PI * a2 * cos2_h * cos2_h)
+                } else {
+                    0.0
+                };
+                self.fresnel(cos_d) * d * shadow / (4.0 * ci * cr)
             }
             FiberModel::Htsg { .. } => {
                 // Eqs. (9), (13): F S G D / (π cos θi cos θr).

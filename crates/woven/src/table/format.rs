@@ -10,11 +10,14 @@
 //! | 16 | `H` | header: UTF-8 TOML (`symmetry`, grid axes, wavelength, the material's TOML) |
 //! | 16 + H | 8 | value count `N`, `u64` (= `n_theta · n_phi · n_h²`) |
 //! | 24 + H | 4N | values, `f32`, index `((iθ·n_φ + iφ)·n_h + i_y)·n_h + i_x` |
-//! | 24 + H + 4N | 4 | CRC-32 (IEEE) of every byte before it |
+//! | 24 + H + 4N | 8 | cell count `M`, `u64` (= `n_theta · n_phi · (n_h − 1)²`) |
+//! | 32 + H + 4N | 4M | sampling densities per incidence node and half-vector cell, `f32` |
+//! | 32 + H + 4N + 4M | 4 | CRC-32 (IEEE) of every byte before it |
 //!
 //! A truncated, corrupt (checksum), wrong-magic or wrong-version file, a header that does not parse
 //! or disagrees with `N`, and trailing bytes are errors naming the file and what is wrong. The
-//! sampling CDFs are rebuilt on load (they are a deterministic function of the values).
+//! sampling densities are stored (computing them takes longer than loading should); the CDFs are
+//! their running sums, rebuilt on load.
 
 use super::grid::Axis;
 use super::{Symmetry, Table};
@@ -59,6 +62,11 @@ impl Table {
         out.extend_from_slice(header.as_bytes());
         out.extend_from_slice(&(self.values.len() as u64).to_le_bytes());
         for v in &self.values {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        let cells = self.sampler.cell_pdf();
+        out.extend_from_slice(&(cells.len() as u64).to_le_bytes());
+        for v in cells {
             out.extend_from_slice(&v.to_le_bytes());
         }
         let crc = crc32fast::hash(&out);
@@ -125,7 +133,15 @@ impl Table {
         if count > MAX_VALUES {
             return Err(err(&format!("implausible value count {count}")));
         }
-        let payload_end = after_header + 8 + 4 * count as usize;
+        let values_end = after_header + 8 + 4 * count as usize;
+        if bytes.len() < values_end + 8 + 4 {
+            return Err(err("truncated (values or cell count missing)"));
+        }
+        let cell_count = u64::from_le_bytes(bytes[values_end..values_end + 8].try_into().unwrap());
+        if cell_count > MAX_VALUES {
+            return Err(err(&format!("implausible cell count {cell_count}")));
+        }
+        let payload_end = values_end + 8 + 4 * cell_count as usize;
         if bytes.len() < payload_end + 4 {
             return Err(err(&format!(
                 "truncated: {} bytes, expected {}",
@@ -174,7 +190,18 @@ impl Table {
         if expected != count {
             return Err(err(&format!("{count} values, but the grid needs {expected}")));
         }
-        let values: Vec<f32> = bytes[after_header + 8..payload_end]
+        let expected_cells = (n_theta * n_phi * (n_h - 1) * (n_h - 1)) as u64;
+        if expected_cells != cell_count {
+            return Err(err(&format!("{cell_count} cells, but the grid needs {expected_cells}")));
+        }
+        let cell_pdf: Vec<f32> = bytes[values_end + 8..payload_end]
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        if cell_pdf.iter().any(|v| !v.is_finite() || *v < 0.0) {
+            return Err(err("negative or non-finite sampling densities"));
+        }
+        let values: Vec<f32> = bytes[after_header + 8..values_end]
             .chunks_exact(4)
             .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
             .collect();
@@ -183,14 +210,15 @@ impl Table {
         }
         let material = header.get("material").and_then(|v| v.as_str()).unwrap_or("").to_string();
         let wavelength_nm = float("wavelength_nm")?;
-        Ok(Table::assemble(
+        Ok(Table::assemble_with(
             symmetry,
-            Axis { lo: 0.0, hi: theta_max, n: n_theta },
-            Axis { lo: 0.0, hi: std::f64::consts::FRAC_PI_2, n: n_phi },
-            Axis { lo: -1.0, hi: 1.0, n: n_h },
+            Axis { lo: 0.0, hi: theta_max, n: n_theta, grading: super::THETA_GRADING },
+            Axis::uniform(0.0, std::f64::consts::FRAC_PI_2, n_phi),
+            Axis::uniform(-1.0, 1.0, n_h),
             values,
             material,
             wavelength_nm,
+            Some(cell_pdf),
         ))
     }
 

@@ -63,7 +63,10 @@ pub fn jacobian(s: Vec3, tx: f64, ty: f64) -> Option<(Vec3, f64)> {
     Some((v, 4.0 * s.dot(h) / (q * q.sqrt()) * dslope_dt(tx) * dslope_dt(ty)))
 }
 
-/// A uniform axis of `n ≥ 1` nodes on `[lo, hi]`.
+/// An axis of `n ≥ 1` nodes on `[lo, hi]`, at `lo + (hi − lo) g(k/(n−1))` with the grading
+/// `g(u) = u (1 + a (1 − u))`: uniform for `a = 0`; for `a > 0` spacing shrinks toward `hi` by
+/// the factor `(1 − a)/(1 + a)` (the `θ_i` axis uses `a = 0.6`: masking and Fresnel change fastest
+/// at grazing incidence).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Axis {
     /// First node.
@@ -72,28 +75,45 @@ pub struct Axis {
     pub hi: f64,
     /// Number of nodes.
     pub n: usize,
+    /// Grading `a ∈ [0, 1)`.
+    pub grading: f64,
 }
 
 impl Axis {
+    /// A uniform axis.
+    pub fn uniform(lo: f64, hi: f64, n: usize) -> Axis {
+        Axis { lo, hi, n, grading: 0.0 }
+    }
+
     /// The `k`-th node.
     #[inline]
     pub fn node(&self, k: usize) -> f64 {
         if self.n == 1 {
             return self.lo;
         }
-        self.lo + (self.hi - self.lo) * k as f64 / (self.n - 1) as f64
+        let u = k as f64 / (self.n - 1) as f64;
+        self.lo + (self.hi - self.lo) * u * (1.0 + self.grading * (1.0 - u))
     }
 
-    /// `(k, w)`: `x` lies between nodes `k` and `k + 1` with weight `w` on `k + 1` (clamped to
-    /// the axis; a single-node axis gives `(0, 0)`).
+    /// `(k, w)`: `x` lies between nodes `k` and `k + 1` with weight `w` on `k + 1`, linear in the
+    /// graded coordinate (clamped to the axis; a single-node axis gives `(0, 0)`).
     #[inline]
     pub fn locate(&self, x: f64) -> (usize, f64) {
         if self.n == 1 {
             return (0, 0.0);
         }
-        let u = ((x - self.lo) / (self.hi - self.lo) * (self.n - 1) as f64).clamp(0.0, (self.n - 1) as f64);
-        let k = (u as usize).min(self.n - 2);
-        (k, u - k as f64)
+        let y = ((x - self.lo) / (self.hi - self.lo)).clamp(0.0, 1.0);
+        let a = self.grading;
+        // Invert y = u + a u (1 − u): a u² − (1 + a) u + y = 0, the root in [0, 1].
+        let u = if a == 0.0 {
+            y
+        } else {
+            let b = 1.0 + a;
+            2.0 * y / (b + (b * b - 4.0 * a * y).max(0.0).sqrt())
+        };
+        let v = u * (self.n - 1) as f64;
+        let k = (v as usize).min(self.n - 2);
+        (k, (v - k as f64).clamp(0.0, 1.0))
     }
 }
 
@@ -113,6 +133,21 @@ mod tests {
                 assert!((fd - dslope_dt(t)).abs() <= 1e-5 * fd.abs().max(1.0), "t {t}: {fd} vs {}", dslope_dt(t));
             }
         }
+    }
+
+    #[test]
+    fn graded_axis_locates_its_own_nodes() {
+        let ax = Axis { lo: 0.0, hi: 1.5, n: 30, grading: 0.6 };
+        for k in 0..30 {
+            let x = ax.node(k);
+            let (i, w) = ax.locate(x);
+            let back = ax.node(i) + w * (ax.node(i + 1) - ax.node(i));
+            assert!((back - x).abs() < 1e-12, "k {k}: {back} vs {x}");
+        }
+        // Spacing shrinks toward the end by (1 − a)/(1 + a).
+        let first = ax.node(1) - ax.node(0);
+        let last = ax.node(29) - ax.node(28);
+        assert!((last / first - 0.25).abs() < 0.03, "{}", last / first);
     }
 
     #[test]

@@ -17,8 +17,9 @@
 //! |---|---|---|
 //! | `n_theta` | nodes in `θ_i`, uniform on `[0, theta_max]` | 30 |
 //! | `theta_max_deg` | last `θ_i` node (beyond: clamped) | 87° |
-//! | `n_phi` | nodes in `φ_i` on `[0, π/2]` (anisotropic materials) | 7 |
-//! | `n_h` | nodes per half-vector axis, `t ∈ [−1, 1]`, `h = t\|t\|` | 81 |
+//! | `n_phi` | nodes in `φ_i` on `[0, π/2]` (anisotropic materials) | 13 |
+//! | `n_h` | nodes per half-vector slope axis, `t ∈ [−1, 1]` (anisotropic) | 81 |
+//! | `n_h_isotropic` | the same for isotropic materials | 161 |
 //! | `azimuth_nodes` | fiber azimuths per period for twisted/isotropic yarns | 180 |
 
 pub mod format;
@@ -35,6 +36,14 @@ use grid::{slope_of_t, t_of_slope, v_of_slopes, Axis};
 use sampler::Sampler;
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Grading of the `θ_i` axis (see [`Axis`]): nodes 4.8° apart at normal incidence (30 nodes to
+/// 87°), 1.2° at grazing.
+pub const THETA_GRADING: f64 = 0.6;
+
+/// `φ_i` nodes of the intermediate single-orientation table `F₀` of twisted and isotropic yarns:
+/// the azimuth average smooths its interpolation error, so it can be coarser than a final table.
+pub const F0_PHI_NODES: usize = 13;
 
 /// Which symmetry the table exploits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,8 +63,10 @@ pub struct TableOptions {
     pub theta_max_deg: f64,
     /// Nodes in `φ_i` over `[0, π/2]` (ignored for isotropic materials).
     pub n_phi: usize,
-    /// Nodes per half-vector axis.
+    /// Nodes per half-vector axis (anisotropic materials).
     pub n_h: usize,
+    /// Nodes per half-vector axis for isotropic materials (one `φ_i` slice, so finer is cheap).
+    pub n_h_isotropic: usize,
     /// Fiber azimuths per period when averaging twisted or isotropic yarns.
     pub azimuth_nodes: usize,
     /// Worker threads (0: all available cores).
@@ -67,8 +78,9 @@ impl Default for TableOptions {
         TableOptions {
             n_theta: 30,
             theta_max_deg: 87.0,
-            n_phi: 7,
+            n_phi: 13,
             n_h: 81,
+            n_h_isotropic: 161,
             azimuth_nodes: 180,
             threads: 0,
         }
@@ -91,6 +103,7 @@ impl TableOptions {
         int("n_theta", self.n_theta, 2, 1024)?;
         int("n_phi", self.n_phi, 2, 1024)?;
         int("n_h", self.n_h, 3, 4097)?;
+        int("n_h_isotropic", self.n_h_isotropic, 3, 4097)?;
         int("azimuth_nodes", self.azimuth_nodes, 8, 100_000)?;
         crate::error::check_range("theta_max_deg", self.theta_max_deg, 1.0, 89.9)?;
         Ok(())
@@ -161,31 +174,34 @@ impl Table {
             lo: 0.0,
             hi: options.theta_max_deg.to_radians(),
             n: options.n_theta,
+            grading: THETA_GRADING,
         };
-        let phi = Axis {
-            lo: 0.0,
-            hi: FRAC_PI_2,
-            n: if symmetry == Symmetry::Isotropic { 1 } else { options.n_phi },
-        };
-        let t = Axis {
-            lo: -1.0,
-            hi: 1.0,
-            n: options.n_h,
-        };
+        let phi = Axis::uniform(0.0, FRAC_PI_2, if symmetry == Symmetry::Isotropic { 1 } else { options.n_phi });
+        let t = Axis::uniform(
+            -1.0,
+            1.0,
+            if symmetry == Symmetry::Isotropic { options.n_h_isotropic } else { options.n_h },
+        );
+        let f0_t = Axis::uniform(-1.0, 1.0, options.n_h);
         let structure = model.structure();
         let values = match structure {
             Structure::Woven { yarn, weft_fraction } if !yarn.is_single_orientation() => {
                 // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
-                let f0_phi = Axis {
-                    lo: 0.0,
-                    hi: FRAC_PI_2,
-                    n: options.n_phi.max(7),
-                };
+                let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
                 let stage = |done: usize, total: usize| progress(done, 2 * total);
-                let f0_values = fill(theta, f0_phi, t, options.threads, &stage, |s, v| {
+                let f0_values = fill(theta, f0_phi, f0_t, options.threads, &stage, |s, v| {
                     yarn.slope_averaged(s, v, 0.0)
                 });
-                let f0 = Table::assemble(Symmetry::Mirror, theta, f0_phi, t, f0_values, String::new(), 0.0);
+                let f0 = Table::assemble_with(
+                    Symmetry::Mirror,
+                    theta,
+                    f0_phi,
+                    f0_t,
+                    f0_values,
+                    String::new(),
+                    0.0,
+                    Some(Vec::new()),
+                );
                 // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)).
                 let p = yarn.params();
                 let n = options.azimuth_nodes;
@@ -230,6 +246,19 @@ impl Table {
         material_toml: String,
         wavelength_nm: f64,
     ) -> Table {
+        Self::assemble_with(symmetry, theta, phi, t, values, material_toml, wavelength_nm, None)
+    }
+
+    fn assemble_with(
+        symmetry: Symmetry,
+        theta: Axis,
+        phi: Axis,
+        t: Axis,
+        values: Vec<f32>,
+        material_toml: String,
+        wavelength_nm: f64,
+        cell_pdf: Option<Vec<f32>>,
+    ) -> Table {
         let mut table = Table {
             symmetry,
             theta,
@@ -240,7 +269,10 @@ impl Table {
             wavelength_nm,
             sampler: Sampler::default(),
         };
-        table.sampler = Sampler::build(&table);
+        table.sampler = match cell_pdf {
+            Some(c) => Sampler::from_cell_pdf(&table, c),
+            None => Sampler::build(&table),
+        };
         table
     }
 

@@ -31,6 +31,62 @@ pub(crate) struct Sampler {
 }
 
 impl Sampler {
+    /// The sampler of a table whose per-cell densities were stored with it.
+    pub(crate) fn from_cell_pdf(table: &Table, cell_pdf: Vec<f32>) -> Sampler {
+        let nc = table.t.n - 1;
+        let dt = (table.t.hi - table.t.lo) / nc as f64;
+        let nodes = table.theta.n * table.phi.n;
+        let mut out = Sampler {
+            nc,
+            marginal: vec![0.0; nodes * (nc + 1)],
+            conditional: vec![0.0; nodes * nc * (nc + 1)],
+            cell_pdf,
+        };
+        out.cumulate(dt);
+        out
+    }
+
+    /// The per-cell densities (stored in table files).
+    pub(crate) fn cell_pdf(&self) -> &[f32] {
+        &self.cell_pdf
+    }
+
+    /// Builds the marginal and conditional CDFs from `cell_pdf`.
+    fn cumulate(&mut self, dt: f64) {
+        let nc = self.nc;
+        let nodes = self.cell_pdf.len() / (nc * nc);
+        for node in 0..nodes {
+            let base_m = node * (nc + 1);
+            let mut row_mass = 0.0;
+            for iy in 0..nc {
+                let base_c = (node * nc + iy) * (nc + 1);
+                let mut c = 0.0;
+                for ix in 0..nc {
+                    c += self.cell_pdf[(node * nc + iy) * nc + ix] as f64 * dt * dt;
+                    self.conditional[base_c + ix + 1] = c as f32;
+                }
+                // Normalize the row's CDF (an empty row keeps a uniform CDF; it is never chosen).
+                for ix in 1..=nc {
+                    self.conditional[base_c + ix] = if c > 0.0 {
+                        (self.conditional[base_c + ix] as f64 / c) as f32
+                    } else {
+                        ix as f32 / nc as f32
+                    };
+                }
+                row_mass += c;
+                self.marginal[base_m + iy + 1] = row_mass as f32;
+            }
+            for iy in 1..=nc {
+                self.marginal[base_m + iy] = if row_mass > 0.0 {
+                    (self.marginal[base_m + iy] as f64 / row_mass) as f32
+                } else {
+                    iy as f32 / nc as f32
+                };
+            }
+        }
+    }
+
+    /// Computes the per-cell densities of every node (the expensive part) and the CDFs.
     pub(crate) fn build(table: &Table) -> Sampler {
         let n = table.t.n;
         let nc = n - 1;
@@ -88,36 +144,14 @@ impl Sampler {
             } else {
                 (0.0, 0.0)
             };
-            let base_m = node * (nc + 1);
-            let mut row_mass = 0.0;
             for iy in 0..nc {
-                let base_c = (node * nc + iy) * (nc + 1);
-                let mut c = 0.0;
                 for ix in 0..nc {
                     let p = wf * weights[iy * nc + ix] + ws * spread[iy * nc + ix];
                     out.cell_pdf[(node * nc + iy) * nc + ix] = (p / (dt * dt)) as f32;
-                    c += p;
-                    out.conditional[base_c + ix + 1] = c as f32;
                 }
-                // Normalize the row's CDF (an empty row keeps a uniform CDF; it is never chosen).
-                for ix in 1..=nc {
-                    out.conditional[base_c + ix] = if c > 0.0 {
-                        (out.conditional[base_c + ix] as f64 / c) as f32
-                    } else {
-                        ix as f32 / nc as f32
-                    };
-                }
-                row_mass += c;
-                out.marginal[base_m + iy + 1] = row_mass as f32;
-            }
-            for iy in 1..=nc {
-                out.marginal[base_m + iy] = if row_mass > 0.0 {
-                    (out.marginal[base_m + iy] as f64 / row_mass) as f32
-                } else {
-                    iy as f32 / nc as f32
-                };
             }
         }
+        out.cumulate(dt);
         out
     }
 
