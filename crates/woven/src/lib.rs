@@ -25,6 +25,7 @@
 mod albedo;
 pub mod cloth;
 pub mod error;
+pub mod export;
 pub mod fiber;
 pub mod material;
 pub mod math;
