@@ -5,4 +5,5 @@ mod export;
 mod fiber;
 mod golden;
 mod masking;
+mod material_files;
 mod weave;
