@@ -26,6 +26,7 @@ mod albedo;
 pub mod bsdf;
 pub mod cloth;
 pub mod error;
+pub mod export;
 pub mod fiber;
 pub mod material;
 #[cfg(feature = "serde")]
