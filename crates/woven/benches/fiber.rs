@@ -1,4 +1,6 @@
 //! Criterion benchmarks of the fiber BRDF (MODEL.md §1): one evaluation, and the β table build.
+// criterion_group! and criterion_main! generate undocumented items.
+#![allow(missing_docs)]
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use woven::fiber::{BetaTable, Fiber, FiberModel, FiberParams, Ior, Normalization};
@@ -7,7 +9,10 @@ use woven::Vec3;
 fn fibers() -> Vec<(&'static str, Fiber)> {
     let rough = FiberParams::rough(1.55, 0.08, 0.15);
     let htsg = FiberParams {
-        model: FiberModel::Htsg { sigma_h_um: 0.15, tau_um: 1.5 },
+        model: FiberModel::Htsg {
+            sigma_h_um: 0.15,
+            tau_um: 1.5,
+        },
         eta: Ior::Constant(1.55),
         diffuse: 0.05,
         normalization: Normalization::Paper,

@@ -12,8 +12,8 @@ pub enum Structure {
     Flat(Fiber),
     /// Weft yarns along `x` (weight `γ`) and warp yarns along `y` (weight `1 − γ`).
     Woven {
-        /// The yarn model (the same yarn for weft and warp).
-        yarn: Yarn,
+        /// The yarn model (the same yarn for weft and warp), boxed: it is far larger than a fiber.
+        yarn: Box<Yarn>,
         /// `γ`, the visible fraction of weft.
         weft_fraction: f64,
     },

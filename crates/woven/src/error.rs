@@ -64,12 +64,3 @@ pub(crate) fn check_range(name: &str, x: f64, lo: f64, hi: f64) -> Result<f64> {
         Err(Error::invalid(name, x, format!("a number in [{lo}, {hi}]")))
     }
 }
-
-/// Checks `lo < x < hi` (open interval), naming the parameter on failure.
-pub(crate) fn check_open(name: &str, x: f64, lo: f64, hi: f64) -> Result<f64> {
-    if x.is_finite() && x > lo && x < hi {
-        Ok(x)
-    } else {
-        Err(Error::invalid(name, x, format!("a number in ({lo}, {hi})")))
-    }
-}

@@ -29,12 +29,12 @@ pub mod error;
 pub mod export;
 pub mod fiber;
 pub mod material;
+pub mod math;
+mod model;
 #[cfg(feature = "serde")]
 pub mod table;
-pub mod math;
 pub mod weave;
 pub mod yarn;
-mod model;
 
 pub use error::{Error, Result};
 pub use math::Vec3;

@@ -29,9 +29,9 @@
 //! a key that does not belong to the chosen model are errors naming the key, the value and the
 //! valid range.
 
-use crate::error::{Error, Result};
 use crate::cloth::Structure;
 use crate::error::check_range;
+use crate::error::{Error, Result};
 use crate::fiber::{Fiber, FiberModel, FiberParams, Ior, Normalization};
 use crate::weave::Pattern;
 use crate::yarn::{Yarn, YarnParams};
@@ -133,7 +133,7 @@ impl Material {
         let structure = match &self.yarn {
             None => Structure::Flat(fiber),
             Some(y) => Structure::Woven {
-                yarn: Yarn::new(fiber, *y)?,
+                yarn: Box::new(Yarn::new(fiber, *y)?),
                 weft_fraction: self.weft_fraction(),
             },
         };
@@ -203,10 +203,16 @@ mod file {
         fn into_params(self) -> Result<YarnParams> {
             let p = YarnParams {
                 lateral_length: self.lateral_length.ok_or_else(|| {
-                    missing("yarn.lateral_length", "L in [0, 1e6] arc radii (required in [yarn])")
+                    missing(
+                        "yarn.lateral_length",
+                        "L in [0, 1e6] arc radii (required in [yarn])",
+                    )
                 })?,
                 slope_mean: self.slope_mean.ok_or_else(|| {
-                    missing("yarn.slope_mean", "μ in [0, π/2] radians (required in [yarn])")
+                    missing(
+                        "yarn.slope_mean",
+                        "μ in [0, π/2] radians (required in [yarn])",
+                    )
                 })?,
                 slope_std: self.slope_std,
                 interreflection: self.interreflection,
@@ -265,7 +271,9 @@ mod file {
                             m.iter()
                                 .map(|row| {
                                     toml::Value::Array(
-                                        row.iter().map(|&c| toml::Value::Integer(c as i64)).collect(),
+                                        row.iter()
+                                            .map(|&c| toml::Value::Integer(c as i64))
+                                            .collect(),
                                     )
                                 })
                                 .collect(),
@@ -316,10 +324,18 @@ mod file {
             }
             toml::Value::Table(t) => {
                 if let Some(k) = t.keys().find(|k| *k != "wif") {
-                    return Err(Error::invalid(format!("weave.pattern.{k}"), &t[k], "only `wif` in a pattern table"));
+                    return Err(Error::invalid(
+                        format!("weave.pattern.{k}"),
+                        &t[k],
+                        "only `wif` in a pattern table",
+                    ));
                 }
                 let Some(toml::Value::String(file)) = t.get("wif") else {
-                    return Err(Error::invalid("weave.pattern.wif", "(missing or not a string)", "a path to a WIF file"));
+                    return Err(Error::invalid(
+                        "weave.pattern.wif",
+                        "(missing or not a string)",
+                        "a path to a WIF file",
+                    ));
                 };
                 let rel = PathBuf::from(file);
                 let full = match base {
@@ -384,8 +400,13 @@ mod file {
                     match t.get(k) {
                         Some(toml::Value::Float(x)) => Ok(*x),
                         Some(toml::Value::Integer(i)) => Ok(*i as f64),
-                        Some(other) => Err(Error::invalid(format!("fiber.eta.{k}"), other, "a number")),
-                        None => Err(missing(&format!("fiber.eta.{k}"), "a number (both Cauchy coefficients are required)")),
+                        Some(other) => {
+                            Err(Error::invalid(format!("fiber.eta.{k}"), other, "a number"))
+                        }
+                        None => Err(missing(
+                            &format!("fiber.eta.{k}"),
+                            "a number (both Cauchy coefficients are required)",
+                        )),
                     }
                 };
                 Ok(Ior::Cauchy {
@@ -407,37 +428,64 @@ mod file {
             let model = match model_name {
                 "rough" => {
                     if let Some(x) = self.sigma_h_um {
-                        return Err(not_for("fiber.sigma_h_um", x, "rough", "`roughness`, or model = \"htsg\""));
+                        return Err(not_for(
+                            "fiber.sigma_h_um",
+                            x,
+                            "rough",
+                            "`roughness`, or model = \"htsg\"",
+                        ));
                     }
                     if let Some(x) = self.tau_um {
-                        return Err(not_for("fiber.tau_um", x, "rough", "`roughness`, or model = \"htsg\""));
+                        return Err(not_for(
+                            "fiber.tau_um",
+                            x,
+                            "rough",
+                            "`roughness`, or model = \"htsg\"",
+                        ));
                     }
-                    let roughness = self
-                        .roughness
-                        .ok_or_else(|| missing("fiber.roughness", "σ_h/τ in [0.005, 2] (required for model = \"rough\")"))?;
+                    let roughness = self.roughness.ok_or_else(|| {
+                        missing(
+                            "fiber.roughness",
+                            "σ_h/τ in [0.005, 2] (required for model = \"rough\")",
+                        )
+                    })?;
                     FiberModel::Rough { roughness }
                 }
                 "htsg" => {
                     if let Some(x) = self.roughness {
-                        return Err(not_for("fiber.roughness", x, "htsg", "`sigma_h_um` and `tau_um`"));
+                        return Err(not_for(
+                            "fiber.roughness",
+                            x,
+                            "htsg",
+                            "`sigma_h_um` and `tau_um`",
+                        ));
                     }
-                    let sigma_h_um = self
-                        .sigma_h_um
-                        .ok_or_else(|| missing("fiber.sigma_h_um", "σ_h in µm, (0, 10] (required for model = \"htsg\")"))?;
-                    let tau_um = self
-                        .tau_um
-                        .ok_or_else(|| missing("fiber.tau_um", "τ in µm, (0, 100] (required for model = \"htsg\")"))?;
+                    let sigma_h_um = self.sigma_h_um.ok_or_else(|| {
+                        missing(
+                            "fiber.sigma_h_um",
+                            "σ_h in µm, (0, 10] (required for model = \"htsg\")",
+                        )
+                    })?;
+                    let tau_um = self.tau_um.ok_or_else(|| {
+                        missing(
+                            "fiber.tau_um",
+                            "τ in µm, (0, 100] (required for model = \"htsg\")",
+                        )
+                    })?;
                     FiberModel::Htsg { sigma_h_um, tau_um }
                 }
                 other => {
-                    return Err(Error::invalid("fiber.model", format!("{other:?}"), "\"rough\" or \"htsg\""))
+                    return Err(Error::invalid(
+                        "fiber.model",
+                        format!("{other:?}"),
+                        "\"rough\" or \"htsg\"",
+                    ))
                 }
             };
-            let eta = parse_eta(
-                self.eta
-                    .as_ref()
-                    .ok_or_else(|| missing("fiber.eta", "a refractive index in [1, 4] (required)"))?,
-            )?;
+            let eta =
+                parse_eta(self.eta.as_ref().ok_or_else(|| {
+                    missing("fiber.eta", "a refractive index in [1, 4] (required)")
+                })?)?;
             let normalization = match self.normalization.as_deref().unwrap_or("paper") {
                 "paper" => Normalization::Paper,
                 "none" => Normalization::None,
@@ -474,7 +522,10 @@ mod file {
             }
             raw.eta = Some(match p.eta {
                 Ior::Constant(x) => toml::Value::Float(x),
-                Ior::Cauchy { cauchy_a, cauchy_b_nm2 } => {
+                Ior::Cauchy {
+                    cauchy_a,
+                    cauchy_b_nm2,
+                } => {
                     let mut t = toml::map::Map::new();
                     t.insert("cauchy_a".into(), toml::Value::Float(cauchy_a));
                     t.insert("cauchy_b_nm2".into(), toml::Value::Float(cauchy_b_nm2));
@@ -537,7 +588,10 @@ mod file {
                 Error::invalid(
                     "material",
                     format!("{name:?}"),
-                    format!("a material file or a preset: {}", Material::preset_names().join(", ")),
+                    format!(
+                        "a material file or a preset: {}",
+                        Material::preset_names().join(", ")
+                    ),
                 )
             })?;
             Self::parse(text, &format!("<preset {name}>"), None)

@@ -99,7 +99,10 @@ mod tests {
     fn normal_incidence_matches_closed_form() {
         for eta in [1.0, 1.33, 1.5, 1.6, 2.4] {
             let r = ((eta - 1.0) / (eta + 1.0)) * ((eta - 1.0) / (eta + 1.0));
-            assert!((fresnel_dielectric(1.0, eta) - r).abs() < 1e-15, "eta {eta}");
+            assert!(
+                (fresnel_dielectric(1.0, eta) - r).abs() < 1e-15,
+                "eta {eta}"
+            );
         }
     }
 
@@ -112,7 +115,11 @@ mod tests {
         let ct = (1.0 - (tb.sin() / eta).powi(2)).sqrt();
         let rs = (c - eta * ct) / (c + eta * ct);
         let f = fresnel_dielectric(c, eta);
-        assert!((f - 0.5 * rs * rs).abs() < 1e-14, "{f} vs {}", 0.5 * rs * rs);
+        assert!(
+            (f - 0.5 * rs * rs).abs() < 1e-14,
+            "{f} vs {}",
+            0.5 * rs * rs
+        );
         // And F is 1 at grazing incidence.
         assert!((fresnel_dielectric(0.0, eta) - 1.0).abs() < 1e-15);
     }

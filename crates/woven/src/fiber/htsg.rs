@@ -96,7 +96,10 @@ mod tests {
             for k in [0.0, 0.3, 5.0, 80.0] {
                 let a = series(g, k);
                 let b = naive(g, k);
-                assert!((a - b).abs() <= 1e-11 * b.abs().max(1e-300), "g {g} K {k}: {a} vs {b}");
+                assert!(
+                    (a - b).abs() <= 1e-11 * b.abs().max(1e-300),
+                    "g {g} K {k}: {a} vs {b}"
+                );
             }
         }
     }
@@ -106,7 +109,11 @@ mod tests {
         // Σ gᵐe^{−g}/(m!·m) = E[1/m] of a Poisson(g) (m ≥ 1) ≈ 1/g (1 + 1/g + …).
         for g in [1e2, 1e3, 1e4] {
             let s = series(g, 0.0);
-            assert!((s * g - 1.0 - 1.0 / g).abs() < 3.0 / (g * g), "g {g}: {}", s * g);
+            assert!(
+                (s * g - 1.0 - 1.0 / g).abs() < 3.0 / (g * g),
+                "g {g}: {}",
+                s * g
+            );
         }
     }
 

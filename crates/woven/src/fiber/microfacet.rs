@@ -98,14 +98,18 @@ mod tests {
         let c = 1e-7;
         let a = c / alpha;
         let s = smith_s1(c, alpha);
-        assert!((s / (a * std::f64::consts::PI.sqrt()) - 1.0).abs() < 1e-5, "{s}");
+        assert!(
+            (s / (a * std::f64::consts::PI.sqrt()) - 1.0).abs() < 1e-5,
+            "{s}"
+        );
     }
 
     #[test]
     fn lambda_matches_walter_form() {
         // Walter et al. (2007) eq. 27: Λ(a) = (erf(a) − 1)/2 + exp(−a²)/(2a√π).
         for a in [0.01, 0.3, 1.0, 2.5, 6.0] {
-            let w = (libm::erf(a) - 1.0) / 2.0 + (-a * a as f64).exp() / (2.0 * a * std::f64::consts::PI.sqrt());
+            let w = (libm::erf(a) - 1.0) / 2.0
+                + (-a * a).exp() / (2.0 * a * std::f64::consts::PI.sqrt());
             assert!((smith_lambda(a) - w).abs() < 1e-14, "a {a}");
         }
     }

@@ -22,7 +22,9 @@ mod normalization;
 pub use fresnel::{fresnel_dielectric, Ior};
 pub use htsg::series as htsg_series;
 pub use microfacet::{beckmann_d, smith_lambda, smith_s1};
-pub use normalization::{beta_direct, rough_single_scattering, single_scattering_adaptive, BetaTable};
+pub use normalization::{
+    beta_direct, rough_single_scattering, single_scattering_adaptive, BetaTable,
+};
 
 use crate::error::{check_range, Error, Result};
 use crate::math::hemisphere::reflected_hemisphere_integral;
@@ -114,19 +116,26 @@ impl FiberParams {
     /// [`Error::InvalidParameter`] naming the first offending key.
     pub fn validate(&self) -> Result<()> {
         self.eta.validate()?;
-        check_range("fiber.diffuse", self.diffuse, 0.0, 1.0 - 1e-12).map_err(|_| {
-            Error::invalid("fiber.diffuse", self.diffuse, "a number in [0, 1)")
-        })?;
+        check_range("fiber.diffuse", self.diffuse, 0.0, 1.0 - 1e-12)
+            .map_err(|_| Error::invalid("fiber.diffuse", self.diffuse, "a number in [0, 1)"))?;
         match self.model {
             FiberModel::Rough { roughness } => {
                 check_range("fiber.roughness", roughness, ROUGHNESS_MIN, ROUGHNESS_MAX)?;
             }
             FiberModel::Htsg { sigma_h_um, tau_um } => {
                 if !(sigma_h_um > 0.0 && sigma_h_um <= 10.0) {
-                    return Err(Error::invalid("fiber.sigma_h_um", sigma_h_um, "a length in µm in (0, 10]"));
+                    return Err(Error::invalid(
+                        "fiber.sigma_h_um",
+                        sigma_h_um,
+                        "a length in µm in (0, 10]",
+                    ));
                 }
                 if !(tau_um > 0.0 && tau_um <= 100.0) {
-                    return Err(Error::invalid("fiber.tau_um", tau_um, "a length in µm in (0, 100]"));
+                    return Err(Error::invalid(
+                        "fiber.tau_um",
+                        tau_um,
+                        "a length in µm in (0, 100]",
+                    ));
                 }
                 let r = sigma_h_um / tau_um;
                 if !(ROUGHNESS_MIN..=ROUGHNESS_MAX).contains(&r) {

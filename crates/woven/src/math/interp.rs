@@ -46,7 +46,12 @@ impl MonotoneCubic {
                 m[k + 1] = t * b * d[k];
             }
         }
-        MonotoneCubic { x0, inv_h: 1.0 / h, y, m }
+        MonotoneCubic {
+            x0,
+            inv_h: 1.0 / h,
+            y,
+            m,
+        }
     }
 
     /// The interpolated value at `x` (clamped to the grid's range).

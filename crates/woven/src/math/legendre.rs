@@ -107,9 +107,9 @@ impl PiecewiseLegendre {
 
     /// `∫` of the interpolant over the whole domain.
     pub fn total(&self) -> f64 {
-        self.panels
-            .last()
-            .map_or(0.0, |p| p.cumulative + 2.0 * p.coeffs[0] * 0.5 * (p.b - p.a))
+        self.panels.last().map_or(0.0, |p| {
+            p.cumulative + 2.0 * p.coeffs[0] * 0.5 * (p.b - p.a)
+        })
     }
 
     /// `∫` of the interpolant from the domain's start to `x` (clamped to the domain).

@@ -1,9 +1,9 @@
 //! Small numerical building blocks: vectors and frames, special functions, quadrature and
 //! interpolation. Everything the model's integrals need, written and tested here.
 
+pub mod hemisphere;
 pub mod interp;
 pub mod legendre;
-pub mod hemisphere;
 pub mod quadrature;
 pub mod special;
 pub mod vec3;

@@ -219,7 +219,8 @@ fn recurse(
     if el + er <= tol_density * (b - a).abs() {
         return l + r;
     }
-    recurse(a, m, l, el, tol_density, depth - 1, f) + recurse(m, b, r, er, tol_density, depth - 1, f)
+    recurse(a, m, l, el, tol_density, depth - 1, f)
+        + recurse(m, b, r, er, tol_density, depth - 1, f)
 }
 
 #[cfg(test)]
@@ -236,7 +237,10 @@ mod tests {
             let d = (2 * n - 1).min(60) as i32;
             let exact = 2f64.powi(d + 1) / (d as f64 + 1.0);
             let got = gl.integrate(0.0, 2.0, |x| x.powi(d));
-            assert!(((got - exact) / exact).abs() < 1e-12, "n = {n}: {got} vs {exact}");
+            assert!(
+                ((got - exact) / exact).abs() < 1e-12,
+                "n = {n}: {got} vs {exact}"
+            );
         }
     }
 

@@ -96,10 +96,16 @@ impl Table {
             path: path.to_path_buf(),
             source,
         };
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        let name = path.file_name().map_or_else(|| "table".into(), |n| n.to_string_lossy().to_string());
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let name = path
+            .file_name()
+            .map_or_else(|| "table".into(), |n| n.to_string_lossy().to_string());
         let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-        let result = std::fs::write(&tmp, self.to_bytes()).and_then(|()| std::fs::rename(&tmp, path));
+        let result =
+            std::fs::write(&tmp, self.to_bytes()).and_then(|()| std::fs::rename(&tmp, path));
         if result.is_err() {
             let _ = std::fs::remove_file(&tmp);
         }
@@ -125,7 +131,9 @@ impl Table {
             )));
         }
         let hlen = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-        let after_header = 16usize.checked_add(hlen).ok_or_else(|| err("header length overflows"))?;
+        let after_header = 16usize
+            .checked_add(hlen)
+            .ok_or_else(|| err("header length overflows"))?;
         if bytes.len() < after_header + 8 + 4 {
             return Err(err("truncated (header or value count missing)"));
         }
@@ -150,13 +158,17 @@ impl Table {
             )));
         }
         if bytes.len() > payload_end + 4 {
-            return Err(err(&format!("{} trailing bytes", bytes.len() - payload_end - 4)));
+            return Err(err(&format!(
+                "{} trailing bytes",
+                bytes.len() - payload_end - 4
+            )));
         }
         let stored = u32::from_le_bytes(bytes[payload_end..payload_end + 4].try_into().unwrap());
         if crc32fast::hash(&bytes[..payload_end]) != stored {
             return Err(err("checksum mismatch (the file is corrupt)"));
         }
-        let header = std::str::from_utf8(&bytes[16..after_header]).map_err(|_| err("header is not UTF-8"))?;
+        let header = std::str::from_utf8(&bytes[16..after_header])
+            .map_err(|_| err("header is not UTF-8"))?;
         let header: toml::Table = header.parse().map_err(|e| err(&format!("header: {e}")))?;
         let int = |k: &str| -> Result<usize> {
             header
@@ -176,11 +188,19 @@ impl Table {
         let symmetry = match header.get("symmetry").and_then(|v| v.as_str()) {
             Some("isotropic") => Symmetry::Isotropic,
             Some("mirror") => Symmetry::Mirror,
-            _ => return Err(err("header key `symmetry` must be \"isotropic\" or \"mirror\"")),
+            _ => {
+                return Err(err(
+                    "header key `symmetry` must be \"isotropic\" or \"mirror\"",
+                ))
+            }
         };
         let (n_theta, n_phi, n_h) = (int("n_theta")?, int("n_phi")?, int("n_h")?);
         let theta_max = float("theta_max")?;
-        if n_theta < 2 || n_h < 3 || (symmetry == Symmetry::Mirror && n_phi < 2) || (symmetry == Symmetry::Isotropic && n_phi != 1) {
+        if n_theta < 2
+            || n_h < 3
+            || (symmetry == Symmetry::Mirror && n_phi < 2)
+            || (symmetry == Symmetry::Isotropic && n_phi != 1)
+        {
             return Err(err("grid dimensions are inconsistent with the symmetry"));
         }
         if !(0.0..std::f64::consts::FRAC_PI_2).contains(&theta_max) {
@@ -188,11 +208,15 @@ impl Table {
         }
         let expected = (n_theta * n_phi * n_h * n_h) as u64;
         if expected != count {
-            return Err(err(&format!("{count} values, but the grid needs {expected}")));
+            return Err(err(&format!(
+                "{count} values, but the grid needs {expected}"
+            )));
         }
         let expected_cells = (n_theta * n_phi * (n_h - 1) * (n_h - 1)) as u64;
         if expected_cells != cell_count {
-            return Err(err(&format!("{cell_count} cells, but the grid needs {expected_cells}")));
+            return Err(err(&format!(
+                "{cell_count} cells, but the grid needs {expected_cells}"
+            )));
         }
         let cell_pdf: Vec<f32> = bytes[values_end + 8..payload_end]
             .chunks_exact(4)
@@ -208,11 +232,20 @@ impl Table {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(err("non-finite values"));
         }
-        let material = header.get("material").and_then(|v| v.as_str()).unwrap_or("").to_string();
+        let material = header
+            .get("material")
+            .and_then(|v| v.as_str())
+            .unwrap_or("")
+            .to_string();
         let wavelength_nm = float("wavelength_nm")?;
         Ok(Table::assemble_with(
             symmetry,
-            Axis { lo: 0.0, hi: theta_max, n: n_theta, grading: super::THETA_GRADING },
+            Axis {
+                lo: 0.0,
+                hi: theta_max,
+                n: n_theta,
+                grading: super::THETA_GRADING,
+            },
             Axis::uniform(0.0, std::f64::consts::FRAC_PI_2, n_phi),
             Axis::uniform(-1.0, 1.0, n_h),
             values,

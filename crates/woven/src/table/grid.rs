@@ -60,7 +60,10 @@ pub fn jacobian(s: Vec3, tx: f64, ty: f64) -> Option<(Vec3, f64)> {
     let (px, py) = (slope_of_t(tx), slope_of_t(ty));
     let (v, h) = v_of_slopes(s, px, py)?;
     let q = 1.0 + px * px + py * py;
-    Some((v, 4.0 * s.dot(h) / (q * q.sqrt()) * dslope_dt(tx) * dslope_dt(ty)))
+    Some((
+        v,
+        4.0 * s.dot(h) / (q * q.sqrt()) * dslope_dt(tx) * dslope_dt(ty),
+    ))
 }
 
 /// An axis of `n ≥ 1` nodes on `[lo, hi]`, at `lo + (hi − lo) g(k/(n−1))` with the grading
@@ -82,7 +85,12 @@ pub struct Axis {
 impl Axis {
     /// A uniform axis.
     pub fn uniform(lo: f64, hi: f64, n: usize) -> Axis {
-        Axis { lo, hi, n, grading: 0.0 }
+        Axis {
+            lo,
+            hi,
+            n,
+            grading: 0.0,
+        }
     }
 
     /// The `k`-th node.
@@ -130,14 +138,23 @@ mod tests {
             if t.abs() < 0.99 {
                 let d = 1e-6;
                 let fd = (slope_of_t(t + d) - slope_of_t(t - d)) / (2.0 * d);
-                assert!((fd - dslope_dt(t)).abs() <= 1e-5 * fd.abs().max(1.0), "t {t}: {fd} vs {}", dslope_dt(t));
+                assert!(
+                    (fd - dslope_dt(t)).abs() <= 1e-5 * fd.abs().max(1.0),
+                    "t {t}: {fd} vs {}",
+                    dslope_dt(t)
+                );
             }
         }
     }
 
     #[test]
     fn graded_axis_locates_its_own_nodes() {
-        let ax = Axis { lo: 0.0, hi: 1.5, n: 30, grading: 0.6 };
+        let ax = Axis {
+            lo: 0.0,
+            hi: 1.5,
+            n: 30,
+            grading: 0.6,
+        };
         for k in 0..30 {
             let x = ax.node(k);
             let (i, w) = ax.locate(x);
@@ -164,7 +181,9 @@ mod tests {
         for ey in edges.windows(2) {
             for ex in edges.windows(2) {
                 total += gl.integrate(ey[0], ey[1], |ty| {
-                    gl.integrate(ex[0], ex[1], |tx| jacobian(s, tx, ty).map_or(0.0, |(_, j)| j))
+                    gl.integrate(ex[0], ex[1], |tx| {
+                        jacobian(s, tx, ty).map_or(0.0, |(_, j)| j)
+                    })
                 });
             }
         }

@@ -97,7 +97,11 @@ impl TableOptions {
             if (lo..=hi).contains(&x) {
                 Ok(())
             } else {
-                Err(Error::invalid(name, x, format!("an integer in [{lo}, {hi}]")))
+                Err(Error::invalid(
+                    name,
+                    x,
+                    format!("an integer in [{lo}, {hi}]"),
+                ))
             }
         };
         int("n_theta", self.n_theta, 2, 1024)?;
@@ -142,7 +146,9 @@ impl Fold {
                 d.z,
             ),
             // Rotation by −φ_i about z.
-            Fold::Rotate { cos, sin } => Vec3::new(cos * d.x + sin * d.y, -sin * d.x + cos * d.y, d.z),
+            Fold::Rotate { cos, sin } => {
+                Vec3::new(cos * d.x + sin * d.y, -sin * d.x + cos * d.y, d.z)
+            }
         }
     }
 
@@ -150,7 +156,9 @@ impl Fold {
     fn undo(&self, d: Vec3) -> Vec3 {
         match *self {
             Fold::Mirror { .. } => self.apply(d),
-            Fold::Rotate { cos, sin } => Vec3::new(cos * d.x - sin * d.y, sin * d.x + cos * d.y, d.z),
+            Fold::Rotate { cos, sin } => {
+                Vec3::new(cos * d.x - sin * d.y, sin * d.x + cos * d.y, d.z)
+            }
         }
     }
 }
@@ -176,16 +184,31 @@ impl Table {
             n: options.n_theta,
             grading: THETA_GRADING,
         };
-        let phi = Axis::uniform(0.0, FRAC_PI_2, if symmetry == Symmetry::Isotropic { 1 } else { options.n_phi });
+        let phi = Axis::uniform(
+            0.0,
+            FRAC_PI_2,
+            if symmetry == Symmetry::Isotropic {
+                1
+            } else {
+                options.n_phi
+            },
+        );
         let t = Axis::uniform(
             -1.0,
             1.0,
-            if symmetry == Symmetry::Isotropic { options.n_h_isotropic } else { options.n_h },
+            if symmetry == Symmetry::Isotropic {
+                options.n_h_isotropic
+            } else {
+                options.n_h
+            },
         );
         let f0_t = Axis::uniform(-1.0, 1.0, options.n_h);
         let structure = model.structure();
         let values = match structure {
-            Structure::Woven { yarn, weft_fraction } if !yarn.is_single_orientation() => {
+            Structure::Woven {
+                yarn,
+                weft_fraction,
+            } if !yarn.is_single_orientation() => {
                 // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
                 let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
                 let stage = |done: usize, total: usize| progress(done, 2 * total);
@@ -218,13 +241,16 @@ impl Table {
                         let phi_a = (j as f64 + 0.5) * PI / n as f64;
                         let (sp, cp) = phi_a.sin_cos();
                         // Into the frame whose x is the fiber axis e_f.
-                        let to_fiber = |d: Vec3| Vec3::new(cp * d.x + sp * d.y, -sp * d.x + cp * d.y, d.z);
+                        let to_fiber =
+                            |d: Vec3| Vec3::new(cp * d.x + sp * d.y, -sp * d.x + cp * d.y, d.z);
                         acc += w * f0.eval_folded(to_fiber(s), to_fiber(v));
                     }
                     (1.0 - hbar) * acc + hbar * rho * FRAC_1_PI
                 })
             }
-            _ => fill(theta, phi, t, options.threads, progress, |s, v| model.eval(s, v)),
+            _ => fill(theta, phi, t, options.threads, progress, |s, v| {
+                model.eval(s, v)
+            }),
         };
         Ok(Table::assemble(
             symmetry,
@@ -246,7 +272,16 @@ impl Table {
         material_toml: String,
         wavelength_nm: f64,
     ) -> Table {
-        Self::assemble_with(symmetry, theta, phi, t, values, material_toml, wavelength_nm, None)
+        Self::assemble_with(
+            symmetry,
+            theta,
+            phi,
+            t,
+            values,
+            material_toml,
+            wavelength_nm,
+            None,
+        )
     }
 
     fn assemble_with(
@@ -372,7 +407,8 @@ impl Table {
                 let v01 = self.values[base + 1] as f64;
                 let v10 = self.values[base + n] as f64;
                 let v11 = self.values[base + n + 1] as f64;
-                let bil = (1.0 - wy) * ((1.0 - wx) * v00 + wx * v01) + wy * ((1.0 - wx) * v10 + wx * v11);
+                let bil =
+                    (1.0 - wy) * ((1.0 - wx) * v00 + wx * v01) + wy * ((1.0 - wx) * v10 + wx * v11);
                 acc += fa * fb * bil;
             }
         }
@@ -460,7 +496,10 @@ fn fill(
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
     // Rows are handed out one at a time; each thread writes only the rows it took.
-    let chunks: Vec<std::sync::Mutex<&mut [f32]>> = values.chunks_mut(row_len).map(std::sync::Mutex::new).collect();
+    let chunks: Vec<std::sync::Mutex<&mut [f32]>> = values
+        .chunks_mut(row_len)
+        .map(std::sync::Mutex::new)
+        .collect();
     std::thread::scope(|scope| {
         for _ in 0..threads.min(rows) {
             scope.spawn(|| loop {

@@ -47,7 +47,9 @@ impl Table {
     /// drawn uniformly in solid angle from `seed`. `eval` is the exact model's cost per pair.
     pub fn accuracy(&self, model: &Model, n: usize, theta_max: f64, seed: u64) -> AccuracyReport {
         let mut rng = SplitMix(seed);
-        let pairs: Vec<(Vec3, Vec3)> = (0..n).map(|_| (rng.direction(theta_max), rng.direction(theta_max))).collect();
+        let pairs: Vec<(Vec3, Vec3)> = (0..n)
+            .map(|_| (rng.direction(theta_max), rng.direction(theta_max)))
+            .collect();
         let exact: Vec<f64> = pairs.iter().map(|&(s, v)| model.eval(s, v)).collect();
         self.accuracy_against(&pairs, &exact)
     }
@@ -61,10 +63,17 @@ impl Table {
             let c = s.z * v.z;
             num += c * (t - e) * (t - e);
             den += c * e * e;
-            rel.push(if e > 1e-6 { (t - e).abs() / e } else { (t - e).abs() / 1e-6 });
+            rel.push(if e > 1e-6 {
+                (t - e).abs() / e
+            } else {
+                (t - e).abs() / 1e-6
+            });
         }
         rel.sort_by(f64::total_cmp);
-        let p99 = rel.get(((rel.len() as f64) * 0.99) as usize).copied().unwrap_or(0.0);
+        let p99 = rel
+            .get(((rel.len() as f64) * 0.99) as usize)
+            .copied()
+            .unwrap_or(0.0);
         AccuracyReport {
             samples: pairs.len(),
             weighted_rel_rms: if den > 0.0 { (num / den).sqrt() } else { 0.0 },

@@ -104,7 +104,9 @@ impl Sampler {
             let (it, ip) = (node / table.phi.n, node % table.phi.n);
             let s = Vec3::from_spherical(table.theta.node(it), table.phi.node(ip));
             // Stored values are f cos θ_i cos θ_r: f cos θ_r is the value over cos θ_i.
-            let value = |iy: usize, ix: usize| (table.values[table.index(it, ip, iy, ix)] as f64 / s.z.max(1e-9)).max(0.0);
+            let value = |iy: usize, ix: usize| {
+                (table.values[table.index(it, ip, iy, ix)] as f64 / s.z.max(1e-9)).max(0.0)
+            };
             for iy in 0..nc {
                 for ix in 0..nc {
                     let (t0y, t0x) = (table.t.node(iy), table.t.node(ix));
@@ -112,7 +114,8 @@ impl Sampler {
                     let mut acc = 0.0;
                     let mut any = false;
                     for (a, b) in corners {
-                        if let Some((v, j)) = jacobian(s, t0x + b as f64 * dt, t0y + a as f64 * dt) {
+                        if let Some((v, j)) = jacobian(s, t0x + b as f64 * dt, t0y + a as f64 * dt)
+                        {
                             acc += value(iy + a, ix + b) * j;
                             let _ = v;
                             any = true;
@@ -120,7 +123,11 @@ impl Sampler {
                     }
                     let centre = jacobian(s, t0x + 0.5 * dt, t0y + 0.5 * dt);
                     if let Some((v, j)) = centre {
-                        let fc = 0.25 * (value(iy, ix) + value(iy, ix + 1) + value(iy + 1, ix) + value(iy + 1, ix + 1));
+                        let fc = 0.25
+                            * (value(iy, ix)
+                                + value(iy, ix + 1)
+                                + value(iy + 1, ix)
+                                + value(iy + 1, ix + 1));
                         acc += 4.0 * fc * j;
                         let _ = v;
                         any = true;
@@ -129,7 +136,9 @@ impl Sampler {
                     weights[iy * nc + ix] = acc / 8.0 * dt * dt;
                     // Solid angle of the cell (for the defensive part), if any of it is valid.
                     spread[iy * nc + ix] = if any {
-                        centre.map_or_else(|| jacobian_abs_mean(s, t0x, t0y, dt), |(_, j)| j) * dt * dt
+                        centre.map_or_else(|| jacobian_abs_mean(s, t0x, t0y, dt), |(_, j)| j)
+                            * dt
+                            * dt
                     } else {
                         0.0
                     };
@@ -191,7 +200,13 @@ impl Sampler {
             }
             acc += w;
         }
-        let node = chosen.or_else(|| Self::nodes(table, s).iter().rev().find(|(_, w)| *w > 0.0).map(|n| n.0))?;
+        let node = chosen.or_else(|| {
+            Self::nodes(table, s)
+                .iter()
+                .rev()
+                .find(|(_, w)| *w > 0.0)
+                .map(|n| n.0)
+        })?;
         let marg = &self.marginal[node * (nc + 1)..(node + 1) * (nc + 1)];
         let (iy, fy) = invert(marg, u)?;
         let cond = &self.conditional[(node * nc + iy) * (nc + 1)..(node * nc + iy + 1) * (nc + 1)];

@@ -68,7 +68,12 @@ impl YarnParams {
         check_range("yarn.slope_mean", self.slope_mean, 0.0, FRAC_PI_2)?;
         check_range("yarn.slope_std", self.slope_std, 0.0, PI)?;
         check_range("yarn.interreflection", self.interreflection, 0.0, 1.0)?;
-        check_range("yarn.interreflection_albedo", self.interreflection_albedo, 0.0, 1.0)?;
+        check_range(
+            "yarn.interreflection_albedo",
+            self.interreflection_albedo,
+            0.0,
+            1.0,
+        )?;
         check_range("yarn.twist_std", self.twist_std, 0.0, PI)?;
         if self.isotropic && self.twist_std > 0.0 {
             return Err(Error::invalid(
@@ -77,7 +82,10 @@ impl YarnParams {
                 "no twist_std with isotropic = true (Eq. (22) already spreads fibers over all azimuths)",
             ));
         }
-        if self.slope_std == 0.0 && self.slope_mean >= FRAC_PI_2 - 1e-12 && self.lateral_length > 0.0 {
+        if self.slope_std == 0.0
+            && self.slope_mean >= FRAC_PI_2 - 1e-12
+            && self.lateral_length > 0.0
+        {
             return Err(Error::invalid(
                 "yarn.slope_mean",
                 self.slope_mean,
@@ -182,10 +190,12 @@ impl Yarn {
         if s.z <= 0.0 || v.z <= 0.0 {
             return 0.0;
         }
-        CrossSection::new(&self.fiber, s, v, phi_a, cross_section::FINE_PANELS).profile_brdf(&profile::Profile {
-            theta_a,
-            lateral_length: self.params.lateral_length,
-        })
+        CrossSection::new(&self.fiber, s, v, phi_a, cross_section::FINE_PANELS).profile_brdf(
+            &profile::Profile {
+                theta_a,
+                lateral_length: self.params.lateral_length,
+            },
+        )
     }
 
     /// `f_θ` (Eq. (18)): the slope-averaged BRDF of fibers at azimuth `phi_a`, before

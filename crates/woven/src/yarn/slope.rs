@@ -23,7 +23,8 @@ impl SlopeDistribution {
         let shape = |t: f64| (-(t - mu) * (t - mu) / (2.0 * sigma * sigma)).exp() * t.cos();
         // Split at μ so a narrow peak is seen.
         let m = mu.clamp(0.0, FRAC_PI_2);
-        let z = adaptive(0.0, m, 1e-13, 0.0, 40, shape) + adaptive(m, FRAC_PI_2, 1e-13, 0.0, 40, shape);
+        let z =
+            adaptive(0.0, m, 1e-13, 0.0, 40, shape) + adaptive(m, FRAC_PI_2, 1e-13, 0.0, 40, shape);
         SlopeDistribution {
             mu,
             sigma,

@@ -348,16 +348,12 @@ fn white_furnace_htsg_paper_mode_albedo_is_one() {
     }
 }
 
-/// The smoothest full-model fiber (`σ_h/τ = 0.005`, `σ_h = 0.01 µm`, so `g ≪ 1` and the spike
-/// dominates) at grazing incidence. Its β rises from 1 at `cos θi = 0.03` to 89 at grazing, by a
-/// factor 14 between `cos θi = 3e-3` and `3e-4` — about eight table nodes in `√cos θi` — and the
-/// interpolated β is off by up to 1.1e-3 (near `cos θi = 6.5e-4`): the furnace misses 1 by 2e-4
-/// at 89.9° and 8e-4 at 89.99°. (Nodes uniform in `cos^{1/4} θi` bring the table error for this
-/// fiber to 3e-5; interpolating `ln β` on them, to 1.3e-5.)
-/// Takes ~6 s (the β table of a smooth full model is slow to build):
-/// `cargo test --release -p woven --test integration white_furnace_htsg_smooth -- --ignored`.
+/// Regression: the smoothest full-model fiber (`σ_h/τ = 0.005`, `σ_h = 0.01 µm`, so `g ≪ 1` and
+/// the spike dominates) at grazing incidence. Its β rises from 1 at `cos θi = 0.03` to 89 at
+/// grazing, by a factor 14 between `cos θi = 3e-3` and `3e-4`. With table nodes uniform in
+/// `√cos θi` the interpolated β was off by up to 1.1e-3 and the furnace missed 1 by 8e-4 at
+/// 89.99°; the table now interpolates `ln β` on nodes uniform in `cos^{1/3} θi`.
 #[test]
-#[ignore = "bug: BetaTable (fiber/normalization.rs) misses its 1e-4 bound near grazing for smooth htsg fibers"]
 fn white_furnace_htsg_smooth_fiber_at_grazing() {
     let fiber = htsg(1.5, 0.01, 2.0, 0.0, Normalization::Paper, 550.0);
     let white = fiber.clone().with_unit_fresnel();

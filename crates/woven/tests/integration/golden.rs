@@ -38,7 +38,9 @@ fn check_sets(prefix: &str) {
             }
             let material = Material::from_path(dir.join("material.toml"))
                 .unwrap_or_else(|e| panic!("{set}: {e}"));
-            let Some(tol) = tolerance(&set, &material) else { continue };
+            let Some(tol) = tolerance(&set, &material) else {
+                continue;
+            };
             let model = material.build(550.0).unwrap();
             let mut rdr = csv::Reader::from_path(dir.join("cases.csv")).unwrap();
             for (row, rec) in rdr.records().enumerate() {
@@ -46,7 +48,13 @@ fn check_sets(prefix: &str) {
                 let x: Vec<f64> = rec.iter().map(|t| t.parse().unwrap()).collect();
                 let (s, v) = dirs(x[0], x[1], x[2], x[3]);
                 let got = model.eval(s, v);
-                assert_close(got, x[4], tol, 1e-9, &format!("{} case {row} {x:?}", dir.display()));
+                assert_close(
+                    got,
+                    x[4],
+                    tol,
+                    1e-9,
+                    &format!("{} case {row} {x:?}", dir.display()),
+                );
                 checked += 1;
             }
         }

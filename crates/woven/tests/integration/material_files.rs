@@ -421,7 +421,6 @@ fn non_finite_values_are_rejected() {
 /// table), but `FiberParams::validate` checks them with `check_open(…, 10.0 + 1e-12)`, so the
 /// message shows the guard: "expected a number in (0, 10.000000000001)".
 #[test]
-#[ignore = "bug: the sigma_h_um/tau_um range in the message carries the 1e-12 guard (fiber/mod.rs, FiberParams::validate)"]
 fn full_model_length_out_of_range_names_the_documented_range() {
     assert_invalid(
         "[fiber]\nmodel = \"htsg\"\neta = 1.6\nsigma_h_um = 20.0\ntau_um = 100.0\n",
