@@ -6,4 +6,5 @@ mod fiber;
 mod golden;
 mod masking;
 mod material_files;
+mod table;
 mod weave;

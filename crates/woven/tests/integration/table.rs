@@ -1,0 +1,380 @@
+//! Tabulated BRDFs: sampling against the density (χ²), densities that integrate to the accepted
+//! fraction, weights consistent with `eval`, determinism, the file format's errors, and accuracy
+//! against the exact model (STYLE.md's canon; issue "fast evaluation and importance sampling").
+
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::sync::OnceLock;
+use woven::bsdf::Bsdf;
+use woven::material::Material;
+use woven::math::quadrature::GaussLegendre;
+use woven::table::report::SplitMix;
+use woven::table::{Table, TableOptions};
+use woven::{Model, Vec3};
+
+/// Small grids keep the tests fast; accuracy at the default grid is the ignored test below.
+fn small() -> TableOptions {
+    TableOptions {
+        n_theta: 12,
+        n_phi: 5,
+        n_h: 33,
+        n_h_isotropic: 49,
+        azimuth_nodes: 48,
+        ..TableOptions::default()
+    }
+}
+
+const ROUGH: &str = "[fiber]\neta = 1.5\nroughness = 0.2\ndiffuse = 0.1\n";
+const SMOOTH: &str = "[fiber]\neta = 1.5\nroughness = 0.02\ndiffuse = 0.1\n";
+
+fn material(name: &str) -> Material {
+    match name {
+        "rough" => Material::from_toml_str(ROUGH, name).unwrap(),
+        "smooth" => Material::from_toml_str(SMOOTH, name).unwrap(),
+        preset => Material::preset(preset).unwrap(),
+    }
+}
+
+/// One small table per material, built once per test binary.
+fn table(name: &str) -> &'static (Model, Table) {
+    static CACHE: OnceLock<std::sync::Mutex<Vec<(String, &'static (Model, Table))>>> =
+        OnceLock::new();
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some((_, t)) = cache.lock().unwrap().iter().find(|(n, _)| n == name) {
+        return t;
+    }
+    let m = material(name);
+    let model = m.build(550.0).unwrap();
+    let t = Table::build(&model, &m.to_toml_string(), &small(), &|_, _| {}).unwrap();
+    let leaked: &'static (Model, Table) = Box::leak(Box::new((model, t)));
+    cache.lock().unwrap().push((name.to_string(), leaked));
+    leaked
+}
+
+/// χ² goodness of fit of `sample` against `pdf` on a (cos θ, φ) histogram, cells with expected
+/// counts below 5 pooled (pbrt's and Mitsuba's test). Returns (p-value, accepted fraction, ∫pdf).
+fn chi2(t: &Table, s: Vec3, n: usize, seed: u64) -> (f64, f64, f64) {
+    let (nc, np) = (16usize, 32usize);
+    let mut observed = vec![0f64; nc * np];
+    let mut rng = SplitMix(seed);
+    let mut accepted = 0usize;
+    for _ in 0..n {
+        if let Some(smp) = t.sample(s, rng.uniform(), rng.uniform()) {
+            accepted += 1;
+            let (ct, phi) = (smp.v.z, smp.v.y.atan2(smp.v.x).rem_euclid(2.0 * PI));
+            let i = ((ct * nc as f64) as usize).min(nc - 1);
+            let j = ((phi / (2.0 * PI) * np as f64) as usize).min(np - 1);
+            observed[i * np + j] += 1.0;
+        }
+    }
+    // Expected counts: ∫ pdf over each cell (dω = d cos θ dφ), 8×8 Gauss–Legendre on 4×4
+    // sub-cells; cells holding more than 0.5 % of the mass (where a smooth fiber's needle-like
+    // density sits) again on 32×32 sub-cells, so quadrature error stays below sampling noise.
+    let gl = GaussLegendre::new(8);
+    let cell_integral = |i: usize, j: usize, sub: usize| {
+        let mut e = 0.0;
+        for a in 0..sub {
+            for b in 0..sub {
+                let c0 = (i as f64 + a as f64 / sub as f64) / nc as f64;
+                let p0 = (j as f64 + b as f64 / sub as f64) / np as f64 * 2.0 * PI;
+                e += gl.integrate(c0, c0 + 1.0 / (sub * nc) as f64, |ct| {
+                    gl.integrate(p0, p0 + 2.0 * PI / (sub * np) as f64, |phi| {
+                        let st = (1.0 - ct * ct).max(0.0).sqrt();
+                        t.pdf(s, Vec3::new(st * phi.cos(), st * phi.sin(), ct))
+                    })
+                });
+            }
+        }
+        e
+    };
+    let mut expected = vec![0f64; nc * np];
+    for i in 0..nc {
+        for j in 0..np {
+            let mut e = cell_integral(i, j, 4);
+            if e > 0.005 {
+                e = cell_integral(i, j, 32);
+            }
+            expected[i * np + j] = e * n as f64;
+        }
+    }
+    let integral: f64 = expected.iter().sum::<f64>() / n as f64;
+    // Pool cells with expected < 5 into one.
+    let (mut stat, mut dof) = (0.0, 0usize);
+    let (mut pool_o, mut pool_e) = (0.0, 0.0);
+    for (o, e) in observed.iter().zip(&expected) {
+        if *e < 5.0 {
+            pool_o += o;
+            pool_e += e;
+        } else {
+            stat += (o - e) * (o - e) / e;
+            dof += 1;
+        }
+    }
+    if pool_e > 0.0 {
+        stat += (pool_o - pool_e) * (pool_o - pool_e) / pool_e.max(1.0);
+        dof += 1;
+    }
+    let p = 1.0 - ChiSquared::new((dof - 1) as f64).unwrap().cdf(stat);
+    if std::env::var("CHI2_DEBUG").is_ok() {
+        let mut worst: Vec<(f64, usize)> = observed
+            .iter()
+            .zip(&expected)
+            .enumerate()
+            .filter(|(_, (_, e))| **e >= 5.0)
+            .map(|(k, (o, e))| ((o - e) * (o - e) / e, k))
+            .collect();
+        worst.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (c, k) in worst.iter().take(6) {
+            eprintln!(
+                "cell {k} (cos {}, phi {}): o {} e {:.1} contrib {c:.1}",
+                k / np,
+                k % np,
+                observed[*k],
+                expected[*k]
+            );
+        }
+        eprintln!("stat {stat:.1} dof {dof} pooled o {pool_o} e {pool_e:.1}");
+    }
+    (p, accepted as f64 / n as f64, integral)
+}
+
+const MATERIALS: [&str; 5] = ["rough", "smooth", "polyester-sateen", "belt-cloth", "silk"];
+const INCIDENCES_DEG: [(f64, f64); 3] = [(10.0, 20.0), (45.0, 60.0), (70.0, 135.0)];
+
+#[test]
+fn sampling_passes_chi_square_for_every_preset_and_incidence() {
+    // 5 materials × 3 incidences: Šidák-corrected significance 1 % overall.
+    let tests = (MATERIALS.len() * INCIDENCES_DEG.len()) as f64;
+    let alpha = 1.0 - (1.0f64 - 0.01).powf(1.0 / tests);
+    for name in MATERIALS {
+        let (_, t) = table(name);
+        for (k, (ti, pi)) in INCIDENCES_DEG.iter().enumerate() {
+            let s = Vec3::from_spherical(ti.to_radians(), pi.to_radians());
+            let (p, accepted, integral) = chi2(t, s, 200_000, 17 + k as u64);
+            assert!(
+                p > alpha,
+                "{name} at θi {ti}°, φi {pi}°: χ² p-value {p:.2e} < {alpha:.2e}"
+            );
+            // ∫ pdf over the hemisphere is the accepted fraction (the rest maps below the horizon);
+            // the quadrature of the smooth fiber's needle-like density is good to ~1 %.
+            let tol = if name == "smooth" { 0.02 } else { 0.01 };
+            assert!(
+                (integral - accepted).abs() < tol,
+                "{name} θi {ti}°: ∫pdf {integral:.4} vs accepted fraction {accepted:.4}"
+            );
+        }
+    }
+}
+
+#[test]
+fn pdf_integrates_to_one_away_from_grazing() {
+    // Lost mass (cells a neighbouring node maps below the horizon) is small for θi ≤ 60°.
+    let gl = GaussLegendre::new(24);
+    for name in ["rough", "polyester-sateen", "silk"] {
+        let (_, t) = table(name);
+        for ti in [0.0f64, 30.0, 60.0] {
+            let s = Vec3::from_spherical(ti.to_radians(), 0.4);
+            // ∫ pdf dω on 48 × 96 panels in (cos θ, φ).
+            let mut total = 0.0;
+            for a in 0..48 {
+                let c0 = a as f64 / 48.0;
+                for b in 0..96 {
+                    let p0 = b as f64 / 96.0 * 2.0 * PI;
+                    total += gl.integrate(c0, c0 + 1.0 / 48.0, |ct| {
+                        gl.integrate(p0, p0 + 2.0 * PI / 96.0, |phi| {
+                            let st = (1.0 - ct * ct).max(0.0).sqrt();
+                            t.pdf(s, Vec3::new(st * phi.cos(), st * phi.sin(), ct))
+                        })
+                    });
+                }
+            }
+            assert!(
+                total > 0.97 && total < 1.0 + 5e-3,
+                "{name} θi {ti}°: ∫ pdf dω = {total}"
+            );
+        }
+    }
+}
+
+#[test]
+fn sample_weight_and_pdf_agree_with_eval_and_are_deterministic() {
+    let mut rng = SplitMix(99);
+    for name in MATERIALS {
+        let (_, t) = table(name);
+        for _ in 0..2000 {
+            let s = rng.direction(85f64.to_radians());
+            let (u1, u2) = (rng.uniform(), rng.uniform());
+            let Some(a) = t.sample(s, u1, u2) else {
+                continue;
+            };
+            let b = t.sample(s, u1, u2).unwrap();
+            assert_eq!(a, b, "{name}: sampling is not deterministic");
+            assert!(a.v.z > 0.0 && (a.v.length() - 1.0).abs() < 1e-12);
+            let f = t.eval(s, a.v);
+            let pdf = t.pdf(s, a.v);
+            assert!(
+                (a.f - f).abs() <= 1e-12 * f.max(1e-300),
+                "{name}: f {} vs eval {f}",
+                a.f
+            );
+            // The same density up to rounding in re-deriving the cell from v.
+            assert!(
+                (a.pdf - pdf).abs() <= 1e-6 * pdf,
+                "{name}: pdf {} vs pdf() {pdf}",
+                a.pdf
+            );
+            let w = f * a.v.z / pdf;
+            assert!(
+                (a.weight - w).abs() <= 1e-6 * w.max(1e-300),
+                "{name}: weight {} vs {w}",
+                a.weight
+            );
+        }
+    }
+}
+
+#[test]
+fn exact_model_sampling_is_consistent() {
+    let model = material("rough").build(550.0).unwrap();
+    let mut rng = SplitMix(5);
+    for _ in 0..500 {
+        let s = rng.direction(1.4);
+        let smp = Bsdf::sample(&model, s, rng.uniform(), rng.uniform()).unwrap();
+        assert!((smp.pdf - Bsdf::pdf(&model, s, smp.v)).abs() < 1e-12);
+        assert!((smp.f - model.eval(s, smp.v)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn table_matches_the_exact_model_on_small_grids() {
+    // The rough flat fiber is smooth enough for the small test grid; the presets' figures at the
+    // default grid are the ignored test below.
+    for (name, rms) in [("rough", 0.02)] {
+        let (model, t) = table(name);
+        let n = 1500;
+        let r = t.accuracy(model, n, 80f64.to_radians(), 3);
+        assert!(r.weighted_rel_rms < rms, "{name}: {r:?}");
+    }
+}
+
+#[test]
+fn table_files_round_trip_and_reject_damage() {
+    let (_, t) = table("polyester-sateen");
+    let bytes = t.to_bytes();
+    let back = Table::from_bytes(&bytes, "mem").unwrap();
+    assert_eq!(back.values(), t.values());
+    assert_eq!(back.to_bytes(), bytes);
+    let s = Vec3::from_spherical(0.5, 0.2);
+    let v = Vec3::from_spherical(0.6, 2.9);
+    assert_eq!(back.eval(s, v), t.eval(s, v));
+    assert_eq!(back.pdf(s, v), t.pdf(s, v));
+    // Truncations anywhere, a flipped byte, a wrong version, trailing bytes: errors, no panic.
+    for cut in [
+        0,
+        4,
+        8,
+        15,
+        40,
+        bytes.len() / 2,
+        bytes.len() - 5,
+        bytes.len() - 1,
+    ] {
+        let e = Table::from_bytes(&bytes[..cut], "cut")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("cut") && e.contains("not a valid woven table"),
+            "{cut}: {e}"
+        );
+    }
+    let mut flipped = bytes.clone();
+    let k = bytes.len() / 3;
+    flipped[k] ^= 0x10;
+    assert!(Table::from_bytes(&flipped, "f")
+        .unwrap_err()
+        .to_string()
+        .contains("checksum"));
+    let mut version = bytes.clone();
+    version[8] = 9;
+    assert!(Table::from_bytes(&version, "v")
+        .unwrap_err()
+        .to_string()
+        .contains("version 9"));
+    let mut trailing = bytes.clone();
+    trailing.push(0);
+    assert!(Table::from_bytes(&trailing, "t")
+        .unwrap_err()
+        .to_string()
+        .contains("trailing"));
+    assert!(Table::from_bytes(b"hello world, not a table", "h").is_err());
+    // Saving is atomic: the file appears complete, and no temporary is left behind.
+    let dir = std::env::temp_dir().join(format!("woven-table-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("sateen.wtab");
+    t.save(&path).unwrap();
+    assert_eq!(std::fs::read(&path).unwrap(), bytes);
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+    let loaded = Table::load(&path).unwrap();
+    assert_eq!(loaded.values(), t.values());
+    assert!(matches!(
+        Table::load(dir.join("missing.wtab")),
+        Err(woven::Error::Io { .. })
+    ));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn tables_fold_symmetric_directions_onto_one_another() {
+    // Mirror symmetry x → −x, y → −y (every woven preset) and rotation (isotropic).
+    let mut rng = SplitMix(8);
+    let (_, sateen) = table("polyester-sateen");
+    let (_, silk) = table("silk");
+    for _ in 0..200 {
+        let s = rng.direction(1.3);
+        let v = rng.direction(1.3);
+        let m = |d: Vec3| Vec3::new(-d.x, d.y, d.z);
+        assert!(
+            (sateen.eval(s, v) - sateen.eval(m(s), m(v))).abs()
+                <= 1e-9 * sateen.eval(s, v).max(1e-9)
+        );
+        let r = |d: Vec3| {
+            let (c, sn) = (0.7f64.cos(), 0.7f64.sin());
+            Vec3::new(c * d.x - sn * d.y, sn * d.x + c * d.y, d.z)
+        };
+        assert!(
+            (silk.eval(s, v) - silk.eval(r(s), r(v))).abs() <= 1e-6 * silk.eval(s, v).max(1e-9)
+        );
+    }
+    let _ = FRAC_PI_2;
+}
+
+/// The accuracy the issue asks of the default grid, over random pairs with θi, θr ≤ 80°:
+/// cosine-weighted relative RMS ≤ 1 %, 99th percentile ≤ 3 %, for every preset and for a rough
+/// and a very smooth flat fiber. Builds full tables (tens of seconds each):
+/// `cargo test --release -p woven --test integration table_accuracy_at_default_grid -- --ignored`.
+#[test]
+#[ignore = "slow: builds full-resolution tables"]
+fn table_accuracy_at_default_grid() {
+    for name in MATERIALS {
+        let m = material(name);
+        let model = m.build(550.0).unwrap();
+        let t = Table::build(
+            &model,
+            &m.to_toml_string(),
+            &TableOptions::default(),
+            &|_, _| {},
+        )
+        .unwrap();
+        let n = if name == "belt-cloth" || name == "silk" {
+            600
+        } else {
+            4000
+        };
+        let r = t.accuracy(&model, n, 80f64.to_radians(), 11);
+        println!("{name}: {r:?}");
+        assert!(
+            r.weighted_rel_rms <= 0.01 && r.p99_rel <= 0.03,
+            "{name}: {r:?}"
+        );
+    }
+}
