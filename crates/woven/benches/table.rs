@@ -1,0 +1,72 @@
+//! Criterion benchmarks of the tabulated BRDF: evaluation against the exact model on the same
+//! inputs (the baseline, measured in the same run), and batch throughput of `eval` and `sample`
+//! on all cores.
+// criterion_group! and criterion_main! generate undocumented items.
+#![allow(missing_docs)]
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use woven::bsdf::Bsdf;
+use woven::material::Material;
+use woven::table::report::SplitMix;
+use woven::table::{Table, TableOptions};
+use woven::Vec3;
+
+const BATCH: usize = 1 << 20;
+
+fn threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Splits `0..n` over all cores and sums `f` over each part.
+fn parallel_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
+    let t = threads();
+    std::thread::scope(|scope| {
+        let f = &f;
+        let handles: Vec<_> = (0..t)
+            .map(|k| scope.spawn(move || (k * n / t..(k + 1) * n / t).map(f).sum::<f64>()))
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).sum()
+    })
+}
+
+fn bench_table(c: &mut Criterion) {
+    let material = Material::preset("polyester-sateen").unwrap();
+    let model = material.build(550.0).unwrap();
+    let table = Table::build(&model, &material.to_toml_string(), &TableOptions::default(), &|_, _| {}).unwrap();
+    let mut rng = SplitMix(1);
+    let pairs: Vec<(Vec3, Vec3)> = (0..BATCH).map(|_| (rng.direction(1.4), rng.direction(1.4))).collect();
+    let uniforms: Vec<(f64, f64)> = (0..BATCH).map(|_| (rng.uniform(), rng.uniform())).collect();
+
+    let mut group = c.benchmark_group("sateen_one_core");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(64));
+    group.bench_function("exact_eval", |b| {
+        b.iter(|| pairs[..64].iter().map(|&(s, v)| model.eval(black_box(s), black_box(v))).sum::<f64>())
+    });
+    group.bench_function("table_eval", |b| {
+        b.iter(|| pairs[..64].iter().map(|&(s, v)| table.eval(black_box(s), black_box(v))).sum::<f64>())
+    });
+    group.finish();
+
+    let mut group = c.benchmark_group("sateen_all_cores");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function("table_eval", |b| {
+        b.iter(|| parallel_sum(BATCH, |i| table.eval(pairs[i].0, pairs[i].1)))
+    });
+    group.bench_function("table_sample", |b| {
+        b.iter(|| {
+            parallel_sum(BATCH, |i| {
+                let (u1, u2) = uniforms[i];
+                table.sample(pairs[i].0, u1, u2).map_or(0.0, |s| s.weight)
+            })
+        })
+    });
+    group.bench_function("table_pdf", |b| {
+        b.iter(|| parallel_sum(BATCH, |i| table.pdf(pairs[i].0, pairs[i].1)))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_table);
+criterion_main!(benches);
