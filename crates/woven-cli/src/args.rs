@@ -2,51 +2,72 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::Path;
 use woven::material::Material;
 use woven::Model;
 
-/// Where a material comes from.
+/// A `--material` value: a preset name or the path of a TOML material file.
 ///
-/// Today every value is a path to a TOML material file. The type exists so that named presets
-/// (`--material sateen`) can be added later without touching the commands that take one.
+/// Resolution is [`Material::from_preset_or_path`]'s: a preset name wins, then anything that
+/// exists as a file or looks like a path (contains `/`, ends in `.toml`).
 #[derive(Clone, Debug)]
-pub enum MaterialSource {
-    /// A TOML material file (see `woven::material`).
-    File(PathBuf),
-}
+pub struct MaterialSource(String);
 
 impl MaterialSource {
-    /// Parses a command-line value.
+    /// Parses a command-line value (clap value parser).
     pub fn parse(value: &str) -> Result<Self, String> {
         if value.trim().is_empty() {
-            return Err("expected the path of a TOML material file".into());
+            return Err(format!(
+                "expected a preset name ({}) or the path of a TOML material file",
+                Material::preset_names().join(", ")
+            ));
         }
-        Ok(MaterialSource::File(PathBuf::from(value)))
+        Ok(MaterialSource(value.to_string()))
     }
 
     /// Reads and validates the material.
+    ///
+    /// # Errors
+    /// When the value is neither a preset nor a readable, valid material file; the message lists
+    /// the presets when the value names no existing file.
     pub fn load(&self) -> Result<Material> {
-        match self {
-            MaterialSource::File(path) => Material::from_path(path)
-                .with_context(|| format!("cannot load material file `{}`", path.display())),
-        }
+        let arg = &self.0;
+        Material::from_preset_or_path(arg).with_context(|| {
+            if Material::preset_toml(arg).is_some() {
+                format!("cannot load the preset `{arg}`")
+            } else if Path::new(arg).exists() {
+                format!("cannot load material file `{arg}`")
+            } else {
+                format!(
+                    "cannot load --material `{arg}`: neither a preset ({}; see `woven \
+                     materials`) nor a readable material file",
+                    Material::preset_names().join(", ")
+                )
+            }
+        })
     }
 }
 
 impl std::fmt::Display for MaterialSource {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            MaterialSource::File(path) => write!(f, "{}", path.display()),
-        }
+        f.write_str(&self.0)
     }
+}
+
+/// The help line of `--material`, naming the presets the library has.
+fn material_help() -> String {
+    format!(
+        "A preset ({}; list them with `woven materials`) or a material file (TOML; see the \
+         `woven` library's `material` module for its keys)",
+        Material::preset_names().join(", ")
+    )
 }
 
 /// `--material` and `--wavelength-nm`: what every model-evaluating command needs.
 #[derive(Args, Clone, Debug)]
 pub struct MaterialArgs {
-    /// Material file (TOML; see the `woven` library's `material` module for its keys).
-    #[arg(short, long, value_name = "FILE", value_parser = MaterialSource::parse)]
+    #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
+          help = material_help())]
     pub material: MaterialSource,
 
     /// Wavelength at which the material is evaluated, in nanometres.
@@ -57,13 +78,27 @@ pub struct MaterialArgs {
 impl MaterialArgs {
     /// Loads the material and prepares it for evaluation at the requested wavelength.
     pub fn build(&self) -> Result<Model> {
+        Ok(self.load_and_build()?.1)
+    }
+
+    /// The material as loaded, and prepared for evaluation at the requested wavelength.
+    pub fn load_and_build(&self) -> Result<(Material, Model)> {
         let material = self.material.load()?;
-        material.build(self.wavelength_nm).with_context(|| {
+        let model = material.build(self.wavelength_nm).with_context(|| {
             format!(
                 "cannot prepare material `{}` at --wavelength-nm {}",
                 self.material, self.wavelength_nm
             )
-        })
+        })?;
+        Ok((material, model))
+    }
+
+    /// A short name for the material: its `name`, else the `--material` value.
+    pub fn display_name(&self, material: &Material) -> String {
+        material
+            .name
+            .clone()
+            .unwrap_or_else(|| self.material.to_string())
     }
 }
 
@@ -79,6 +114,49 @@ pub fn parse_finite(value: &str) -> Result<f64, String> {
 /// The most angles a degree list or range may expand to (a guard against `0:90:1e-9`).
 pub const MAX_ANGLES: usize = 100_000;
 
+/// The interval an angle option accepts, in degrees; either end open or closed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    /// Lower end.
+    pub lo: f64,
+    /// Whether `lo` itself is excluded.
+    pub lo_open: bool,
+    /// Upper end.
+    pub hi: f64,
+    /// Whether `hi` itself is excluded.
+    pub hi_open: bool,
+}
+
+impl Interval {
+    /// Whether `x` lies in the interval.
+    pub fn contains(&self, x: f64) -> bool {
+        let above = if self.lo_open {
+            x > self.lo
+        } else {
+            x >= self.lo
+        };
+        let below = if self.hi_open {
+            x < self.hi
+        } else {
+            x <= self.hi
+        };
+        above && below
+    }
+}
+
+impl std::fmt::Display for Interval {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}{}, {}{}",
+            if self.lo_open { '(' } else { '[' },
+            self.lo,
+            self.hi,
+            if self.hi_open { ')' } else { ']' }
+        )
+    }
+}
+
 /// Parses a list of angles in degrees: `START:STOP:STEP` (inclusive of `STOP` when the steps land
 /// on it), a comma list `0,15,30`, or one value; every angle must lie in `[lo, hi]` (or
 /// `[lo, hi)` when `hi_open`). `flag` names the option in messages.
@@ -89,6 +167,17 @@ pub fn parse_degrees(
     hi: f64,
     hi_open: bool,
 ) -> Result<Vec<f64>, String> {
+    let valid = Interval {
+        lo,
+        lo_open: false,
+        hi,
+        hi_open,
+    };
+    parse_degrees_in(flag, value, valid)
+}
+
+/// [`parse_degrees`] for any [`Interval`].
+pub fn parse_degrees_in(flag: &str, value: &str, valid: Interval) -> Result<Vec<f64>, String> {
     let number = |part: &str, what: &str| -> Result<f64, String> {
         match part.trim().parse::<f64>() {
             Ok(x) if x.is_finite() => Ok(x),
@@ -97,12 +186,6 @@ pub fn parse_degrees(
                 part.trim()
             )),
         }
-    };
-    let in_range = |x: f64| x >= lo && (if hi_open { x < hi } else { x <= hi });
-    let range_text = if hi_open {
-        format!("[{lo}, {hi})")
-    } else {
-        format!("[{lo}, {hi}]")
     };
 
     let angles: Vec<f64> = if value.contains(':') {
@@ -146,9 +229,9 @@ pub fn parse_degrees(
         }
         items
     };
-    if let Some(bad) = angles.iter().find(|&&x| !in_range(x)) {
+    if let Some(bad) = angles.iter().find(|&&x| !valid.contains(x)) {
         return Err(format!(
-            "{flag} `{value}`: angle {bad}° is outside the valid range {range_text} degrees"
+            "{flag} `{value}`: angle {bad}° is outside the valid range {valid} degrees"
         ));
     }
     Ok(angles)
@@ -180,5 +263,21 @@ mod tests {
         assert!(p("-5").unwrap_err().contains("[0, 90)"));
         assert!(p("0:80:1e-9").unwrap_err().contains("too many"));
         assert!(p("nan").is_err());
+    }
+
+    #[test]
+    fn open_intervals_exclude_their_ends() {
+        let tilt = Interval {
+            lo: -45.0,
+            lo_open: true,
+            hi: 45.0,
+            hi_open: true,
+        };
+        let p = |s: &str| parse_degrees_in("--tilt-deg", s, tilt);
+        assert_eq!(p("-42:42:3").unwrap().len(), 29);
+        assert_eq!(p("-44.9,0,44.9").unwrap(), vec![-44.9, 0.0, 44.9]);
+        let e = p("-45:45:15").unwrap_err();
+        assert!(e.contains("angle -45°") && e.contains("(-45, 45)"), "{e}");
+        assert!(p("45").unwrap_err().contains("angle 45°"));
     }
 }

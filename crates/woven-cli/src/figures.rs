@@ -1,5 +1,6 @@
 //! The data behind the paper's figures, computed from the model and kept apart from drawing so
-//! that tests can check what each figure claims.
+//! that tests can check what each figure claims. Figures 8–10 (the cloth presets on the virtual
+//! goniometer) are in [`cloth`].
 //!
 //! Figures 3–5 of the paper (MODEL.md §5) show planar fiber surfaces (the rough limit, Eq. (16'),
 //! MODEL.md §1.3) with `σ_h/τ = 0.05` unless varied, as the reflected radiance against the view
@@ -18,6 +19,9 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, PI};
 use woven::fiber::{FiberParams, Normalization};
 use woven::material::Material;
 use woven::{Model, Vec3};
+
+pub mod cloth;
+pub mod unmasked;
 
 /// Refractive index assumed for the paper's fiber surfaces (polyester; the paper gives none).
 pub const ETA: f64 = 1.6;
@@ -39,6 +43,12 @@ pub enum FigureId {
     Fig4,
     /// Fig. 5: viewer azimuth φr − φi = π, 15π/16, 11π/12 at θi = π/4.
     Fig5,
+    /// Fig. 8: polyester sateen on the virtual goniometer.
+    Fig8,
+    /// Fig. 9: belt cloth on the virtual goniometer.
+    Fig9,
+    /// Fig. 10: silk on the virtual goniometer.
+    Fig10,
 }
 
 /// How the y axis should be scaled to show what a figure is about.
@@ -53,6 +63,15 @@ pub enum YScale {
     },
 }
 
+/// Where a figure's legend goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LegendCorner {
+    /// The upper left corner of the plot.
+    UpperLeft,
+    /// The upper right corner of the plot.
+    UpperRight,
+}
+
 /// One curve: its legend label and its `(x, y)` points.
 #[derive(Clone, Debug)]
 pub struct Series {
@@ -60,10 +79,35 @@ pub struct Series {
     pub label: String,
     /// The points, `x` increasing.
     pub points: Vec<(f64, f64)>,
+    /// The colour's index in the palette; `None`: the curve's position in the figure.
+    pub color: Option<usize>,
+    /// A comparison curve: drawn dashed, left out of the y range (and cut where it leaves it).
+    pub reference: bool,
+    /// Line width relative to the figure's (wider lines under narrower ones keep coinciding
+    /// curves visible).
+    pub width: f64,
+}
+
+impl Series {
+    /// A model curve, coloured by its position.
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Series {
+            label: label.into(),
+            points,
+            color: None,
+            reference: false,
+            width: 1.0,
+        }
+    }
 }
 
 #[cfg(test)]
 impl Series {
+    /// The `y` values, in order.
+    pub fn ys(&self) -> Vec<f64> {
+        self.points.iter().map(|p| p.1).collect()
+    }
+
     /// The point with the largest `y`.
     pub fn peak(&self) -> (f64, f64) {
         self.points
@@ -100,6 +144,12 @@ pub struct Figure {
     pub y_label: String,
     /// Default y scale.
     pub y_scale: YScale,
+    /// The x axis range.
+    pub x_range: (f64, f64),
+    /// About how many x tick labels to draw.
+    pub x_ticks: usize,
+    /// Where the legend goes.
+    pub legend: LegendCorner,
     /// The curves, in legend order.
     pub series: Vec<Series>,
 }
@@ -116,6 +166,9 @@ pub fn figure(id: FigureId) -> Result<Figure> {
         FigureId::Fig3 => fig3(),
         FigureId::Fig4 => fig4(),
         FigureId::Fig5 => fig5(),
+        FigureId::Fig8 | FigureId::Fig9 | FigureId::Fig10 => {
+            cloth::figure(id, cloth::DRAW_TILT_STEP_DEG)
+        }
     }
 }
 
@@ -125,9 +178,11 @@ pub fn fig3() -> Result<Figure> {
     let model = planar_model(ROUGHNESS)?;
     let series = [(FRAC_PI_6, "π/6"), (FRAC_PI_4, "π/4"), (FRAC_PI_3, "π/3")]
         .iter()
-        .map(|&(theta_i, name)| Series {
-            label: format!("θi = {name} ({:.0}°)", theta_i.to_degrees()),
-            points: plane_curve(&model, theta_i, PI),
+        .map(|&(theta_i, name)| {
+            Series::new(
+                format!("θi = {name} ({:.0}°)", theta_i.to_degrees()),
+                plane_curve(&model, theta_i, PI),
+            )
         })
         .collect();
     Ok(Figure {
@@ -136,6 +191,9 @@ pub fn fig3() -> Result<Figure> {
         x_label: VIEW_ANGLE_LABEL.into(),
         y_label: RADIANCE_LABEL.into(),
         y_scale: YScale::Linear,
+        x_range: (-90.0, 90.0),
+        x_ticks: 13,
+        legend: LegendCorner::UpperLeft,
         series,
     })
 }
@@ -151,10 +209,10 @@ pub fn fig4() -> Result<Figure> {
         .par_iter()
         .map(|&roughness| {
             let model = planar_model(roughness)?;
-            Ok(Series {
-                label: format!("σh/τ = {roughness}"),
-                points: plane_curve(&model, FRAC_PI_4, PI),
-            })
+            Ok(Series::new(
+                format!("σh/τ = {roughness}"),
+                plane_curve(&model, FRAC_PI_4, PI),
+            ))
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(Figure {
@@ -163,6 +221,9 @@ pub fn fig4() -> Result<Figure> {
         x_label: VIEW_ANGLE_LABEL.into(),
         y_label: RADIANCE_LABEL.into(),
         y_scale: YScale::Log { floor: 1e-4 },
+        x_range: (-90.0, 90.0),
+        x_ticks: 13,
+        legend: LegendCorner::UpperLeft,
         series,
     })
 }
@@ -179,9 +240,11 @@ pub fn fig5() -> Result<Figure> {
         (11.0 * PI / 12.0, "11π/12"),
     ]
     .iter()
-    .map(|&(delta_phi, name)| Series {
-        label: format!("φr − φi = {name} ({:.2}°)", delta_phi.to_degrees()),
-        points: plane_curve(&model, FRAC_PI_4, delta_phi),
+    .map(|&(delta_phi, name)| {
+        Series::new(
+            format!("φr − φi = {name} ({:.2}°)", delta_phi.to_degrees()),
+            plane_curve(&model, FRAC_PI_4, delta_phi),
+        )
     })
     .collect();
     Ok(Figure {
@@ -194,6 +257,9 @@ pub fn fig5() -> Result<Figure> {
             .into(),
         y_label: RADIANCE_LABEL.into(),
         y_scale: YScale::Linear,
+        x_range: (-90.0, 90.0),
+        x_ticks: 13,
+        legend: LegendCorner::UpperLeft,
         series,
     })
 }
@@ -345,10 +411,7 @@ mod tests {
         // x > 0 at φr − φi = π is the specular side: the mirror direction is bright, the light's
         // own direction (x = −45°) dark for a smooth surface.
         let model = planar_model(ROUGHNESS).unwrap();
-        let curve = Series {
-            label: String::new(),
-            points: plane_curve(&model, FRAC_PI_4, PI),
-        };
+        let curve = Series::new(String::new(), plane_curve(&model, FRAC_PI_4, PI));
         assert!(curve.at(45.0) > 1e6 * curve.at(-45.0));
         let s = Vec3::from_spherical(FRAC_PI_4, 0.0);
         let v = Vec3::from_spherical(FRAC_PI_4, PI);

@@ -8,7 +8,11 @@ mod args;
 mod commands;
 mod figures;
 mod glyphs;
+mod goniometer;
+mod hemisphere;
 mod io;
+mod progress;
+mod summary;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -21,16 +25,19 @@ use std::process::ExitCode;
     about = "Evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model",
     long_about = "Evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model.
 
-Materials are TOML files (see the `woven` library's `material` module). Angles in files are \
-radians; options that take degrees end in `-deg`. Directions use the cloth's local frame: z is \
+Materials are built-in presets (list them with `woven materials`) or TOML files (see the \
+`woven` library's `material` module); --material takes either. Angles in files are radians; options that take degrees end in `-deg`. Directions use the cloth's local frame: z is \
 the macro normal, the weft runs along x and the warp along y; theta is the polar angle from z, \
 phi the azimuth from x; i is the light, r the viewer.
 
 Exit status: 0 on success, 1 on an error, 2 on a command-line usage error.",
     after_help = "Examples:
+  woven materials
   woven eval --material polyester.toml --input dirs.csv --output brdf.csv
-  woven albedo --material polyester.toml --theta-deg 0:85:5
+  woven albedo --material silk --theta-deg 0:80:20
+  woven gonio --material belt-cloth -o belt.csv
   woven plot fig3 -o fig3.svg
+  woven plot hemisphere --material polyester-sateen -o sateen.png
 
 Run `woven help <COMMAND>` for a command's options and examples.",
     propagate_version = true
@@ -44,6 +51,8 @@ struct Cli {
 enum Command {
     Eval(commands::eval::EvalArgs),
     Albedo(commands::albedo::AlbedoArgs),
+    Gonio(commands::gonio::GonioArgs),
+    Materials(commands::materials::MaterialsArgs),
     Plot(commands::plot::PlotArgs),
 }
 
@@ -53,6 +62,8 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Eval(args) => commands::eval::run(args),
         Command::Albedo(args) => commands::albedo::run(args),
+        Command::Gonio(args) => commands::gonio::run(args),
+        Command::Materials(args) => commands::materials::run(args),
         Command::Plot(args) => commands::plot::run(args),
     };
     match result {

@@ -372,11 +372,31 @@ fn help_is_complete() {
         .stdout(predicate::str::contains("eval"))
         .stdout(predicate::str::contains("albedo"))
         .stdout(predicate::str::contains("plot"))
+        .stdout(predicate::str::contains("gonio"))
+        .stdout(predicate::str::contains("materials"))
         .stdout(predicate::str::contains("Examples:"));
+    for figure in ["fig8", "hemisphere"] {
+        woven()
+            .args(["plot", figure, "--help"])
+            .assert()
+            .success()
+            .stdout(predicate::str::contains("--output"))
+            .stdout(predicate::str::contains("Examples:"));
+    }
+    // --material names the presets.
+    woven()
+        .args(["eval", "--help"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("PRESET|FILE"))
+        .stdout(predicate::str::contains("belt-cloth"));
     for (command, needle) in [
         ("eval", "theta_i,phi_i,theta_r,phi_r"),
         ("albedo", "--theta-deg"),
+        ("gonio", "azimuth_deg,tilt_deg,theta_i,theta_r,radiance"),
+        ("materials", "--show"),
         ("plot", "fig4"),
+        ("plot", "hemisphere"),
     ] {
         woven()
             .args([command, "--help"])
@@ -414,4 +434,338 @@ fn wavelength_out_of_range_is_reported() {
         .code(1)
         .stderr(predicate::str::contains("--wavelength-nm 5"))
         .stderr(predicate::str::contains("wavelength_nm"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Presets: `woven materials` and `--material NAME`.
+
+#[test]
+fn materials_lists_every_preset_with_its_parameters() {
+    let assert = woven().arg("materials").assert().success();
+    let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 1 + Material::preset_names().len(), "{out}");
+    for heading in [
+        "NAME",
+        "FIBER",
+        "η",
+        "σh/τ",
+        "L",
+        "μ",
+        "σ",
+        "FIBERS",
+        "γ",
+        "DESCRIPTION",
+    ] {
+        assert!(
+            lines[0].contains(heading),
+            "{heading} missing: {}",
+            lines[0]
+        );
+    }
+    for name in Material::preset_names() {
+        let line = lines
+            .iter()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no row for {name}:\n{out}"));
+        // The row ends with the first line of the preset's leading comment.
+        let comment = Material::preset_toml(name)
+            .unwrap()
+            .lines()
+            .next()
+            .unwrap()
+            .trim_start_matches('#')
+            .trim();
+        assert!(line.ends_with(comment), "{line}");
+    }
+    let row = |name: &str| *lines.iter().find(|l| l.starts_with(name)).unwrap();
+    assert!(
+        row("polyester-sateen").contains("0.05")
+            && row("polyester-sateen").contains("one orientation")
+    );
+    assert!(
+        row("belt-cloth").contains("twist σt = 0.35") && row("belt-cloth").contains("twill-2/1")
+    );
+    assert!(row("silk").contains("isotropic"));
+}
+
+#[test]
+fn materials_show_prints_the_preset_toml_exactly() {
+    for name in Material::preset_names() {
+        let assert = woven()
+            .args(["materials", "--show", name])
+            .assert()
+            .success();
+        let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+        assert_eq!(out, Material::preset_toml(name).unwrap(), "{name}");
+        let parsed = Material::from_toml_str(&out, "<stdout>").unwrap();
+        assert_eq!(parsed, Material::preset(name).unwrap(), "{name}");
+    }
+    woven()
+        .args(["materials", "--show", "denim"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("denim"))
+        .stderr(predicate::str::contains("polyester-sateen"))
+        .stderr(predicate::str::contains("silk"));
+}
+
+#[test]
+fn eval_accepts_a_preset_name() {
+    // Three rows of a slow cloth preset (about a millisecond each).
+    let rows = "0.3,0,0.5,3.1\n0.9,1.2,0.2,-2\n1.1,0.5,1.0,0.5\n";
+    let assert = woven()
+        .args(["eval", "--material", "belt-cloth", "--input", "-"])
+        .write_stdin(format!("{HEADER}\n{rows}"))
+        .assert()
+        .success();
+    let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let model = Material::preset("belt-cloth")
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 4, "{out}");
+    for (line, row) in lines[1..].iter().zip(rows.lines()) {
+        let a: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
+        let want = model.eval(
+            Vec3::from_spherical(a[0], a[1]),
+            Vec3::from_spherical(a[2], a[3]),
+        );
+        let got: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+        assert_eq!(got, want, "{line}");
+        assert!(got > 0.0);
+    }
+}
+
+#[test]
+fn an_unknown_material_lists_the_presets() {
+    woven()
+        .args(["albedo", "--theta-deg", "45", "-m", "sateen"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("`sateen`"))
+        .stderr(predicate::str::contains(
+            "polyester-sateen, belt-cloth, silk",
+        ));
+}
+
+// ---------------------------------------------------------------------------------------------
+// `woven gonio`.
+
+/// Parses gonio CSV into rows of five numbers, checking the header.
+fn gonio_rows(out: &str) -> Vec<[f64; 5]> {
+    let mut lines = out.lines();
+    assert_eq!(
+        lines.next(),
+        Some("azimuth_deg,tilt_deg,theta_i,theta_r,radiance")
+    );
+    lines
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            assert_eq!(v.len(), 5, "{l}");
+            [v[0], v[1], v[2], v[3], v[4]]
+        })
+        .collect()
+}
+
+#[test]
+fn gonio_default_grid_matches_the_library() {
+    let assert = woven()
+        .args(["gonio", "--material", "polyester-sateen"])
+        .assert()
+        .success();
+    let rows = gonio_rows(&String::from_utf8(assert.get_output().stdout.clone()).unwrap());
+    // Azimuths 0, 45, 90 (outer), tilts −42 … 42 by 3 (inner).
+    assert_eq!(rows.len(), 3 * 29);
+    assert_eq!((rows[0][0], rows[0][1]), (0.0, -42.0));
+    assert_eq!((rows[28][0], rows[28][1]), (0.0, 42.0));
+    assert_eq!((rows[29][0], rows[29][1]), (45.0, -42.0));
+    assert_eq!((rows[86][0], rows[86][1]), (90.0, 42.0));
+    let model = Material::preset("polyester-sateen")
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    for row in [0, 14, 40, 58, 86].map(|k| rows[k]) {
+        let [a, t, theta_i, theta_r, radiance] = row;
+        assert!((theta_i - (45.0 + t).to_radians()).abs() < 1e-15, "{row:?}");
+        assert!((theta_r - (45.0 - t).to_radians()).abs() < 1e-15, "{row:?}");
+        // Light and sensor in one plane through the normal, on opposite sides.
+        let s = Vec3::from_spherical(theta_i, a.to_radians());
+        let v = Vec3::from_spherical(theta_r, a.to_radians() + std::f64::consts::PI);
+        let want = model.eval(s, v) * theta_i.cos();
+        assert!(
+            (radiance - want).abs() <= 1e-15 * want,
+            "{row:?}: library {want}"
+        );
+        assert!(radiance > 0.0);
+    }
+}
+
+#[test]
+fn gonio_takes_lists_and_writes_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("belt.csv");
+    woven()
+        .args([
+            "gonio",
+            "-m",
+            "belt-cloth",
+            "--azimuth-deg",
+            "30",
+            "--tilt-deg",
+            "-40,0,40",
+            "-o",
+        ])
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout("");
+    let rows = gonio_rows(&std::fs::read_to_string(&out).unwrap());
+    assert_eq!(rows.len(), 3);
+    let model = Material::preset("belt-cloth")
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    for [a, t, theta_i, theta_r, radiance] in rows {
+        assert_eq!(a, 30.0);
+        let s = Vec3::from_spherical(theta_i, a.to_radians());
+        let v = Vec3::from_spherical(theta_r, a.to_radians() + std::f64::consts::PI);
+        let want = model.eval(s, v) * theta_i.cos();
+        assert!(
+            (radiance - want).abs() <= 1e-15 * want,
+            "t = {t}: {radiance} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn gonio_rejects_bad_angles_naming_the_flag() {
+    for (args, flag, needle) in [
+        (
+            ["--tilt-deg", "-45:45:5"],
+            "--tilt-deg",
+            "angle -45° is outside the valid range (-45, 45)",
+        ),
+        (["--tilt-deg", "50"], "--tilt-deg", "(-45, 45)"),
+        (["--tilt-deg", "0:10"], "--tilt-deg", "START:STOP:STEP"),
+        (
+            ["--tilt-deg", "x"],
+            "--tilt-deg",
+            "`x` is not a finite number",
+        ),
+        (["--azimuth-deg", "400"], "--azimuth-deg", "[-360, 360]"),
+        (
+            ["--azimuth-deg", "0,nan"],
+            "--azimuth-deg",
+            "not a finite number",
+        ),
+    ] {
+        woven()
+            .args(["gonio", "-m", "silk"])
+            .args(args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(flag))
+            .stderr(predicate::str::contains(needle));
+    }
+    woven()
+        .args(["gonio", "-m", "no-such-cloth"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "polyester-sateen, belt-cloth, silk",
+        ));
+}
+
+// ---------------------------------------------------------------------------------------------
+// `woven plot fig8|fig9|fig10` and `woven plot hemisphere`.
+
+/// The width and height recorded in a PNG's IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    (
+        u32::from_be_bytes(bytes[16..20].try_into().unwrap()),
+        u32::from_be_bytes(bytes[20..24].try_into().unwrap()),
+    )
+}
+
+#[test]
+fn cloth_figures_name_their_preset_and_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    for (fig, preset, claim) in [
+        ("fig8", "polyester-sateen", "masking off"),
+        ("fig9", "belt-cloth", "45° and warp curves differ"),
+        ("fig10", "silk", "isotropic"),
+    ] {
+        let svg = dir.path().join(format!("{fig}.svg"));
+        let png = dir.path().join(format!("{fig}.png"));
+        woven()
+            .args(["plot", fig, "--width", "800", "--height", "560", "-o"])
+            .arg(&svg)
+            .arg("-o")
+            .arg(&png)
+            .assert()
+            .success();
+        let text = std::fs::read_to_string(&svg).unwrap();
+        for needle in [preset, "σh/τ", "tilt", "sr⁻¹", "weft", "warp", "45°", claim] {
+            assert!(text.contains(needle), "{fig}.svg lacks `{needle}`");
+        }
+        assert_eq!(png_size(&std::fs::read(&png).unwrap()), (800, 560));
+    }
+}
+
+#[test]
+fn hemisphere_writes_a_png_of_the_documented_size() {
+    let dir = tempfile::tempdir().unwrap();
+    // A fast material on a fine grid, a slow one on a coarse grid, and a log scale.
+    for (material, extra) in [
+        ("polyester-sateen", vec!["--grid", "96"]),
+        ("silk", vec!["--grid", "12", "--log", "--phi-i-deg", "-30"]),
+    ] {
+        let png = dir.path().join(format!("{material}.png"));
+        woven()
+            .args([
+                "plot",
+                "hemisphere",
+                "-m",
+                material,
+                "--theta-i-deg",
+                "30",
+                "--size",
+                "256",
+            ])
+            .args(&extra)
+            .arg("-o")
+            .arg(&png)
+            .assert()
+            .success();
+        // The image is --size high and 5/4 as wide.
+        assert_eq!(
+            png_size(&std::fs::read(&png).unwrap()),
+            (320, 256),
+            "{material}"
+        );
+    }
+    woven()
+        .args(["plot", "hemisphere", "-m", "silk", "-o"])
+        .arg(dir.path().join("h.svg"))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(".png"));
+    woven()
+        .args([
+            "plot",
+            "hemisphere",
+            "-m",
+            "silk",
+            "--theta-i-deg",
+            "90",
+            "-o",
+            "h.png",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--theta-i-deg"));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
 }

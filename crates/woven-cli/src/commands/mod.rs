@@ -2,4 +2,7 @@
 
 pub mod albedo;
 pub mod eval;
+pub mod gonio;
+pub mod materials;
 pub mod plot;
+pub mod plot_hemisphere;

@@ -1,16 +1,18 @@
-//! `woven plot`: draws the paper's figures as SVG or PNG.
+//! `woven plot`: draws the paper's figures, and BRDF hemisphere maps, as SVG or PNG.
 //!
-//! Curve data comes from [`crate::figures`]; this module only draws. Text is laid out (and, for
-//! PNG, rasterized) with the DejaVu Sans font embedded in the binary, so plots render the same on
-//! a machine without any system fonts.
+//! Curve data comes from [`crate::figures`]; this module only draws. The hemisphere map is in
+//! [`super::plot_hemisphere`]. Text is laid out (and, for PNG, rasterized) with the DejaVu Sans
+//! font embedded in the binary, so plots render the same on a machine without any system fonts.
 
-use crate::figures::{self, Figure, FigureId, YScale};
+use super::plot_hemisphere::{self, HemisphereArgs};
+use crate::figures::{self, Figure, FigureId, LegendCorner, Series, YScale};
 use crate::glyphs::CrispText;
 use crate::io;
 use anyhow::{anyhow, bail, Context, Result};
-use clap::Args;
+use clap::{Args, Subcommand};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 use std::path::{Path, PathBuf};
@@ -19,29 +21,69 @@ use std::sync::OnceLock;
 /// Arguments of `woven plot`.
 #[derive(Args, Debug)]
 #[command(
-    about = "Draw one of the paper's figures from the model (SVG or PNG)",
+    about = "Draw one of the paper's figures, or a material's BRDF over the hemisphere",
     long_about = "Draw one of the paper's figures, computed from the model, as SVG or PNG (chosen \
-by the output file's extension).
+by the output file's extension), or a material's BRDF over the whole view hemisphere (PNG).
 
 fig3, fig4, fig5: planar fiber surfaces (the rough limit, Eq. (16')) as in the paper's \
-Figures 3–5, the viewer moving in a vertical plane (the plane of incidence for fig3 and fig4). The y axis is the reflected radiance for unit irradiance, \
-L/I0 = f·cos θi, in sr⁻¹; the x axis the signed view angle in degrees (negative on the light's \
-side). The paper gives no refractive index or diffuse albedo: the figures use η = 1.6 \
-(polyester), ρ0 = 0 and the `paper` normalization, and say so in their caption.
+Figures 3–5, the viewer moving in a vertical plane (the plane of incidence for fig3 and fig4). \
+The y axis is the reflected radiance for unit irradiance, L/I0 = f·cos θi, in sr⁻¹; the x axis \
+the signed view angle in degrees (negative on the light's side). The paper gives no refractive \
+index or diffuse albedo: the figures use η = 1.6 (polyester), ρ0 = 0 and the `paper` \
+normalization, and say so in their caption.
 
-  fig3  θi = π/6, π/4, π/3 (σh/τ = 0.05): reflection rises with the angle of incidence
-  fig4  σh/τ = 0.5 … 0.05 (θi = π/4), log axis: rougher surfaces reflect more toward the light
-  fig5  viewer azimuth φr − φi = π, 15π/16, 11π/12 (θi = π/4): reflection falls off-plane",
+fig8, fig9, fig10: the paper's cloth samples (the presets polyester-sateen, belt-cloth, silk) on \
+the virtual goniometer of `woven gonio`: radiance against sample tilt with the weft, the \
+diagonal and the warp in the plane of light and sensor.
+
+  fig3        θi = π/6, π/4, π/3 (σh/τ = 0.05): reflection rises with the angle of incidence
+  fig4        σh/τ = 0.5 … 0.05 (θi = π/4), log axis: rougher surfaces reflect more toward the light
+  fig5        viewer azimuth φr − φi = π, 15π/16, 11π/12 (θi = π/4): reflection falls off-plane
+  fig8        polyester sateen: masking strong along the weft, nil along the warp
+  fig9        belt cloth (twisted fibers)
+  fig10       silk (isotropic yarns): the same in every direction
+  hemisphere  any material: the BRDF over the view hemisphere as a false-colour disc",
     after_help = "Examples:
   woven plot fig3 -o fig3.svg -o fig3.png
   woven plot fig4 -o fig4.png --width 1600 --height 1000
-  woven plot fig4 -o fig4-linear.svg --y-scale linear"
+  woven plot fig8 -o fig8.png
+  woven plot hemisphere --material silk --theta-i-deg 45 -o silk.png
+
+Run `woven plot <FIGURE> --help` for a figure's options."
 )]
 pub struct PlotArgs {
     /// Which figure to draw.
-    #[arg(value_enum)]
-    pub figure: FigureId,
+    #[command(subcommand)]
+    pub figure: PlotCommand,
+}
 
+/// The figures `woven plot` draws.
+#[derive(Subcommand, Debug)]
+pub enum PlotCommand {
+    /// Fig. 3: θi = π/6, π/4, π/3 on a planar fiber surface (σh/τ = 0.05)
+    Fig3(CurveArgs),
+    /// Fig. 4: σh/τ from 0.5 to 0.05 on a planar fiber surface (θi = π/4)
+    Fig4(CurveArgs),
+    /// Fig. 5: viewer azimuths φr − φi = π, 15π/16, 11π/12 (θi = π/4)
+    Fig5(CurveArgs),
+    /// Fig. 8: polyester sateen on the virtual goniometer (weft, 45°, warp)
+    Fig8(CurveArgs),
+    /// Fig. 9: belt cloth on the virtual goniometer (weft, 45°, warp)
+    Fig9(CurveArgs),
+    /// Fig. 10: silk on the virtual goniometer (weft, 45°, warp)
+    Fig10(CurveArgs),
+    /// A material's BRDF over the view hemisphere, as a false-colour disc (PNG)
+    #[command(long_about = plot_hemisphere::LONG_ABOUT)]
+    Hemisphere(HemisphereArgs),
+}
+
+/// Options of the curve figures (fig3 … fig10).
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  woven plot fig3 -o fig3.svg -o fig3.png
+  woven plot fig8 -o fig8.png --width 1600 --height 1000
+  woven plot fig4 -o fig4-linear.svg --y-scale linear")]
+pub struct CurveArgs {
     /// Output image; the extension chooses the format: `.svg` or `.png`. Written atomically.
     /// Repeat to write several files from one computation (`-o fig.svg -o fig.png`).
     #[arg(short, long = "output", value_name = "FILE", required = true)]
@@ -102,13 +144,21 @@ impl ImageFormat {
 
 /// Runs `woven plot`.
 pub fn run(args: &PlotArgs) -> Result<()> {
-    // Check every output name before the (slow) computation.
-    let formats = args
-        .outputs
-        .iter()
-        .map(|path| ImageFormat::from_path(path))
-        .collect::<Result<Vec<_>>>()?;
-    for path in &args.outputs {
+    let (id, curve_args) = match &args.figure {
+        PlotCommand::Fig3(a) => (FigureId::Fig3, a),
+        PlotCommand::Fig4(a) => (FigureId::Fig4, a),
+        PlotCommand::Fig5(a) => (FigureId::Fig5, a),
+        PlotCommand::Fig8(a) => (FigureId::Fig8, a),
+        PlotCommand::Fig9(a) => (FigureId::Fig9, a),
+        PlotCommand::Fig10(a) => (FigureId::Fig10, a),
+        PlotCommand::Hemisphere(a) => return plot_hemisphere::run(a),
+    };
+    run_curves(id, curve_args)
+}
+
+/// Checks that every output's folder exists, before a (slow) computation.
+pub fn check_output_dirs(outputs: &[PathBuf]) -> Result<()> {
+    for path in outputs {
         let dir = match path.parent() {
             Some(parent) if !parent.as_os_str().is_empty() => parent,
             _ => Path::new("."),
@@ -121,7 +171,19 @@ pub fn run(args: &PlotArgs) -> Result<()> {
             );
         }
     }
-    let figure = figures::figure(args.figure)?;
+    Ok(())
+}
+
+/// Draws one of the curve figures.
+fn run_curves(id: FigureId, args: &CurveArgs) -> Result<()> {
+    // Check every output name before the (slow) computation.
+    let formats = args
+        .outputs
+        .iter()
+        .map(|path| ImageFormat::from_path(path))
+        .collect::<Result<Vec<_>>>()?;
+    check_output_dirs(&args.outputs)?;
+    let figure = figures::figure(id)?;
     let scale = match args.y_scale {
         YScaleArg::Auto => figure.y_scale,
         YScaleArg::Linear => YScale::Linear,
@@ -132,7 +194,7 @@ pub fn run(args: &PlotArgs) -> Result<()> {
     };
     for (path, format) in args.outputs.iter().zip(formats) {
         let bytes = render(&figure, scale, format, (args.width, args.height))
-            .with_context(|| format!("drawing {:?} for `{}`", args.figure, path.display()))?;
+            .with_context(|| format!("drawing {id:?} for `{}`", path.display()))?;
         io::write_atomically(path, |out| Ok(out.write_all(&bytes)?))?;
     }
     Ok(())
@@ -168,25 +230,30 @@ pub fn render(
                 draw(&root, figure, scale)?;
                 root.present().map_err(plot_error)?;
             }
-            let mut png_bytes = Vec::new();
-            let mut encoder = png::Encoder::new(&mut png_bytes, width, height);
-            encoder.set_color(png::ColorType::Rgb);
-            encoder.set_depth(png::BitDepth::Eight);
-            encoder.set_compression(png::Compression::Best);
-            encoder
-                .write_header()
-                .and_then(|mut w| w.write_image_data(&rgb))
-                .context("encoding PNG")?;
-            Ok(png_bytes)
+            encode_png(&rgb, width, height)
         }
     }
 }
 
+/// Encodes an 8-bit RGB buffer of `width × height` pixels as PNG.
+pub fn encode_png(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>> {
+    let mut png_bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut png_bytes, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Best);
+    encoder
+        .write_header()
+        .and_then(|mut w| w.write_image_data(rgb))
+        .context("encoding PNG")?;
+    Ok(png_bytes)
+}
+
 /// The family name under which the embedded font is registered and requested.
-const FONT: &str = "sans-serif";
+pub const FONT: &str = "sans-serif";
 
 /// Registers the embedded DejaVu Sans with plotters (once per process).
-fn register_embedded_font() -> Result<()> {
+pub fn register_embedded_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED
         .get_or_init(|| register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok());
@@ -197,7 +264,8 @@ fn register_embedded_font() -> Result<()> {
     }
 }
 
-fn plot_error(e: impl std::fmt::Display) -> anyhow::Error {
+/// A drawing error as an `anyhow` error.
+pub fn plot_error(e: impl std::fmt::Display) -> anyhow::Error {
     anyhow!("plotting failed: {e}")
 }
 
@@ -265,22 +333,31 @@ fn draw<DB: DrawingBackend>(
             .map_err(plot_error)?;
     }
 
+    // The y range follows the model curves; reference curves are cut where they leave it.
     let y_max = figure
         .series
         .iter()
+        .filter(|s| !s.reference)
         .flat_map(|s| s.points.iter().map(|p| p.1))
         .fold(0.0f64, f64::max);
     match scale {
         YScale::Linear => {
             let top = if y_max > 0.0 { y_max * 1.08 } else { 1.0 };
-            chart(&chart_area, figure, &sizes, 0.0..top, None)
+            chart(&chart_area, figure, &sizes, 0.0..top, None, top)
         }
         YScale::Log { floor } => {
             // Headroom above the highest peak for the legend: one decade.
             let top = (y_max.max(floor) * 10.0).log10().ceil();
             // Just below the floor, so that its own decade gets a tick label.
             let range = ((floor * (1.0 - 1e-9))..10f64.powf(top)).log_scale();
-            chart(&chart_area, figure, &sizes, range, Some(floor))
+            chart(
+                &chart_area,
+                figure,
+                &sizes,
+                range,
+                Some(floor),
+                10f64.powf(top),
+            )
         }
     }
 }
@@ -291,18 +368,31 @@ fn chart<DB, Y>(
     sizes: &Sizes,
     y_range: Y,
     floor: Option<f64>,
+    top: f64,
 ) -> Result<()>
 where
     DB: DrawingBackend,
     Y: AsRangedCoord<Value = f64>,
     Y::CoordDescType: ValueFormatter<f64>,
 {
+    // A title no wider than the image: shrink the font when it would be.
+    let margin = (sizes.ticks * 1.2) as u32;
+    let (area_w, _) = area.dim_in_pixel();
+    let (title_w, _) = area
+        .estimate_text_size(
+            &figure.title,
+            &TextStyle::from((FONT, sizes.title).into_font()),
+        )
+        .map_err(plot_error)?;
+    let room = area_w.saturating_sub(2 * margin) as f64;
+    let title_size = sizes.title * (room / title_w.max(1) as f64).min(1.0);
+    let (x_lo, x_hi) = figure.x_range;
     let mut chart = ChartBuilder::on(area)
-        .caption(&figure.title, (FONT, sizes.title))
-        .margin((sizes.ticks * 1.2) as u32)
+        .caption(&figure.title, (FONT, title_size))
+        .margin(margin)
         .x_label_area_size((sizes.ticks * 2.0 + sizes.axis * 1.6) as u32)
         .y_label_area_size((sizes.ticks * 4.2 + sizes.axis * 1.6) as u32)
-        .build_cartesian_2d(-90.0..90.0, y_range)
+        .build_cartesian_2d(x_lo..x_hi, y_range)
         .map_err(plot_error)?;
 
     // Axis descriptions no longer than the axes they label: shrink the font when they would be.
@@ -326,7 +416,7 @@ where
     let y_fmt = |y: &f64| tick_label(*y);
     chart
         .configure_mesh()
-        .x_labels(13)
+        .x_labels(figure.x_ticks)
         .y_labels(10)
         .x_label_formatter(&x_fmt)
         .y_label_formatter(&y_fmt)
@@ -339,31 +429,49 @@ where
         .draw()
         .map_err(plot_error)?;
 
-    let line = sizes.line;
     let swatch = (sizes.legend * 1.6) as i32;
+    let (dash, gap) = ((sizes.legend * 0.6) as i32, (sizes.legend * 0.4) as i32);
     for (k, series) in figure.series.iter().enumerate() {
-        let color = color_of(k);
-        let mut runs = visible_runs(&series.points, floor).into_iter();
+        let color = color_of(series.color.unwrap_or(k));
+        let line = ((sizes.line as f64) * series.width).round().max(1.0) as u32;
+        let mut runs = series_runs(series, floor, top).into_iter();
+        let first = runs.next().unwrap_or_default();
         // The first run carries the legend entry (an empty one when nothing is visible).
-        chart
-            .draw_series(LineSeries::new(
-                runs.next().unwrap_or_default(),
-                color.stroke_width(line),
-            ))
-            .map_err(plot_error)?
-            .label(&series.label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + swatch, y)], color.stroke_width(line + 1))
-            });
-        for run in runs {
+        if series.reference {
+            let style = color.stroke_width(line);
             chart
-                .draw_series(LineSeries::new(run, color.stroke_width(line)))
-                .map_err(plot_error)?;
+                .draw_series(DashedLineSeries::new(first, dash, gap, style))
+                .map_err(plot_error)?
+                .label(&series.label)
+                .legend(move |(x, y)| {
+                    DashedPathElement::new(vec![(x, y), (x + swatch, y)], dash, gap, style)
+                });
+            for run in runs {
+                chart
+                    .draw_series(DashedLineSeries::new(run, dash, gap, style))
+                    .map_err(plot_error)?;
+            }
+        } else {
+            chart
+                .draw_series(LineSeries::new(first, color.stroke_width(line)))
+                .map_err(plot_error)?
+                .label(&series.label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + swatch, y)], color.stroke_width(line + 1))
+                });
+            for run in runs {
+                chart
+                    .draw_series(LineSeries::new(run, color.stroke_width(line)))
+                    .map_err(plot_error)?;
+            }
         }
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
+        .position(match figure.legend {
+            LegendCorner::UpperLeft => SeriesLabelPosition::UpperLeft,
+            LegendCorner::UpperRight => SeriesLabelPosition::UpperRight,
+        })
         .margin((sizes.legend * 0.8) as u32)
         .legend_area_size(swatch as u32 + (sizes.legend * 0.6) as u32)
         .label_font((FONT, sizes.legend))
@@ -376,6 +484,46 @@ where
 
 fn color_of(k: usize) -> RGBColor {
     COLORS[k % COLORS.len()]
+}
+
+/// The drawable runs of a series: a reference curve cut where it rises above `top` (the axis'
+/// top), then every curve cut at the log axis' `floor`.
+fn series_runs(series: &Series, floor: Option<f64>, top: f64) -> Vec<Vec<(f64, f64)>> {
+    let pieces = if series.reference {
+        below(&series.points, top)
+    } else {
+        vec![series.points.clone()]
+    };
+    pieces
+        .iter()
+        .flat_map(|piece| visible_runs(piece, floor))
+        .collect()
+}
+
+/// The parts of a curve at or below `top`, each ending where the curve crosses it (linear
+/// interpolation), so that a curve leaving the plot is cut at its edge.
+fn below(points: &[(f64, f64)], top: f64) -> Vec<Vec<(f64, f64)>> {
+    let crossing = |a: (f64, f64), b: (f64, f64)| {
+        let t = (top - a.1) / (b.1 - a.1);
+        (a.0 + t * (b.0 - a.0), top)
+    };
+    let mut runs = Vec::new();
+    let mut run: Vec<(f64, f64)> = Vec::new();
+    for (k, &p) in points.iter().enumerate() {
+        if p.1 <= top {
+            if run.is_empty() && k > 0 {
+                run.push(crossing(points[k - 1], p));
+            }
+            run.push(p);
+        } else if !run.is_empty() {
+            run.push(crossing(points[k - 1], p));
+            runs.push(std::mem::take(&mut run));
+        }
+    }
+    if !run.is_empty() {
+        runs.push(run);
+    }
+    runs
 }
 
 /// The parts of a curve at or above `floor` (all of it without one), each run starting and
@@ -405,7 +553,7 @@ fn visible_runs(points: &[(f64, f64)], floor: Option<f64>) -> Vec<Vec<(f64, f64)
 }
 
 /// A short axis label: plain decimals in `[1e-3, 1e4)`, scientific notation outside.
-fn tick_label(y: f64) -> String {
+pub fn tick_label(y: f64) -> String {
     let a = y.abs();
     if a == 0.0 {
         "0".into()
@@ -450,6 +598,20 @@ mod tests {
         );
         assert_eq!(visible_runs(&pts, None), vec![pts.to_vec()]);
         assert!(visible_runs(&pts[..1], Some(1.0)).is_empty());
+    }
+
+    #[test]
+    fn reference_curves_are_cut_at_the_top() {
+        let pts = [(0.0, 1.0), (1.0, 3.0), (2.0, 1.0), (3.0, 0.5)];
+        assert_eq!(
+            below(&pts, 2.0),
+            vec![
+                vec![(0.0, 1.0), (0.5, 2.0)],
+                vec![(1.5, 2.0), (2.0, 1.0), (3.0, 0.5)]
+            ]
+        );
+        assert_eq!(below(&pts, 5.0), vec![pts.to_vec()]);
+        assert!(below(&pts, 0.1).is_empty());
     }
 
     #[test]

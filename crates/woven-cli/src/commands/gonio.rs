@@ -1,0 +1,116 @@
+//! `woven gonio`: the paper's virtual goniometer (MODEL.md §4) as a CSV table.
+
+use crate::args::{parse_degrees_in, Interval, MaterialArgs};
+use crate::goniometer::{self, Reading};
+use crate::io;
+use crate::progress::Progress;
+use anyhow::{Context, Result};
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Arguments of `woven gonio`.
+#[derive(Args, Debug)]
+#[command(
+    about = "Virtual goniometer: radiance against sample tilt, as in the paper's Figs. 8–10",
+    long_about = "The paper's measurement (§4, Fig. 7), computed from the model. Light and sensor \
+are fixed 90° apart; the sample turns about its normal to the sample azimuth A and tilts by t in \
+the plane of light and sensor. In the cloth's frame the light is at θi = 45° + t, the sensor at \
+θr = 45° − t, both in one vertical plane (φi = A, φr = A + 180°); A = 0 puts the weft (x) in that \
+plane, A = 90° the warp (y).
+
+Prints CSV with the header `azimuth_deg,tilt_deg,theta_i,theta_r,radiance`: A and t in degrees \
+as given, θi and θr in radians, and the radiance f(s, v)·cos θi (sr⁻¹) for unit irradiance. \
+Rows run over the tilts for each azimuth in turn, computed in parallel.",
+    after_help = "Examples:
+  woven gonio --material polyester-sateen
+  woven gonio -m belt-cloth --azimuth-deg 0,45,90 --tilt-deg -42:42:3 -o belt.csv
+  woven gonio -m my-cloth.toml --azimuth-deg 30 --tilt-deg -44:44:0.5 --wavelength-nm 450"
+)]
+pub struct GonioArgs {
+    #[command(flatten)]
+    pub material: MaterialArgs,
+
+    /// Sample azimuths A in degrees, each in [-360, 360]: a comma list, one angle, or a range
+    /// START:STOP:STEP. 0 = the weft (x) in the plane of light and sensor, 90 = the warp (y).
+    #[arg(long, value_name = "DEGREES", default_value = "0,45,90", allow_hyphen_values = true,
+          value_parser = parse_azimuths)]
+    pub azimuth_deg: DegreeList,
+
+    /// Sample tilts t in degrees, each in (-45, 45) (±45° is grazing): a range START:STOP:STEP
+    /// (STOP included when the steps land on it), a comma list, or one angle. The default is the
+    /// paper's grid.
+    #[arg(long, value_name = "DEGREES", default_value = goniometer::PAPER_TILTS,
+          allow_hyphen_values = true, value_parser = parse_tilts)]
+    pub tilt_deg: DegreeList,
+
+    /// Output CSV (written atomically); standard output when absent.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+}
+
+/// Parsed angles, in degrees.
+#[derive(Clone, Debug)]
+pub struct DegreeList(pub Vec<f64>);
+
+/// The sample azimuths `--azimuth-deg` accepts: one turn either way.
+pub const AZIMUTHS: Interval = Interval {
+    lo: -360.0,
+    lo_open: false,
+    hi: 360.0,
+    hi_open: false,
+};
+
+/// The tilts `--tilt-deg` accepts: short of grazing on both sides.
+pub const TILTS: Interval = Interval {
+    lo: -goniometer::HALF_ANGLE_DEG,
+    lo_open: true,
+    hi: goniometer::HALF_ANGLE_DEG,
+    hi_open: true,
+};
+
+fn parse_azimuths(value: &str) -> Result<DegreeList, String> {
+    parse_degrees_in("--azimuth-deg", value, AZIMUTHS).map(DegreeList)
+}
+
+fn parse_tilts(value: &str) -> Result<DegreeList, String> {
+    parse_degrees_in("--tilt-deg", value, TILTS).map(DegreeList)
+}
+
+/// The CSV header.
+pub const HEADER: &str = "azimuth_deg,tilt_deg,theta_i,theta_r,radiance";
+
+/// Runs `woven gonio`.
+pub fn run(args: &GonioArgs) -> Result<()> {
+    let model = args.material.build()?;
+    let (azimuths, tilts) = (&args.azimuth_deg.0, &args.tilt_deg.0);
+    let bar = Progress::new(
+        Some((azimuths.len() * tilts.len()) as u64),
+        "readings",
+        args.output.is_some() || !std::io::IsTerminal::is_terminal(&std::io::stdout()),
+    );
+    let readings = goniometer::sweep(&model, azimuths, tilts, || bar.inc(1));
+    bar.finish();
+    io::write_output(args.output.as_deref(), |out| write_csv(out, &readings))
+        .context("writing the goniometer table")
+}
+
+/// Writes the readings as CSV under [`HEADER`].
+pub fn write_csv(out: &mut dyn Write, readings: &[Reading]) -> Result<()> {
+    writeln!(out, "{HEADER}")?;
+    let mut line = String::new();
+    for r in readings {
+        line.clear();
+        for (k, x) in [r.azimuth_deg, r.tilt_deg, r.theta_i, r.theta_r, r.radiance]
+            .into_iter()
+            .enumerate()
+        {
+            if k > 0 {
+                line.push(',');
+            }
+            io::push_f64(&mut line, x);
+        }
+        writeln!(out, "{line}")?;
+    }
+    Ok(())
+}

@@ -1,0 +1,106 @@
+//! Progress bars for long jobs, on standard error.
+//!
+//! A [`Progress`] counts work from any thread (it is `Sync`), but draws nothing until the job has
+//! run for [`REVEAL_AFTER`] and only when standard error is a terminal: quick jobs, pipelines,
+//! redirected runs and tests never see a bar.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// How long a job runs before its bar appears: shorter jobs finish without one.
+pub const REVEAL_AFTER: Duration = Duration::from_millis(700);
+
+/// Whether standard error is a terminal (the only place a bar is ever drawn).
+pub fn stderr_is_terminal() -> bool {
+    std::io::stderr().is_terminal()
+}
+
+/// A progress bar that shows itself once a job turns out to be long (see the module docs).
+pub struct Progress {
+    bar: ProgressBar,
+    start: Instant,
+    /// Whether the bar may be drawn at all.
+    enabled: bool,
+    revealed: AtomicBool,
+}
+
+impl Progress {
+    /// A bar for `total` units of work (`None`: unknown, a counter with a rate) named `what`
+    /// ("rows", "directions"). `enabled` says whether it may appear; it never does when standard
+    /// error is not a terminal.
+    pub fn new(total: Option<u64>, what: &str, enabled: bool) -> Self {
+        let bar = ProgressBar::with_draw_target(total, ProgressDrawTarget::hidden());
+        let template = match total {
+            Some(_) => {
+                format!("{{bar:40.cyan/blue}} {{pos}}/{{len}} {what}, {{elapsed}} elapsed, ~{{eta}} left")
+            }
+            None => format!("{{spinner}} {{pos}} {what}, {{elapsed}} elapsed"),
+        };
+        if let Ok(style) = ProgressStyle::with_template(&template) {
+            bar.set_style(style.progress_chars("##-"));
+        }
+        Progress {
+            bar,
+            start: Instant::now(),
+            enabled: enabled && stderr_is_terminal(),
+            revealed: AtomicBool::new(false),
+        }
+    }
+
+    /// A bar that never draws.
+    #[cfg(test)]
+    pub fn hidden() -> Self {
+        Progress::new(None, "", false)
+    }
+
+    /// Records `n` more units done (callable from any thread).
+    pub fn inc(&self, n: u64) {
+        self.bar.inc(n);
+        if self.enabled
+            && !self.revealed.load(Ordering::Relaxed)
+            && self.start.elapsed() >= REVEAL_AFTER
+            && self
+                .revealed
+                .compare_exchange(false, true, Ordering::AcqRel, Ordering::Relaxed)
+                .is_ok()
+        {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+            self.bar.enable_steady_tick(Duration::from_millis(200));
+        }
+    }
+
+    /// Units done so far.
+    #[cfg(test)]
+    pub fn position(&self) -> u64 {
+        self.bar.position()
+    }
+
+    /// Removes the bar (if it was shown).
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        // An error path must not leave a half-drawn bar on the terminal.
+        self.bar.finish_and_clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_from_many_threads_and_stays_hidden_when_disabled() {
+        use rayon::prelude::*;
+        let p = Progress::new(Some(1000), "rows", false);
+        (0..1000).into_par_iter().for_each(|_| p.inc(1));
+        assert_eq!(p.position(), 1000);
+        assert!(p.bar.is_hidden());
+        p.finish();
+    }
+}
