@@ -32,19 +32,37 @@ fn parallel_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
 fn bench_table(c: &mut Criterion) {
     let material = Material::preset("polyester-sateen").unwrap();
     let model = material.build(550.0).unwrap();
-    let table = Table::build(&model, &material.to_toml_string(), &TableOptions::default(), &|_, _| {}).unwrap();
+    let table = Table::build(
+        &model,
+        &material.to_toml_string(),
+        &TableOptions::default(),
+        &|_, _| {},
+    )
+    .unwrap();
     let mut rng = SplitMix(1);
-    let pairs: Vec<(Vec3, Vec3)> = (0..BATCH).map(|_| (rng.direction(1.4), rng.direction(1.4))).collect();
+    let pairs: Vec<(Vec3, Vec3)> = (0..BATCH)
+        .map(|_| (rng.direction(1.4), rng.direction(1.4)))
+        .collect();
     let uniforms: Vec<(f64, f64)> = (0..BATCH).map(|_| (rng.uniform(), rng.uniform())).collect();
 
     let mut group = c.benchmark_group("sateen_one_core");
     group.sample_size(10);
     group.throughput(Throughput::Elements(64));
     group.bench_function("exact_eval", |b| {
-        b.iter(|| pairs[..64].iter().map(|&(s, v)| model.eval(black_box(s), black_box(v))).sum::<f64>())
+        b.iter(|| {
+            pairs[..64]
+                .iter()
+                .map(|&(s, v)| model.eval(black_box(s), black_box(v)))
+                .sum::<f64>()
+        })
     });
     group.bench_function("table_eval", |b| {
-        b.iter(|| pairs[..64].iter().map(|&(s, v)| table.eval(black_box(s), black_box(v))).sum::<f64>())
+        b.iter(|| {
+            pairs[..64]
+                .iter()
+                .map(|&(s, v)| table.eval(black_box(s), black_box(v)))
+                .sum::<f64>()
+        })
     });
     group.finish();
 

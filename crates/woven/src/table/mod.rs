@@ -395,14 +395,28 @@ impl Table {
         let h = s + v;
         let (it, wt) = self.theta.locate(theta_i);
         let (ip, wp) = self.phi.locate(phi_i);
-        let (iy, wy) = self.t.locate(t_of_slope(h.y / h.z));
-        let (ix, wx) = self.t.locate(t_of_slope(h.x / h.z));
+        let y = self.t.locate(t_of_slope(h.y / h.z));
+        let x = self.t.locate(t_of_slope(h.x / h.z));
+        self.eval_at((it, wt, ip, wp), y, x, s.z, v.z)
+    }
+
+    /// Quadrilinear interpolation at located coordinates: `(iθ, wθ, iφ, wφ)`, `(i_y, w_y)`,
+    /// `(i_x, w_x)`; divides the stored `f cos θ_i cos θ_r` by the cosines.
+    #[inline]
+    fn eval_at(
+        &self,
+        (it, wt, ip, wp): (usize, f64, usize, f64),
+        (iy, wy): (usize, f64),
+        (ix, wx): (usize, f64),
+        cos_i: f64,
+        cos_r: f64,
+    ) -> f64 {
         let dp = usize::from(self.phi.n > 1);
+        let n = self.t.n;
         let mut acc = 0.0;
         for (a, fa) in [(0, 1.0 - wt), (1, wt)] {
             for (b, fb) in [(0, 1.0 - wp), (dp, wp)] {
                 let base = self.index(it + a, ip + b, iy, ix);
-                let n = self.t.n;
                 let v00 = self.values[base] as f64;
                 let v01 = self.values[base + 1] as f64;
                 let v10 = self.values[base + n] as f64;
@@ -413,7 +427,7 @@ impl Table {
             }
         }
         // The table stores f cos θ_i cos θ_r (continued linearly below the horizon).
-        (acc / (s.z * v.z)).max(0.0)
+        (acc / (cos_i * cos_r)).max(0.0)
     }
 }
 
@@ -552,8 +566,7 @@ impl Bsdf for Table {
         }
         let fold = self.fold_for(s);
         let sf = fold.apply(s);
-        let (vf, pdf) = self.sampler.sample(self, sf, u1, u2)?;
-        let f = self.eval_folded(sf, vf);
+        let (vf, pdf, f) = self.sampler.sample(self, sf, u1, u2)?;
         let v = fold.undo(vf);
         Some(BsdfSample {
             v,

@@ -164,58 +164,75 @@ impl Sampler {
         out
     }
 
-    /// The bilinear node mixture for folded `s`: up to four `(node, weight)`.
+    /// The bilinear node mixture for folded `s`: up to four `(node, weight)`, and the located
+    /// `(iθ, wθ, iφ, wφ)`.
     #[inline]
-    fn nodes(table: &Table, s: Vec3) -> [(usize, f64); 4] {
+    fn nodes(table: &Table, s: Vec3) -> ([(usize, f64); 4], (usize, f64, usize, f64)) {
         let theta_i = s.z.clamp(-1.0, 1.0).acos();
         let phi_i = s.y.atan2(s.x);
         let (it, wt) = table.theta.locate(theta_i);
         let (ip, wp) = table.phi.locate(phi_i);
         let np = table.phi.n;
         let dp = usize::from(np > 1);
-        [
-            (it * np + ip, (1.0 - wt) * (1.0 - wp)),
-            (it * np + ip + dp, (1.0 - wt) * wp),
-            ((it + 1) * np + ip, wt * (1.0 - wp)),
-            ((it + 1) * np + ip + dp, wt * wp),
-        ]
+        (
+            [
+                (it * np + ip, (1.0 - wt) * (1.0 - wp)),
+                (it * np + ip + dp, (1.0 - wt) * wp),
+                ((it + 1) * np + ip, wt * (1.0 - wp)),
+                ((it + 1) * np + ip + dp, wt * wp),
+            ],
+            (it, wt, ip, wp),
+        )
     }
 
-    /// Samples a folded `v` for folded `s`: `(v, pdf)`.
-    pub(crate) fn sample(&self, table: &Table, s: Vec3, u1: f64, u2: f64) -> Option<(Vec3, f64)> {
+    /// Samples a folded `v` for folded `s`: `(v, pdf, f)`, with `f` the table's value there
+    /// (computed from the sampled coordinates, without re-deriving them from `v`).
+    pub(crate) fn sample(
+        &self,
+        table: &Table,
+        s: Vec3,
+        u1: f64,
+        u2: f64,
+    ) -> Option<(Vec3, f64, f64)> {
         let nc = self.nc;
         let dt = (table.t.hi - table.t.lo) / nc as f64;
+        let (mixture, located) = Self::nodes(table, s);
         // Pick a node with the first uniform, then rescale it.
         let mut u = u1.clamp(0.0, 1.0 - f64::EPSILON);
         let mut chosen = None;
         let mut acc = 0.0;
-        for (node, w) in Self::nodes(table, s) {
+        for (node, w) in mixture {
             if w <= 0.0 {
                 continue;
             }
+            chosen = Some(node);
             if u < acc + w {
-                chosen = Some(node);
                 u = ((u - acc) / w).clamp(0.0, 1.0 - f64::EPSILON);
                 break;
             }
             acc += w;
         }
-        let node = chosen.or_else(|| {
-            Self::nodes(table, s)
-                .iter()
-                .rev()
-                .find(|(_, w)| *w > 0.0)
-                .map(|n| n.0)
-        })?;
+        let node = chosen?;
         let marg = &self.marginal[node * (nc + 1)..(node + 1) * (nc + 1)];
         let (iy, fy) = invert(marg, u)?;
         let cond = &self.conditional[(node * nc + iy) * (nc + 1)..(node * nc + iy + 1) * (nc + 1)];
         let (ix, fx) = invert(cond, u2.clamp(0.0, 1.0 - f64::EPSILON))?;
         let tx = table.t.node(ix) + fx * dt;
         let ty = table.t.node(iy) + fy * dt;
-        let (v, _) = jacobian(s, tx, ty)?;
-        let pdf = self.pdf(table, s, v);
-        (pdf > 0.0 && pdf.is_finite()).then_some((v, pdf))
+        let (v, j) = jacobian(s, tx, ty)?;
+        if j <= 0.0 {
+            return None;
+        }
+        // The mixture's density in this cell over the map's Jacobian.
+        let mut p = 0.0;
+        for (node, w) in mixture {
+            if w > 0.0 {
+                p += w * self.cell_pdf[(node * nc + iy) * nc + ix] as f64;
+            }
+        }
+        let pdf = p / j;
+        let f = table.eval_at(located, (iy, fy), (ix, fx), s.z, v.z);
+        (pdf > 0.0 && pdf.is_finite()).then_some((v, pdf, f))
     }
 
     /// The density (per unit solid angle) of a folded `v` for folded `s`.
@@ -235,7 +252,7 @@ impl Sampler {
         let (iy, _) = table.t.locate(ty);
         let (ix, _) = table.t.locate(tx);
         let mut p = 0.0;
-        for (node, w) in Self::nodes(table, s) {
+        for (node, w) in Self::nodes(table, s).0 {
             if w > 0.0 {
                 p += w * self.cell_pdf[(node * nc + iy) * nc + ix] as f64;
             }
