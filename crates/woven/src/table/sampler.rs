@@ -18,6 +18,9 @@ use crate::math::Vec3;
 /// Fraction of each node's sampling mass spread uniformly over solid angle.
 const DEFENSIVE: f64 = 0.01;
 
+/// A located incidence: `(iθ, wθ, iφ, wφ)`.
+type Located = (usize, f64, usize, f64);
+
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Sampler {
     /// Cells per axis, `n_h − 1`.
@@ -167,7 +170,7 @@ impl Sampler {
     /// The bilinear node mixture for folded `s`: up to four `(node, weight)`, and the located
     /// `(iθ, wθ, iφ, wφ)`.
     #[inline]
-    fn nodes(table: &Table, s: Vec3) -> ([(usize, f64); 4], (usize, f64, usize, f64)) {
+    fn nodes(table: &Table, s: Vec3) -> ([(usize, f64); 4], Located) {
         let theta_i = s.z.clamp(-1.0, 1.0).acos();
         let phi_i = s.y.atan2(s.x);
         let (it, wt) = table.theta.locate(theta_i);
