@@ -26,12 +26,32 @@ pub struct BetaTable {
 impl BetaTable {
     /// Builds the table for `fiber` (its normalization mode is ignored: this is the `paper` β).
     pub fn build(fiber: &Fiber) -> Self {
-        let values = (0..BETA_NODES)
-            .map(|k| {
-                let t = k as f64 / (BETA_NODES - 1) as f64;
-                beta_direct(fiber, t * t * t).ln()
-            })
-            .collect();
+        // Nodes are independent: spread them over the cores (interleaved, so each thread gets a
+        // mix of cheap and expensive incidences).
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(8);
+        let mut values = vec![0.0; BETA_NODES];
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..threads)
+                .map(|j| {
+                    scope.spawn(move || {
+                        (j..BETA_NODES)
+                            .step_by(threads)
+                            .map(|k| {
+                                let t = k as f64 / (BETA_NODES - 1) as f64;
+                                (k, beta_direct(fiber, t * t * t).ln())
+                            })
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            for h in handles {
+                for (k, v) in h.join().expect("β worker panicked") {
+                    values[k] = v;
+                }
+            }
+        });
         BetaTable {
             interp: MonotoneCubic::new(0.0, 1.0, values),
         }
@@ -52,7 +72,7 @@ pub fn beta_direct(fiber: &Fiber, cos_theta_i: f64) -> f64 {
     let ci = cos_theta_i.clamp(1e-7, 1.0);
     let single = match fiber.params.model {
         FiberModel::Rough { .. } => rough_single_scattering(fiber.alpha, ci),
-        FiberModel::Htsg { .. } => single_scattering_adaptive(fiber, ci, 1e-8),
+        FiberModel::Htsg { .. } => single_scattering_adaptive(fiber, ci, 1e-7),
     };
     let mut white = fiber.clone();
     white.unit_fresnel = true;

@@ -46,20 +46,29 @@ pub fn reflected_hemisphere_integral(
         if x_max <= 0.0 {
             return 0.0;
         }
-        let mut sum = 0.0;
+        // Panels run outward from the peak; once the peak is summed, later panels (the tail)
+        // need only an absolute accuracy relative to that sum, not to their own tiny values.
+        let mut sum: f64 = 0.0;
         for w in edges(x_max).windows(2) {
-            sum += adaptive(w[0], w[1], rel_tol * 0.1, 0.0, 30, |x: f64| {
-                // dω_h = sin θ_h dθ_h dφ = x/(1+x²)^{3/2} dx dφ.
-                let c = 1.0 / (1.0 + x * x).sqrt();
-                let st = x * c;
-                let h = Vec3::new(st * cp, st * sp, c);
-                let sh = s.dot(h);
-                let v = h * (2.0 * sh) - s;
-                if v.z <= 0.0 || sh <= 0.0 {
-                    return 0.0;
-                }
-                f(s, v, h) * v.z * 4.0 * sh * x * c * c * c
-            });
+            sum += adaptive(
+                w[0],
+                w[1],
+                rel_tol * 0.1,
+                rel_tol * 0.1 * sum.abs(),
+                30,
+                |x: f64| {
+                    // dω_h = sin θ_h dθ_h dφ = x/(1+x²)^{3/2} dx dφ.
+                    let c = 1.0 / (1.0 + x * x).sqrt();
+                    let st = x * c;
+                    let h = Vec3::new(st * cp, st * sp, c);
+                    let sh = s.dot(h);
+                    let v = h * (2.0 * sh) - s;
+                    if v.z <= 0.0 || sh <= 0.0 {
+                        return 0.0;
+                    }
+                    f(s, v, h) * v.z * 4.0 * sh * x * c * c * c
+                },
+            );
         }
         sum
     };

@@ -37,9 +37,9 @@ use sampler::Sampler;
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Grading of the `θ_i` axis (see [`Axis`]): nodes 4.8° apart at normal incidence (30 nodes to
-/// 87°), 1.2° at grazing.
-pub const THETA_GRADING: f64 = 0.6;
+/// Grading of the `θ_i` axis (see [`Axis`]): nodes 5.3° apart at normal incidence (30 nodes to
+/// 87°), 0.75° at grazing, where masking and Fresnel change fastest.
+pub const THETA_GRADING: f64 = 0.75;
 
 /// `φ_i` nodes of the intermediate single-orientation table `F₀` of twisted and isotropic yarns:
 /// the azimuth average smooths its interpolation error, so it can be coarser than a final table.
