@@ -4,7 +4,11 @@ use anyhow::{Context, Result};
 use clap::Args;
 use std::path::Path;
 use woven::material::Material;
+use woven::table::Table;
 use woven::Model;
+
+/// The wavelength a material is evaluated at when `--wavelength-nm` is not given, nm.
+pub const DEFAULT_WAVELENGTH_NM: f64 = 550.0;
 
 /// A `--material` value: a preset name or the path of a TOML material file.
 ///
@@ -23,6 +27,25 @@ impl MaterialSource {
             ));
         }
         Ok(MaterialSource(value.to_string()))
+    }
+
+    /// Reads the material and prepares it for evaluation at `wavelength_nm` (named
+    /// `--wavelength-nm` in messages).
+    ///
+    /// # Errors
+    /// As [`load`](Self::load), and for a wavelength the material's refractive index does not
+    /// cover.
+    pub fn load_and_build(&self, wavelength_nm: f64) -> Result<(Material, Model)> {
+        let material = self.load()?;
+        let model = material.build(wavelength_nm).with_context(|| {
+            format!("cannot prepare material `{self}` at --wavelength-nm {wavelength_nm}")
+        })?;
+        Ok((material, model))
+    }
+
+    /// A short name for the material: its `name`, else the `--material` value.
+    pub fn display_name(&self, material: &Material) -> String {
+        material.name.clone().unwrap_or_else(|| self.0.clone())
     }
 
     /// Reads and validates the material.
@@ -55,7 +78,7 @@ impl std::fmt::Display for MaterialSource {
 }
 
 /// The help line of `--material`, naming the presets the library has.
-fn material_help() -> String {
+pub fn material_help() -> String {
     format!(
         "A preset ({}; list them with `woven materials`) or a material file (TOML; see the \
          `woven` library's `material` module for its keys)",
@@ -71,7 +94,8 @@ pub struct MaterialArgs {
     pub material: MaterialSource,
 
     /// Wavelength at which the material is evaluated, in nanometres.
-    #[arg(long, value_name = "NM", default_value_t = 550.0, value_parser = parse_finite)]
+    #[arg(long, value_name = "NM", default_value_t = DEFAULT_WAVELENGTH_NM,
+          value_parser = parse_finite)]
     pub wavelength_nm: f64,
 }
 
@@ -83,23 +107,46 @@ impl MaterialArgs {
 
     /// The material as loaded, and prepared for evaluation at the requested wavelength.
     pub fn load_and_build(&self) -> Result<(Material, Model)> {
-        let material = self.material.load()?;
-        let model = material.build(self.wavelength_nm).with_context(|| {
-            format!(
-                "cannot prepare material `{}` at --wavelength-nm {}",
-                self.material, self.wavelength_nm
-            )
-        })?;
-        Ok((material, model))
+        self.material.load_and_build(self.wavelength_nm)
     }
 
     /// A short name for the material: its `name`, else the `--material` value.
     pub fn display_name(&self, material: &Material) -> String {
-        material
-            .name
-            .clone()
-            .unwrap_or_else(|| self.material.to_string())
+        self.material.display_name(material)
     }
+}
+
+/// Loads a table built by `woven tabulate` (`--table FILE`).
+///
+/// A table holds one wavelength: `wavelength_nm`, when the user gave `--wavelength-nm`, must be
+/// the table's.
+///
+/// # Errors
+/// When the file cannot be read or is not an intact table (the library's message says what is
+/// wrong: truncated, checksum, version, …), or when `wavelength_nm` differs from the table's.
+pub fn load_table(path: &Path, wavelength_nm: Option<f64>) -> Result<Table> {
+    let table =
+        Table::load(path).with_context(|| format!("cannot load --table `{}`", path.display()))?;
+    if let Some(nm) = wavelength_nm {
+        check_table_wavelength(path, &table, nm)?;
+    }
+    Ok(table)
+}
+
+/// Checks that `--wavelength-nm` `nm` is the wavelength `table` (read from `path`) was built at.
+fn check_table_wavelength(path: &Path, table: &Table, nm: f64) -> Result<()> {
+    let built = table.wavelength_nm();
+    // The file stores the wavelength exactly; the slack only forgives a value typed with more
+    // digits than it was built with.
+    if (nm - built).abs() > 1e-9 * built.abs().max(1.0) {
+        anyhow::bail!(
+            "--wavelength-nm {nm} differs from the wavelength of --table `{}`, built at {built} \
+             nm: a table holds one wavelength; leave --wavelength-nm out, or build a table at \
+             {nm} nm with `woven tabulate --wavelength-nm {nm}`",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// A finite number (clap value parser).

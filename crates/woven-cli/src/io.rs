@@ -52,10 +52,24 @@ impl std::fmt::Display for InputSource {
 /// `write` fills a temporary file created next to `path` (same directory, so the final rename
 /// stays on one file system); only when it returns `Ok` is the file flushed, synced and renamed
 /// onto `path`. On any error the temporary file is deleted and an existing `path` is untouched.
+///
+/// A `path` that exists but is no regular file (`/dev/null`, a named pipe) is written in place:
+/// renaming over it would replace the device with a file.
 pub fn write_atomically<T>(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<T>,
 ) -> Result<T> {
+    if is_special_file(path) {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .with_context(|| format!("cannot open `{}` for writing", path.display()))?;
+        let mut out = BufWriter::with_capacity(1 << 16, file);
+        let value = write(&mut out)?;
+        out.flush()
+            .with_context(|| format!("cannot write `{}`", path.display()))?;
+        return Ok(value);
+    }
     let dir = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
         _ => Path::new("."),
@@ -92,6 +106,12 @@ pub fn write_atomically<T>(
         .map_err(|e| e.error)
         .with_context(|| format!("cannot create `{}`", path.display()))?;
     Ok(value)
+}
+
+/// Whether `path` exists and is neither a regular file nor a folder: a device such as
+/// `/dev/null`, or a named pipe.
+pub fn is_special_file(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
 }
 
 /// Runs `write` on `path` atomically (see [`write_atomically`]), or on standard output when
@@ -164,5 +184,31 @@ mod tests {
 
         write_atomically(&path, |w| Ok(w.write_all(b"done")?)).unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"done");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn special_files_are_written_in_place_not_replaced() {
+        // A named pipe stands in for /dev/null (which a regression would destroy).
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            eprintln!("mkfifo unavailable: skipped");
+            return;
+        }
+        assert!(is_special_file(&fifo));
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read(fifo).unwrap())
+        };
+        write_atomically(&fifo, |w| Ok(w.write_all(b"through")?)).unwrap();
+        assert_eq!(reader.join().unwrap(), b"through");
+        assert!(is_special_file(&fifo), "the pipe must stay a pipe");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        assert!(is_special_file(Path::new("/dev/null")));
+        assert!(!is_special_file(Path::new("Cargo.toml")));
+        assert!(!is_special_file(Path::new("src")));
+        assert!(!is_special_file(Path::new("no-such-file")));
     }
 }

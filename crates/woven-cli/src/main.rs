@@ -1,7 +1,7 @@
 //! `woven`: evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model.
 //!
 //! This file only declares the command line and dispatches; each subcommand lives in
-//! [`commands`]. Exit status: 0 on success, 2 for usage errors (reported by clap), 1 for any
+//! [`commands`], and bare `woven` runs [`commands::default_job`]. Exit status: 0 on success, 2 for usage errors (reported by clap), 1 for any
 //! other error.
 
 mod args;
@@ -22,8 +22,12 @@ use std::process::ExitCode;
 #[command(
     name = "woven",
     version,
-    about = "Evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model",
-    long_about = "Evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model.
+    about = "Evaluate, plot, tabulate and export the Yang–Ikeuchi woven-cloth reflectance model",
+    long_about = "Evaluate, plot, tabulate and export the Yang–Ikeuchi woven-cloth reflectance model.
+
+Run without a command, woven does its main job on the built-in polyester-sateen preset: the \
+paper's virtual goniometer, written to woven-out/ as CSV (gonio-polyester-sateen.csv) and as \
+the paper's Figure 8 (fig8.svg, fig8.png), with a short summary.
 
 Materials are built-in presets (list them with `woven materials`) or TOML files (see the \
 `woven` library's `material` module); --material takes either. Angles in files are radians; options that take degrees end in `-deg`. Directions use the cloth's local frame: z is \
@@ -36,6 +40,9 @@ Exit status: 0 on success, 1 on an error, 2 on a command-line usage error.",
   woven eval --material polyester.toml --input dirs.csv --output brdf.csv
   woven albedo --material silk --theta-deg 0:80:20
   woven gonio --material belt-cloth -o belt.csv
+  woven tabulate --material belt-cloth -o belt.wtab --report
+  woven eval --table belt.wtab --input dirs.csv --output brdf.csv
+  woven export --material silk --format merl -o silk.binary
   woven plot fig3 -o fig3.svg
   woven plot hemisphere --material polyester-sateen -o sateen.png
 
@@ -43,8 +50,9 @@ Run `woven help <COMMAND>` for a command's options and examples.",
     propagate_version = true
 )]
 struct Cli {
+    /// The command; none runs the main job (see above).
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -54,17 +62,22 @@ enum Command {
     Gonio(commands::gonio::GonioArgs),
     Materials(commands::materials::MaterialsArgs),
     Plot(commands::plot::PlotArgs),
+    Tabulate(commands::tabulate::TabulateArgs),
+    Export(commands::export::ExportArgs),
 }
 
 fn main() -> ExitCode {
     // Usage errors print clap's message and exit with status 2; --help and --version exit 0.
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Eval(args) => commands::eval::run(args),
-        Command::Albedo(args) => commands::albedo::run(args),
-        Command::Gonio(args) => commands::gonio::run(args),
-        Command::Materials(args) => commands::materials::run(args),
-        Command::Plot(args) => commands::plot::run(args),
+        None => commands::default_job::run(),
+        Some(Command::Eval(args)) => commands::eval::run(args),
+        Some(Command::Albedo(args)) => commands::albedo::run(args),
+        Some(Command::Gonio(args)) => commands::gonio::run(args),
+        Some(Command::Materials(args)) => commands::materials::run(args),
+        Some(Command::Plot(args)) => commands::plot::run(args),
+        Some(Command::Tabulate(args)) => commands::tabulate::run(args),
+        Some(Command::Export(args)) => commands::export::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -72,8 +85,14 @@ fn main() -> ExitCode {
         Err(err) if is_broken_pipe(&err) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err}");
+            let mut previous = err.to_string();
             for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+                let text = cause.to_string();
+                // The library's I/O errors print their source after the path: say it once.
+                if !previous.ends_with(&text) {
+                    eprintln!("  caused by: {text}");
+                }
+                previous = text;
             }
             ExitCode::FAILURE
         }

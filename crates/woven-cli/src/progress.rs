@@ -58,6 +58,25 @@ impl Progress {
     /// Records `n` more units done (callable from any thread).
     pub fn inc(&self, n: u64) {
         self.bar.inc(n);
+        self.reveal_if_long();
+    }
+
+    /// Records that `done` of `total` units are done (callable from any thread), for jobs that
+    /// count for themselves, such as a table build's `progress(done, total)`. A call reporting less
+    /// than the bar shows is ignored: worker threads may report out of order.
+    pub fn set(&self, done: u64, total: u64) {
+        if self.bar.length() != Some(total) {
+            self.bar.set_length(total);
+        }
+        if done > self.bar.position() {
+            self.bar.set_position(done);
+        }
+        self.reveal_if_long();
+    }
+
+    /// Draws the bar from now on if the job has run for [`REVEAL_AFTER`] (once, from whichever
+    /// thread gets there first).
+    fn reveal_if_long(&self) {
         if self.enabled
             && !self.revealed.load(Ordering::Relaxed)
             && self.start.elapsed() >= REVEAL_AFTER
@@ -102,5 +121,15 @@ mod tests {
         assert_eq!(p.position(), 1000);
         assert!(p.bar.is_hidden());
         p.finish();
+    }
+
+    #[test]
+    fn set_takes_the_total_and_never_goes_back() {
+        let p = Progress::new(None, "rows", false);
+        p.set(3, 10);
+        p.set(2, 10);
+        assert_eq!((p.position(), p.bar.length()), (3, Some(10)));
+        p.set(10, 10);
+        assert_eq!(p.position(), 10);
     }
 }

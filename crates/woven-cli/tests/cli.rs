@@ -374,6 +374,9 @@ fn help_is_complete() {
         .stdout(predicate::str::contains("plot"))
         .stdout(predicate::str::contains("gonio"))
         .stdout(predicate::str::contains("materials"))
+        .stdout(predicate::str::contains("tabulate"))
+        .stdout(predicate::str::contains("export"))
+        .stdout(predicate::str::contains("woven-out"))
         .stdout(predicate::str::contains("Examples:"));
     for figure in ["fig8", "hemisphere"] {
         woven()
@@ -397,6 +400,11 @@ fn help_is_complete() {
         ("materials", "--show"),
         ("plot", "fig4"),
         ("plot", "hemisphere"),
+        ("eval", "--table"),
+        ("tabulate", "--n-h-isotropic"),
+        ("tabulate", "--report-samples"),
+        ("export", "merl"),
+        ("export", "--table"),
     ] {
         woven()
             .args([command, "--help"])
@@ -411,7 +419,7 @@ fn help_is_complete() {
 
 #[test]
 fn usage_errors_exit_with_status_2() {
-    woven().assert().code(2);
+    // (Bare `woven` runs the main job: see `bare_woven_runs_the_main_job_in_the_current_folder`.)
     woven().arg("frobnicate").assert().code(2);
     woven()
         .args(["eval", "--input", "-"])
@@ -768,4 +776,377 @@ fn hemisphere_writes_a_png_of_the_documented_size() {
         .code(2)
         .stderr(predicate::str::contains("--theta-i-deg"));
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// `woven tabulate`, `woven eval --table`, `woven export`.
+
+/// A flat fiber surface: fast to tabulate and to export exactly.
+const FLAT: &str = "[fiber]\neta = 1.5\nroughness = 0.3\ndiffuse = 0.1\n";
+
+/// Tabulates the flat fiber on a small grid into `dir/flat.wtab`; returns the path and stdout.
+fn small_table(dir: &Path, extra: &[&str]) -> (PathBuf, String) {
+    let material = dir.join("flat.toml");
+    std::fs::write(&material, FLAT).unwrap();
+    let table = dir.join("flat.wtab");
+    let assert = woven()
+        .args(["tabulate", "--n-theta", "8", "--n-h-isotropic", "33", "-m"])
+        .arg(&material)
+        .arg("-o")
+        .arg(&table)
+        .args(extra)
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    (table, stdout)
+}
+
+#[test]
+fn tabulated_table_evaluates_as_the_library_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, stdout) = small_table(dir.path(), &[]);
+    for needle in ["isotropic", "8 θi × 33²", "8,712 values", "kB", "thread"] {
+        assert!(
+            stdout.contains(needle),
+            "summary lacks `{needle}`:\n{stdout}"
+        );
+    }
+    assert!(!stdout.contains("Accuracy"), "{stdout}");
+    let table = woven::table::Table::load(&path).unwrap();
+    assert_eq!(table.dims(), (8, 1, 33));
+    assert_eq!(table.wavelength_nm(), 550.0);
+    // The material and the table: no temporary file is left.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+
+    let input = dir.path().join("dirs.csv");
+    std::fs::write(&input, rows_csv()).unwrap();
+    let assert = woven()
+        .args(["eval", "--table"])
+        .arg(&path)
+        .arg("--input")
+        .arg(&input)
+        .assert()
+        .success();
+    let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some("theta_i,phi_i,theta_r,phi_r,brdf"));
+    let mut n = 0;
+    for (line, row) in lines.zip(ROWS) {
+        let fields: Vec<&str> = line.split(',').collect();
+        assert_eq!(&fields[..4], row, "input columns are echoed as read");
+        let a: Vec<f64> = row.iter().map(|x| x.parse().unwrap()).collect();
+        let want = if a[0] >= std::f64::consts::FRAC_PI_2 || a[2] >= std::f64::consts::FRAC_PI_2 {
+            0.0
+        } else {
+            table.eval(
+                Vec3::from_spherical(a[0], a[1]),
+                Vec3::from_spherical(a[2], a[3]),
+            )
+        };
+        let got: f64 = fields[4].parse().unwrap();
+        assert_eq!(
+            got, want,
+            "row {row:?}: got {got}, Table::eval gives {want}"
+        );
+        n += 1;
+    }
+    assert_eq!(n, ROWS.len());
+
+    // The table's own wavelength may be repeated; another one is an error naming both.
+    woven()
+        .args(["eval", "--wavelength-nm", "550", "--input", "-", "--table"])
+        .arg(&path)
+        .write_stdin(rows_csv())
+        .assert()
+        .success();
+    woven()
+        .args(["eval", "--wavelength-nm", "650", "--input", "-", "--table"])
+        .arg(&path)
+        .write_stdin(rows_csv())
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("--wavelength-nm 650"))
+        .stderr(predicate::str::contains("built at 550 nm"));
+}
+
+#[test]
+fn tabulate_report_prints_the_accuracy() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, stdout) = small_table(dir.path(), &["--report", "--report-samples", "300"]);
+    for needle in [
+        "300 random direction pairs",
+        "θi, θr ≤ 80°",
+        "cosine-weighted relative RMS error",
+        "99th percentile",
+        "largest",
+        " %",
+    ] {
+        assert!(
+            stdout.contains(needle),
+            "report lacks `{needle}`:\n{stdout}"
+        );
+    }
+    // A coarse grid of a smooth lobe: a few per cent, not wildly off.
+    let rms: f64 = stdout
+        .split("relative RMS error ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("no RMS figure in\n{stdout}"));
+    assert!(rms > 0.0 && rms < 10.0, "RMS {rms} %");
+}
+
+#[test]
+fn tabulate_rejects_bad_options_naming_the_flag() {
+    for (args, needle) in [
+        (vec!["--n-theta", "1"], "--n-theta"),
+        (vec!["--n-h", "5000"], "--n-h"),
+        (vec!["--n-phi", "x"], "--n-phi"),
+        (vec!["--report-samples", "500"], "--report"),
+        (
+            vec!["--report", "--report-samples", "5"],
+            "--report-samples",
+        ),
+    ] {
+        woven()
+            .args(["tabulate", "-m", "silk", "-o", "never.wtab"])
+            .args(&args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(needle));
+    }
+    woven()
+        .args(["tabulate", "-m", "silk"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--output"));
+    // Too many nodes for a table file: refused before any work.
+    let dir = tempfile::tempdir().unwrap();
+    woven()
+        .args([
+            "tabulate",
+            "-m",
+            "belt-cloth",
+            "--n-theta",
+            "1024",
+            "--n-phi",
+            "1024",
+            "-o",
+        ])
+        .arg(dir.path().join("never.wtab"))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("--n-phi 1024"));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn damaged_tables_are_refused_and_leave_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, _) = small_table(dir.path(), &[]);
+    let bytes = std::fs::read(&path).unwrap();
+    let truncated = dir.path().join("truncated.wtab");
+    std::fs::write(&truncated, &bytes[..bytes.len() / 2]).unwrap();
+    let flipped = dir.path().join("flipped.wtab");
+    let mut damaged = bytes.clone();
+    let k = damaged.len() - 100;
+    damaged[k] ^= 0x40;
+    std::fs::write(&flipped, &damaged).unwrap();
+    let not_a_table = dir.path().join("dirs.wtab");
+    std::fs::write(&not_a_table, rows_csv()).unwrap();
+    for (file, needle) in [
+        (&truncated, "truncated"),
+        (&flipped, "checksum"),
+        (&not_a_table, "magic"),
+    ] {
+        let output = dir.path().join("out.csv");
+        woven()
+            .args(["eval", "--input", "-", "--table"])
+            .arg(file)
+            .arg("--output")
+            .arg(&output)
+            .write_stdin(rows_csv())
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains("cannot load --table"))
+            .stderr(predicate::str::contains("not a valid woven table"))
+            .stderr(predicate::str::contains(needle));
+        assert!(!output.exists(), "{}", file.display());
+    }
+    woven()
+        .args(["eval", "--input", "-", "--table"])
+        .arg(dir.path().join("missing.wtab"))
+        .write_stdin(rows_csv())
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("missing.wtab"));
+}
+
+#[test]
+fn eval_takes_exactly_one_of_material_and_table() {
+    woven()
+        .args([
+            "eval",
+            "--input",
+            "-",
+            "--table",
+            "t.wtab",
+            "--material",
+            "silk",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--table"))
+        .stderr(predicate::str::contains("cannot be used with"));
+    woven()
+        .args(["eval", "--input", "-"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--material"))
+        .stderr(predicate::str::contains("--table"));
+}
+
+#[test]
+fn export_merl_of_a_flat_fiber_round_trips() {
+    use woven::export::merl::{Bin, MerlBrdf, FILE_SIZE, MERL_BINS};
+    let dir = tempfile::tempdir().unwrap();
+    let (_material_dir, material) = material_file(FLAT);
+    let output = dir.path().join("flat.binary");
+    woven()
+        .args(["export", "--format", "merl", "-m"])
+        .arg(&material)
+        .arg("-o")
+        .arg(&output)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("from the exact model"))
+        .stdout(predicate::str::contains("1,458,000 bins"));
+    assert_eq!(std::fs::metadata(&output).unwrap().len(), FILE_SIZE as u64);
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    let merl = MerlBrdf::load(&output).unwrap();
+    let model = Material::from_toml_str(FLAT, "flat")
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    // Bin centres from the specular peak to grazing, in and out of the plane of incidence.
+    let mut checked = 0;
+    for (theta_h, theta_d, phi_d) in [
+        (0, 0, 0),
+        (0, 45, 90),
+        (10, 30, 17),
+        (30, 60, 179),
+        (45, 10, 100),
+        (60, 40, 45),
+        (89, 0, 5),
+    ] {
+        let bin = Bin {
+            theta_h,
+            theta_d,
+            phi_d,
+        };
+        assert!(bin.index() < MERL_BINS);
+        let Some(d) = bin.directions() else {
+            assert_eq!(merl.value(bin.index()), [0.0; 3], "{bin:?}");
+            continue;
+        };
+        let want = model.eval(d.s, d.v);
+        let got = merl.lookup(d.s, d.v);
+        for c in got {
+            assert!(
+                (c - want).abs() <= 1e-12 * want,
+                "{bin:?}: file {c}, model {want}"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked >= 5, "{checked} bins above the horizon");
+}
+
+#[test]
+fn export_refuses_anisotropic_materials() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("sateen.binary");
+    woven()
+        .args(["export", "-m", "polyester-sateen", "--format", "merl", "-o"])
+        .arg(&output)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("polyester-sateen"))
+        .stderr(predicate::str::contains("isotropic"));
+    assert!(!output.exists());
+    woven()
+        .args(["export", "-m", "silk", "--format", "obj", "-o"])
+        .arg(&output)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--format"));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn export_takes_a_table_of_its_material() {
+    let dir = tempfile::tempdir().unwrap();
+    let (table, _) = small_table(dir.path(), &[]);
+    let output = dir.path().join("t.binary");
+    woven()
+        .args(["export", "--format", "merl", "--table"])
+        .arg(&table)
+        .arg("-o")
+        .arg(&output)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("from the table"));
+    let merl = woven::export::merl::MerlBrdf::load(&output).unwrap();
+    let t = woven::table::Table::load(&table).unwrap();
+    let (s, v) = (
+        Vec3::from_spherical(0.4, 0.0),
+        Vec3::from_spherical(0.4, std::f64::consts::PI),
+    );
+    let bin = merl.lookup(s, v)[0];
+    assert!(
+        (bin - t.eval(s, v)).abs() < 0.05 * t.eval(s, v),
+        "{bin} vs {}",
+        t.eval(s, v)
+    );
+    // A table of another material than --material is refused.
+    woven()
+        .args(["export", "--format", "merl", "-m", "silk", "--table"])
+        .arg(&table)
+        .arg("-o")
+        .arg(&output)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("another material"));
+}
+
+#[test]
+fn bare_woven_runs_the_main_job_in_the_current_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let assert = woven().current_dir(dir.path()).assert().success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    for needle in [
+        "polyester-sateen",
+        "woven-out/gonio-polyester-sateen.csv",
+        "woven-out/fig8.png",
+        "weft",
+        "warp",
+        "woven --help",
+        "woven materials",
+        "woven plot hemisphere",
+    ] {
+        assert!(
+            stdout.contains(needle),
+            "summary lacks `{needle}`:\n{stdout}"
+        );
+    }
+    let out = dir.path().join("woven-out");
+    let csv = std::fs::read_to_string(out.join("gonio-polyester-sateen.csv")).unwrap();
+    assert_eq!(gonio_rows(&csv).len(), 3 * 29);
+    let svg = std::fs::read_to_string(out.join("fig8.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("Fig. 8"));
+    assert_eq!(
+        png_size(&std::fs::read(out.join("fig8.png")).unwrap()),
+        (1200, 800)
+    );
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 3);
 }

@@ -1,17 +1,18 @@
 //! `woven eval`: the BRDF for a CSV file of direction pairs.
 
-use crate::args::MaterialArgs;
+use crate::args::{self, material_help, parse_finite, MaterialSource, DEFAULT_WAVELENGTH_NM};
 use crate::io::{self, InputSource};
 use crate::progress::{self, Progress};
 use anyhow::{Context, Result};
-use clap::Args;
+use clap::{ArgGroup, Args};
 use csv::ByteRecord;
 use rayon::prelude::*;
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
 use std::io::{IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
-use woven::{Model, Vec3};
+use woven::bsdf::Bsdf;
+use woven::Vec3;
 
 /// Arguments of `woven eval`.
 #[derive(Args, Debug)]
@@ -30,18 +31,34 @@ The output repeats the four input columns exactly as read and appends `brdf`. Ro
 in chunks, in parallel on all cores, and written in input order. A malformed row stops the run \
 with an error naming its line and column; with --output no file is created then.
 
-Any material evaluates: a flat fiber surface takes microseconds a row, a woven cloth (the \
-belt-cloth and silk presets) about a millisecond. When standard error is a terminal and the run \
-lasts, a progress bar shows there (never when the output goes to the same terminal).",
+The BRDF comes from exactly one of --material (the exact model) and --table (a table built by \
+`woven tabulate`, interpolated). Any material evaluates: a flat fiber surface takes \
+microseconds a row, a woven cloth (the belt-cloth and silk presets) about a millisecond; a \
+table takes well under a microsecond a row for any material, within the accuracy `woven \
+tabulate --report` states. A table holds the one wavelength it was built at. When standard \
+error is a terminal and the run lasts, a progress bar shows there (never when the output goes \
+to the same terminal).",
     after_help = "Examples:
   woven eval --material polyester.toml --input dirs.csv --output brdf.csv
   woven eval --material belt-cloth --input dirs.csv --output brdf.csv
+  woven eval --table belt-cloth.wtab --input dirs.csv --output brdf.csv
   woven eval -m polyester.toml --input dirs.csv --wavelength-nm 650 > brdf.csv
   cat dirs.csv | woven eval -m polyester.toml --input - > brdf.csv"
 )]
+#[command(group(ArgGroup::new("brdf").args(["material", "table"]).required(true)))]
 pub struct EvalArgs {
-    #[command(flatten)]
-    pub material: MaterialArgs,
+    #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
+          help = material_help())]
+    pub material: Option<MaterialSource>,
+
+    /// A table built by `woven tabulate` (`.wtab`), evaluated in place of a material.
+    #[arg(long, value_name = "FILE")]
+    pub table: Option<PathBuf>,
+
+    /// Wavelength, in nanometres, at which --material is evaluated [default: 550]. With --table
+    /// it may only repeat the table's own wavelength.
+    #[arg(long, value_name = "NM", value_parser = parse_finite)]
+    pub wavelength_nm: Option<f64>,
 
     /// Input CSV with header `theta_i,phi_i,theta_r,phi_r` (radians); `-` reads standard input.
     #[arg(short, long, value_name = "FILE", value_parser = InputSource::parse)]
@@ -54,7 +71,15 @@ pub struct EvalArgs {
 
 /// Runs `woven eval`.
 pub fn run(args: &EvalArgs) -> Result<()> {
-    let model = args.material.build()?;
+    let brdf: Box<dyn Bsdf> = match (&args.material, &args.table) {
+        (None, Some(path)) => Box::new(args::load_table(path, args.wavelength_nm)?),
+        (Some(material), None) => {
+            let nm = args.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM);
+            Box::new(material.load_and_build(nm)?.1)
+        }
+        // clap's group "brdf" admits exactly one of the two.
+        _ => anyhow::bail!("give exactly one of --material and --table"),
+    };
     let input = args.input.open()?;
     // A bar only when the data does not go to the same terminal; it appears once the run has
     // proved long (cloth materials take about a millisecond a row).
@@ -65,7 +90,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     };
     let bar = Progress::new(total, "rows", show);
     let rows = io::write_output(args.output.as_deref(), |out| {
-        eval_csv(&model, input, out, |n| bar.inc(n))
+        eval_csv(&*brdf, input, out, |n| bar.inc(n))
     })
     .with_context(|| format!("evaluating `{}`", args.input))?;
     bar.finish();
@@ -130,11 +155,11 @@ impl fmt::Display for RowError {
 
 impl std::error::Error for RowError {}
 
-/// Reads direction pairs from `input` and writes them with their BRDF to `output`.
+/// Reads direction pairs from `input` and writes them with the BRDF `brdf` gives to `output`.
 /// `progress` is told, from the worker threads, the number of rows of each block evaluated.
 /// Returns the number of rows.
 pub fn eval_csv(
-    model: &Model,
+    brdf: &dyn Bsdf,
     input: impl Read + Send,
     output: &mut dyn Write,
     progress: impl Fn(u64) + Sync,
@@ -167,7 +192,7 @@ pub fn eval_csv(
     let mut rows = 0u64;
     while !current.is_empty() {
         let (blocks, read) = rayon::join(
-            || evaluate_chunk(model, &current, &progress),
+            || evaluate_chunk(brdf, &current, &progress),
             || {
                 if more {
                     fill_chunk(&mut reader, &mut next)
@@ -257,7 +282,7 @@ fn block_rows(rows: usize) -> usize {
 /// too (validated numbers need no CSV quoting): one buffer of lines per block, in input order, or
 /// the first bad row of the block. `progress` is told each block's row count when it is done.
 fn evaluate_chunk(
-    model: &Model,
+    brdf: &dyn Bsdf,
     chunk: &[ByteRecord],
     progress: &(impl Fn(u64) + Sync),
 ) -> Vec<Result<Vec<u8>, RowError>> {
@@ -274,7 +299,7 @@ fn evaluate_chunk(
                     out.push(b',');
                 }
                 number.clear();
-                io::push_f64(&mut number, brdf(model, theta_i, phi_i, theta_r, phi_r));
+                io::push_f64(&mut number, eval_row(brdf, theta_i, phi_i, theta_r, phi_r));
                 out.extend_from_slice(number.as_bytes());
                 out.push(b'\n');
             }
@@ -286,11 +311,11 @@ fn evaluate_chunk(
 
 /// The BRDF for one direction pair (validated angles). Exactly 0 at grazing `θ = π/2`, where
 /// `cos θ` is not exactly 0 in floating point.
-pub fn brdf(model: &Model, theta_i: f64, phi_i: f64, theta_r: f64, phi_r: f64) -> f64 {
+pub fn eval_row(brdf: &dyn Bsdf, theta_i: f64, phi_i: f64, theta_r: f64, phi_r: f64) -> f64 {
     if theta_i >= FRAC_PI_2 || theta_r >= FRAC_PI_2 {
         return 0.0;
     }
-    model.eval(
+    brdf.eval(
         Vec3::from_spherical(theta_i, phi_i),
         Vec3::from_spherical(theta_r, phi_r),
     )
@@ -359,6 +384,7 @@ mod tests {
     use super::*;
     use woven::fiber::FiberParams;
     use woven::material::Material;
+    use woven::Model;
 
     fn model() -> Model {
         Material::flat(FiberParams::rough(1.5, 0.1, 0.1))

@@ -1,8 +1,11 @@
 //! One module per subcommand: its clap arguments and its `run`.
 
 pub mod albedo;
+pub mod default_job;
 pub mod eval;
+pub mod export;
 pub mod gonio;
 pub mod materials;
 pub mod plot;
 pub mod plot_hemisphere;
+pub mod tabulate;

@@ -90,12 +90,12 @@ pub struct CurveArgs {
     pub outputs: Vec<PathBuf>,
 
     /// Image width in pixels.
-    #[arg(long, value_name = "PX", default_value_t = 1200,
+    #[arg(long, value_name = "PX", default_value_t = DEFAULT_SIZE.0,
           value_parser = clap::value_parser!(u32).range(320..=8000))]
     pub width: u32,
 
     /// Image height in pixels.
-    #[arg(long, value_name = "PX", default_value_t = 800,
+    #[arg(long, value_name = "PX", default_value_t = DEFAULT_SIZE.1,
           value_parser = clap::value_parser!(u32).range(240..=8000))]
     pub height: u32,
 
@@ -103,6 +103,9 @@ pub struct CurveArgs {
     #[arg(long, value_enum, default_value_t = YScaleArg::Auto)]
     pub y_scale: YScaleArg,
 }
+
+/// The curve figures' default image size in pixels, `(width, height)`.
+pub const DEFAULT_SIZE: (u32, u32) = (1200, 800);
 
 /// `--y-scale` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

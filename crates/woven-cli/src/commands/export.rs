@@ -1,0 +1,239 @@
+//! `woven export`: a material's BRDF in a renderer's file format (the MERL BRDF layout).
+
+use super::plot::check_output_dirs;
+use super::tabulate::{self, group_digits, megabytes, seconds};
+use crate::args::{self, material_help, parse_finite, MaterialSource, DEFAULT_WAVELENGTH_NM};
+use crate::io;
+use crate::progress::Progress;
+use crate::summary::short;
+use anyhow::{bail, Context, Result};
+use clap::{Args, ValueEnum};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use woven::bsdf::Bsdf;
+use woven::export::merl::{self, MerlBrdf, MERL_BINS, PHI_D_RES};
+use woven::material::Material;
+use woven::table::{Symmetry, Table, TableOptions};
+
+/// The long help of `woven export`.
+const LONG_ABOUT: &str = "Write a material's BRDF in a file format renderers read.
+
+merl: the binary layout of the MERL BRDF database (90 θh × 90 θd × 180 φd bins of f64 in three \
+colour channels, 34,992,012 bytes), which Mitsuba, pbrt and most BRDF tools load. The layout \
+has no half-vector azimuth, so it holds isotropic BRDFs only: flat fiber surfaces and yarns \
+with `isotropic = true` (the silk preset). Any other material is refused with the reason. The \
+BRDF is grey (the same in all three channels), sampled once at each bin's centre; bins whose \
+centre lies below the horizon hold 0. The layout assumes reciprocity (a reader folds φd ≥ 180° \
+onto φd − 180°), which the `paper` normalization holds only up to its factor β(θi).
+
+Flat fibers are evaluated exactly (about a second for the 1,458,000 bins on two cores). Woven \
+isotropic yarns take about a millisecond per exact evaluation — a quarter of an hour or more for \
+the bins on two cores — so woven first builds a table of the material (as `woven tabulate` does, default grid; a \
+progress bar shows on standard error when it is a terminal) and exports the table, and says \
+so. --table exports a table you built with `woven tabulate` instead (then --material may be \
+left out, or must name the table's material). Bins are evaluated in parallel; the file is \
+written atomically.";
+
+/// Arguments of `woven export`.
+#[derive(Args, Debug)]
+#[command(
+    about = "Export an isotropic material's BRDF as a MERL binary file",
+    long_about = LONG_ABOUT,
+    after_help = "Examples:
+  woven export --material my-flat-fiber.toml --format merl -o fiber.binary
+  woven export --material silk --format merl -o silk.binary
+  woven tabulate --material silk -o silk.wtab --n-h-isotropic 241
+  woven export --table silk.wtab --format merl -o silk.binary"
+)]
+pub struct ExportArgs {
+    #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
+          help = material_help(), required_unless_present = "table")]
+    pub material: Option<MaterialSource>,
+
+    /// The file format.
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+
+    /// The file to write, atomically.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+
+    /// Wavelength at which the material is evaluated, in nanometres [default: 550]. With --table
+    /// it may only repeat the table's own wavelength.
+    #[arg(long, value_name = "NM", value_parser = parse_finite)]
+    pub wavelength_nm: Option<f64>,
+
+    /// Export this table (built by `woven tabulate`) instead of evaluating the material.
+    #[arg(long, value_name = "FILE")]
+    pub table: Option<PathBuf>,
+}
+
+/// `--format` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ExportFormat {
+    /// The MERL BRDF database's binary layout (isotropic materials).
+    Merl,
+}
+
+/// Where the exported values come from.
+enum Source {
+    /// The exact model: fast enough for flat fibers.
+    Exact(woven::Model),
+    /// A table the user gave (`--table`).
+    GivenTable(Table),
+    /// A table built for this export, and how long the build took.
+    BuiltTable(tabulate::Built),
+}
+
+impl Source {
+    fn brdf(&self) -> &dyn Bsdf {
+        match self {
+            Source::Exact(model) => model,
+            Source::GivenTable(table) => table,
+            Source::BuiltTable(built) => &built.table,
+        }
+    }
+}
+
+/// Runs `woven export`.
+pub fn run(args: &ExportArgs) -> Result<()> {
+    match args.format {
+        ExportFormat::Merl => export_merl(args),
+    }
+}
+
+fn export_merl(args: &ExportArgs) -> Result<()> {
+    check_output_dirs(std::slice::from_ref(&args.output))?;
+    let table = match &args.table {
+        Some(path) => Some(args::load_table(path, args.wavelength_nm)?),
+        None => None,
+    };
+    let (material, name) = material_of(args, table.as_ref())?;
+    merl::check_isotropic(&material)
+        .with_context(|| format!("cannot export `{name}` in the MERL layout"))?;
+    let wavelength_nm = match &table {
+        Some(t) => t.wavelength_nm(),
+        None => args.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM),
+    };
+
+    let source = match table {
+        Some(table) => {
+            if table.symmetry() != Symmetry::Isotropic {
+                bail!(
+                    "--table `{}` is not an isotropic table; the MERL layout holds isotropic \
+                     BRDFs only",
+                    table_name(args)
+                );
+            }
+            Source::GivenTable(table)
+        }
+        None => {
+            let model = material.build(wavelength_nm).with_context(|| {
+                format!("cannot prepare material `{name}` at --wavelength-nm {wavelength_nm}")
+            })?;
+            if material.yarn.is_some() {
+                let built = tabulate::build_table(&material, &model, &TableOptions::default())?;
+                let (n_theta, _, n_h) = built.table.dims();
+                println!(
+                    "`{name}` has isotropic yarns: an exact evaluation takes about a millisecond, \
+                     far too slow for {} bins, so woven tabulated it first ({n_theta} θi × {n_h}² \
+                     half-vector nodes, in {}) and exports the table. `woven tabulate -m {name} \
+                     --report` states a table's accuracy; build one there (finer with \
+                     --n-h-isotropic) and pass it with --table to reuse it.",
+                    group_digits(MERL_BINS as u64),
+                    seconds(built.elapsed)
+                );
+                Source::BuiltTable(built)
+            } else {
+                Source::Exact(model)
+            }
+        }
+    };
+
+    let start = Instant::now();
+    let mono = eval_bins(source.brdf());
+    let brdf = MerlBrdf::from_values(&mono)
+        .with_context(|| format!("cannot export `{name}` in the MERL layout"))?;
+    // The CLI's atomic writer rather than `MerlBrdf::save`: a device such as /dev/null is
+    // written, not replaced.
+    io::write_atomically(&args.output, |out| Ok(brdf.write(out)?))
+        .with_context(|| format!("cannot write `{}`", args.output.display()))?;
+    let from = match &source {
+        Source::Exact(_) => "the exact model".to_string(),
+        Source::GivenTable(_) => format!("the table `{}`", table_name(args)),
+        Source::BuiltTable(_) => "its table".to_string(),
+    };
+    println!(
+        "Wrote {} ({}): `{name}` at {} nm in the MERL BRDF layout, 90 θh × 90 θd × 180 φd = {} \
+         bins, grey (the same BRDF in all three channels), from {from}; the bins took {}.",
+        args.output.display(),
+        megabytes(merl::FILE_SIZE as u64),
+        short(wavelength_nm),
+        group_digits(MERL_BINS as u64),
+        seconds(start.elapsed()),
+    );
+    Ok(())
+}
+
+/// The material to export and its display name: `--material`, else the one recorded in
+/// `--table`; when both are given they must be the same material.
+fn material_of(args: &ExportArgs, table: Option<&Table>) -> Result<(Material, String)> {
+    let recorded = |table: &Table| -> Result<Material> {
+        let name = table_name(args).to_string();
+        Material::from_toml_str(table.material_toml(), &name)
+            .with_context(|| format!("cannot read the material recorded in --table `{name}`"))
+    };
+    match (&args.material, table) {
+        (Some(source), table) => {
+            let material = source.load()?;
+            let name = source.display_name(&material);
+            if let Some(table) = table {
+                let theirs = recorded(table)?;
+                if theirs.to_toml_string() != material.to_toml_string() {
+                    bail!(
+                        "--table `{}` was built from another material than --material `{source}` \
+                         (`woven tabulate` records it); leave --material out to export the \
+                         table's material, or tabulate `{source}`",
+                        table_name(args)
+                    );
+                }
+            }
+            Ok((material, name))
+        }
+        (None, Some(table)) => {
+            let material = recorded(table)?;
+            let name = material
+                .name
+                .clone()
+                .unwrap_or_else(|| table_name(args).to_string());
+            Ok((material, name))
+        }
+        // clap requires --material unless --table is given.
+        (None, None) => bail!("give --material or --table"),
+    }
+}
+
+/// The `--table` path for messages (empty when there is none).
+fn table_name(args: &ExportArgs) -> std::path::Display<'_> {
+    args.table.as_deref().unwrap_or(Path::new("")).display()
+}
+
+/// The BRDF at every MERL bin's sample directions ([`merl::eval_bin`]), in bin order, in
+/// parallel, with a progress bar.
+pub fn eval_bins(brdf: &dyn Bsdf) -> Vec<f64> {
+    let bar = Progress::new(Some(MERL_BINS as u64), "bins", true);
+    let mut mono = vec![0.0; MERL_BINS];
+    // One task per (θh, θd) row of 180 φd bins: rows below the horizon cost nothing, so small
+    // tasks keep the cores balanced.
+    mono.par_chunks_mut(PHI_D_RES)
+        .enumerate()
+        .for_each(|(row, values)| {
+            for (k, value) in values.iter_mut().enumerate() {
+                *value = merl::eval_bin(row * PHI_D_RES + k, |s, v| brdf.eval(s, v));
+            }
+            bar.inc(values.len() as u64);
+        });
+    bar.finish();
+    mono
+}

@@ -1,0 +1,456 @@
+//! `woven tabulate`: builds a material's BRDF table (`.wtab`) for fast evaluation and sampling.
+
+use super::plot::check_output_dirs;
+use crate::args::MaterialArgs;
+use crate::io;
+use crate::progress::Progress;
+use crate::summary::short;
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use woven::material::Material;
+use woven::table::report::{AccuracyReport, SplitMix};
+use woven::table::{Symmetry, Table, TableOptions, F0_PHI_NODES};
+use woven::{Model, Vec3};
+
+/// The long help of `woven tabulate`.
+const LONG_ABOUT: &str = "Tabulate a material's BRDF at one wavelength into a table file \
+(`.wtab`) that `woven eval --table`, `woven export --table` and the library's `Table` read: \
+quadrilinear interpolation in the incidence (θi, φi) and the half vector, under a microsecond \
+per evaluation, with importance sampling for renderers.
+
+The grid exploits the material's symmetry. Isotropic materials (flat fiber surfaces, yarns with \
+`isotropic = true`) need one incidence azimuth: --n-theta × --n-h-isotropic² nodes. All other \
+woven materials are mirror-symmetric in x and y, so φi covers [0°, 90°]: --n-theta × --n-phi × \
+--n-h² nodes. Flat fibers and single-orientation yarns are evaluated exactly at every node. \
+Twisted and isotropic yarns (about a millisecond per exact evaluation) first tabulate the yarn \
+with its fibers along x exactly (--n-theta × 13 × --n-h² nodes), then average rotated look-ups \
+of it over 180 fiber azimuths. The build uses every core; a progress bar shows on standard \
+error when it is a terminal and the build is long.
+
+The table is written atomically (a failed build leaves no file) and records the material and \
+the wavelength. A one-paragraph summary goes to standard output: symmetry, grid, file size, \
+build time. --report adds the accuracy against the exact model at random direction pairs with \
+θi, θr ≤ 80° (uniform in solid angle, a fixed seed): the cosine-weighted relative RMS error, \
+the 99th percentile and the largest relative error. Exact values are computed in parallel; by \
+default 4000 pairs, or 800 for twisted and isotropic yarns, whose exact evaluations are slow \
+(--report-samples chooses).";
+
+/// Arguments of `woven tabulate`.
+#[derive(Args, Debug)]
+#[command(
+    about = "Tabulate a material's BRDF into a table file for fast evaluation and sampling",
+    long_about = LONG_ABOUT,
+    after_help = "Examples:
+  woven tabulate --material polyester-sateen -o sateen.wtab
+  woven tabulate -m silk -o silk.wtab --report
+  woven tabulate -m my-cloth.toml -o my-cloth.wtab --wavelength-nm 450 --n-h 121 --report
+  woven eval --table sateen.wtab --input dirs.csv --output brdf.csv"
+)]
+pub struct TabulateArgs {
+    #[command(flatten)]
+    pub material: MaterialArgs,
+
+    /// The table file to write (conventionally `.wtab`), atomically.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+
+    /// Nodes in the incidence angle θi, from 0° to 87° (denser toward grazing).
+    #[arg(long, value_name = "N", default_value_t = TableOptions::default().n_theta as u64,
+          value_parser = clap::value_parser!(u64).range(N_THETA.0..=N_THETA.1))]
+    pub n_theta: u64,
+
+    /// Nodes in the incidence azimuth φi over [0°, 90°] (ignored for isotropic materials).
+    #[arg(long, value_name = "N", default_value_t = TableOptions::default().n_phi as u64,
+          value_parser = clap::value_parser!(u64).range(N_PHI.0..=N_PHI.1))]
+    pub n_phi: u64,
+
+    /// Nodes per half-vector axis for anisotropic materials, and for the intermediate table of
+    /// twisted and isotropic yarns.
+    #[arg(long, value_name = "N", default_value_t = TableOptions::default().n_h as u64,
+          value_parser = clap::value_parser!(u64).range(N_H.0..=N_H.1))]
+    pub n_h: u64,
+
+    /// Nodes per half-vector axis for isotropic materials (one φi slice, so finer is cheap).
+    #[arg(long, value_name = "N",
+          default_value_t = TableOptions::default().n_h_isotropic as u64,
+          value_parser = clap::value_parser!(u64).range(N_H.0..=N_H.1))]
+    pub n_h_isotropic: u64,
+
+    /// Also print the table's accuracy against the exact model.
+    #[arg(long)]
+    pub report: bool,
+
+    /// Random direction pairs the accuracy report compares [default: 4000; 800 for twisted or
+    /// isotropic yarns].
+    #[arg(long, value_name = "N", requires = "report",
+          value_parser = clap::value_parser!(u64).range(REPORT_SAMPLES.0..=REPORT_SAMPLES.1))]
+    pub report_samples: Option<u64>,
+}
+
+/// The node counts `--n-theta` accepts (those of [`TableOptions::validate`]).
+pub const N_THETA: (u64, u64) = (2, 1024);
+/// The node counts `--n-phi` accepts (those of [`TableOptions::validate`]).
+pub const N_PHI: (u64, u64) = (2, 1024);
+/// The node counts `--n-h` and `--n-h-isotropic` accept (those of [`TableOptions::validate`]).
+pub const N_H: (u64, u64) = (3, 4097);
+/// The pair counts `--report-samples` accepts: enough for a 99th percentile, few enough to end.
+pub const REPORT_SAMPLES: (u64, u64) = (100, 10_000_000);
+
+/// The most values a table file may hold: the limit of `woven::table::format` (`MAX_VALUES`,
+/// 2²⁸), above which `Table::load` would refuse the file this command wrote.
+pub const MAX_VALUES: u64 = 1 << 28;
+
+/// Report pairs for materials whose exact evaluation takes tens of microseconds.
+pub const REPORT_SAMPLES_FAST: usize = 4000;
+/// Report pairs for twisted and isotropic yarns, about a millisecond per exact evaluation.
+pub const REPORT_SAMPLES_SLOW: usize = 800;
+/// The largest polar angle of the report's direction pairs, degrees: short of grazing, where the
+/// table clamps (its last node is at 87°) and relative errors of a vanishing BRDF mean little.
+pub const REPORT_THETA_MAX_DEG: f64 = 80.0;
+/// The seed of the report's direction pairs: the same pairs on every run.
+pub const REPORT_SEED: u64 = 1;
+
+/// Whether `material` has twisted or isotropic yarns: about a millisecond per exact evaluation
+/// (the other materials take microseconds to tens of microseconds).
+pub fn has_slow_yarns(material: &Material) -> bool {
+    material
+        .yarn
+        .is_some_and(|y| y.isotropic || y.twist_std > 0.0)
+}
+
+/// The symmetry a table of `material` uses: isotropic for flat fibers and isotropic yarns,
+/// mirror otherwise (as `Table::build` decides).
+pub fn symmetry_of(material: &Material) -> Symmetry {
+    match &material.yarn {
+        None => Symmetry::Isotropic,
+        Some(y) if y.isotropic => Symmetry::Isotropic,
+        Some(_) => Symmetry::Mirror,
+    }
+}
+
+/// The table options of the parsed arguments (already within [`TableOptions::validate`]'s
+/// ranges: clap checks them).
+fn options(args: &TabulateArgs) -> TableOptions {
+    TableOptions {
+        n_theta: args.n_theta as usize,
+        n_phi: args.n_phi as usize,
+        n_h: args.n_h as usize,
+        n_h_isotropic: args.n_h_isotropic as usize,
+        ..TableOptions::default()
+    }
+}
+
+/// The grid `(n_theta, n_phi, n_h)` a table of `symmetry` will have with `options`.
+pub fn grid_of(symmetry: Symmetry, options: &TableOptions) -> (usize, usize, usize) {
+    match symmetry {
+        Symmetry::Isotropic => (options.n_theta, 1, options.n_h_isotropic),
+        Symmetry::Mirror => (options.n_theta, options.n_phi, options.n_h),
+    }
+}
+
+/// Refuses a grid whose file could not be read back.
+fn check_size(symmetry: Symmetry, options: &TableOptions) -> Result<()> {
+    let (n_theta, n_phi, n_h) = grid_of(symmetry, options);
+    let values = (n_theta * n_phi) as u64 * (n_h * n_h) as u64;
+    if values > MAX_VALUES {
+        let product = match symmetry {
+            Symmetry::Isotropic => format!("--n-theta {n_theta} × --n-h-isotropic {n_h}²"),
+            Symmetry::Mirror => format!("--n-theta {n_theta} × --n-phi {n_phi} × --n-h {n_h}²"),
+        };
+        bail!(
+            "{product} = {} values is more than a table file holds ({}); use fewer nodes",
+            group_digits(values),
+            group_digits(MAX_VALUES)
+        );
+    }
+    Ok(())
+}
+
+/// A built table and how long the build took.
+pub struct Built {
+    /// The table.
+    pub table: Table,
+    /// Wall-clock build time.
+    pub elapsed: Duration,
+}
+
+/// Builds the table of `model` (prepared from `material`) with a progress bar on standard error.
+pub fn build_table(material: &Material, model: &Model, options: &TableOptions) -> Result<Built> {
+    check_size(symmetry_of(material), options)?;
+    let bar = Progress::new(Some(0), "table rows", true);
+    let start = Instant::now();
+    let table = Table::build(
+        model,
+        &material.to_toml_string(),
+        options,
+        &|done, total| bar.set(done as u64, total as u64),
+    )
+    .context("cannot build the table")?;
+    bar.finish();
+    Ok(Built {
+        table,
+        elapsed: start.elapsed(),
+    })
+}
+
+/// Runs `woven tabulate`.
+pub fn run(args: &TabulateArgs) -> Result<()> {
+    check_output_dirs(std::slice::from_ref(&args.output))?;
+    let (material, model) = args.material.load_and_build()?;
+    let options = options(args);
+    let built = build_table(&material, &model, &options)?;
+    // The CLI's atomic writer rather than `Table::save`: the same temporary file and rename, and
+    // a device such as /dev/null is written, not replaced.
+    let bytes = built.table.to_bytes();
+    io::write_atomically(&args.output, |out| Ok(out.write_all(&bytes)?))
+        .with_context(|| format!("cannot write the table to `{}`", args.output.display()))?;
+    let bytes = bytes.len() as u64;
+    println!(
+        "{}",
+        summary(
+            &args.material.display_name(&material),
+            &material,
+            &built,
+            &options,
+            &args.output,
+            bytes
+        )
+    );
+    if args.report {
+        let slow = has_slow_yarns(&material);
+        let samples = args.report_samples.map_or(
+            if slow {
+                REPORT_SAMPLES_SLOW
+            } else {
+                REPORT_SAMPLES_FAST
+            },
+            |n| n as usize,
+        );
+        let start = Instant::now();
+        let report = accuracy(&built.table, &model, samples);
+        println!();
+        println!(
+            "{}",
+            report_paragraph(
+                &report,
+                start.elapsed(),
+                slow && args.report_samples.is_none()
+            )
+        );
+    }
+    Ok(())
+}
+
+/// The accuracy of `table` against the exact `model` at `samples` direction pairs drawn from
+/// [`REPORT_SEED`] with `θi, θr ≤` [`REPORT_THETA_MAX_DEG`], the exact values computed in
+/// parallel (with a progress bar: twisted and isotropic yarns take about a millisecond each).
+pub fn accuracy(table: &Table, model: &Model, samples: usize) -> AccuracyReport {
+    let theta_max = REPORT_THETA_MAX_DEG.to_radians();
+    let mut rng = SplitMix(REPORT_SEED);
+    let pairs: Vec<(Vec3, Vec3)> = (0..samples)
+        .map(|_| (rng.direction(theta_max), rng.direction(theta_max)))
+        .collect();
+    let bar = Progress::new(Some(samples as u64), "exact evaluations", true);
+    let exact: Vec<f64> = pairs
+        .par_iter()
+        // Up to a few milliseconds a pair for cloth: small tasks balance the cores.
+        .with_max_len(8)
+        .map(|&(s, v)| {
+            let f = model.eval(s, v);
+            bar.inc(1);
+            f
+        })
+        .collect();
+    bar.finish();
+    table.accuracy_against(&pairs, &exact)
+}
+
+/// The one-paragraph summary of a build.
+fn summary(
+    name: &str,
+    material: &Material,
+    built: &Built,
+    options: &TableOptions,
+    path: &Path,
+    bytes: u64,
+) -> String {
+    let table = &built.table;
+    let (n_theta, n_phi, n_h) = table.dims();
+    let values = (n_theta * n_phi * n_h * n_h) as u64;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let symmetry = match table.symmetry() {
+        Symmetry::Isotropic => format!(
+            "isotropic (the BRDF depends on φr − φi only), so one incidence azimuth: \
+             {n_theta} θi × {n_h}² half-vector nodes"
+        ),
+        Symmetry::Mirror => format!(
+            "mirror (x → −x and y → −y), so incidence azimuths over [0°, 90°]: \
+             {n_theta} θi × {n_phi} φi × {n_h}² half-vector nodes"
+        ),
+    };
+    let method = match &material.yarn {
+        Some(y) if y.isotropic || y.twist_std > 0.0 => format!(
+            " The {} yarns were tabulated with their fibers along x first ({n_theta} θi × {} φi \
+             × {}² nodes, exact), then averaged over {} fiber azimuths.",
+            if y.isotropic { "isotropic" } else { "twisted" },
+            F0_PHI_NODES,
+            options.n_h,
+            options.azimuth_nodes
+        ),
+        _ => String::new(),
+    };
+    format!(
+        "Tabulated `{name}` at {} nm into {} ({}) in {} on {threads} thread{}. Symmetry: \
+         {symmetry} = {} values (f32).{method} Evaluate it with `woven eval --table {}`; \
+         --report checks it against the exact model.",
+        short(table.wavelength_nm()),
+        path.display(),
+        megabytes(bytes),
+        seconds(built.elapsed),
+        if threads == 1 { "" } else { "s" },
+        group_digits(values),
+        path.display(),
+    )
+}
+
+/// The paragraph of `--report`. `reduced`: the default pair count was lowered for slow yarns.
+fn report_paragraph(report: &AccuracyReport, elapsed: Duration, reduced: bool) -> String {
+    let note = if reduced {
+        format!(
+            " {} pairs rather than {}: an exact evaluation of twisted or isotropic yarns takes \
+             about a millisecond (--report-samples sets the count).",
+            group_digits(report.samples as u64),
+            group_digits(REPORT_SAMPLES_FAST as u64)
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "Accuracy against the exact model at {} random direction pairs with θi, θr ≤ {}° \
+         (uniform in solid angle, seed {REPORT_SEED}): cosine-weighted relative RMS error {}, \
+         99th percentile of the relative error {}, largest {}. The exact values took {}.{note}",
+        group_digits(report.samples as u64),
+        short(REPORT_THETA_MAX_DEG),
+        percent(report.weighted_rel_rms),
+        percent(report.p99_rel),
+        percent(report.max_rel),
+        seconds(elapsed),
+    )
+}
+
+/// `n` with thousands separated by commas: `2,558,430`.
+pub fn group_digits(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (k, c) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// A fraction as a percentage with two significant digits: `0.0402` → `4.0 %`.
+pub fn percent(x: f64) -> String {
+    let p = 100.0 * x;
+    let decimals = match p.abs() {
+        a if a >= 10.0 => 0,
+        a if a >= 1.0 => 1,
+        a if a >= 0.1 => 2,
+        _ => 3,
+    };
+    format!("{p:.decimals$} %")
+}
+
+/// A file size in megabytes (10⁶ bytes), or kilobytes below one megabyte.
+pub fn megabytes(bytes: u64) -> String {
+    if bytes >= 1_000_000 {
+        format!("{:.1} MB", bytes as f64 / 1e6)
+    } else {
+        format!("{:.1} kB", bytes as f64 / 1e3)
+    }
+}
+
+/// A duration in seconds (milliseconds below a tenth of a second), with a sensible number of
+/// digits.
+pub fn seconds(d: Duration) -> String {
+    let s = d.as_secs_f64();
+    if s < 0.1 {
+        format!("{:.0} ms", 1e3 * s)
+    } else if s < 10.0 {
+        format!("{s:.2} s")
+    } else {
+        format!("{s:.1} s")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flag_ranges_are_the_library_ranges() {
+        // Each flag's ends pass TableOptions::validate and one beyond them fails, so the usage
+        // errors clap gives (naming the flag) and the library's checks cannot drift apart.
+        type Set = fn(&mut TableOptions, usize);
+        let flags: [(&str, (u64, u64), Set); 4] = [
+            ("n_theta", N_THETA, |o, n| o.n_theta = n),
+            ("n_phi", N_PHI, |o, n| o.n_phi = n),
+            ("n_h", N_H, |o, n| o.n_h = n),
+            ("n_h_isotropic", N_H, |o, n| o.n_h_isotropic = n),
+        ];
+        for (name, (lo, hi), set) in flags {
+            for (n, ok) in [(lo - 1, false), (lo, true), (hi, true), (hi + 1, false)] {
+                let mut o = TableOptions::default();
+                set(&mut o, n as usize);
+                assert_eq!(o.validate().is_ok(), ok, "{name} = {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn symmetry_and_speed_follow_the_yarns() {
+        let preset = |name| Material::preset(name).unwrap();
+        assert_eq!(symmetry_of(&preset("silk")), Symmetry::Isotropic);
+        assert_eq!(symmetry_of(&preset("belt-cloth")), Symmetry::Mirror);
+        assert_eq!(symmetry_of(&preset("polyester-sateen")), Symmetry::Mirror);
+        assert!(has_slow_yarns(&preset("silk")) && has_slow_yarns(&preset("belt-cloth")));
+        assert!(!has_slow_yarns(&preset("polyester-sateen")));
+        let flat = Material::flat(woven::fiber::FiberParams::rough(1.5, 0.1, 0.1));
+        assert_eq!(symmetry_of(&flat), Symmetry::Isotropic);
+        assert!(!has_slow_yarns(&flat));
+    }
+
+    #[test]
+    fn oversized_grids_are_refused_naming_the_flags() {
+        let big = TableOptions {
+            n_theta: 1024,
+            n_phi: 1024,
+            ..TableOptions::default()
+        };
+        let e = check_size(Symmetry::Mirror, &big).unwrap_err().to_string();
+        assert!(e.contains("--n-phi 1024") && e.contains("--n-h 81²"), "{e}");
+        assert!(check_size(Symmetry::Isotropic, &big).is_ok());
+        assert!(check_size(Symmetry::Mirror, &TableOptions::default()).is_ok());
+    }
+
+    #[test]
+    fn numbers_for_people() {
+        assert_eq!(group_digits(2_558_430), "2,558,430");
+        assert_eq!(group_digits(999), "999");
+        assert_eq!(group_digits(1000), "1,000");
+        assert_eq!(megabytes(10_340_000), "10.3 MB");
+        assert_eq!(megabytes(52_000), "52.0 kB");
+        assert_eq!(seconds(Duration::from_millis(1234)), "1.23 s");
+        assert_eq!(seconds(Duration::from_micros(4400)), "4 ms");
+        assert_eq!(percent(0.04021), "4.0 %");
+        assert_eq!(percent(0.2316), "23 %");
+        assert_eq!(percent(0.00134), "0.13 %");
+        assert_eq!(percent(0.0004), "0.040 %");
+        assert_eq!(seconds(Duration::from_secs(75)), "75.0 s");
+    }
+}
