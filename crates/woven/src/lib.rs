@@ -28,6 +28,7 @@ pub mod cloth;
 pub mod error;
 pub mod export;
 pub mod fiber;
+mod fsutil;
 pub mod material;
 pub mod math;
 mod model;

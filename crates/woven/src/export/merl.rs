@@ -117,7 +117,6 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt;
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 /// Number of `θ_h` bins.
@@ -535,50 +534,7 @@ impl MerlBrdf {
     /// [`Error::Io`] naming `path` if the folder is not writable, writing fails or the rename
     /// fails; the temporary file is removed.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
-        let path = path.as_ref();
-        let io_error = |source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        let Some(name) = path.file_name() else {
-            return Err(io_error(io::Error::new(
-                io::ErrorKind::InvalidInput,
-                "not a file path",
-            )));
-        };
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        // A name unique within this process (counter) and among processes (pid).
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let (tmp, file) = loop {
-            let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-            let tmp = dir.join(format!(
-                ".{}.{}-{n}.tmp",
-                name.to_string_lossy(),
-                std::process::id()
-            ));
-            match std::fs::OpenOptions::new()
-                .write(true)
-                .create_new(true)
-                .open(&tmp)
-            {
-                Ok(file) => break (tmp, file),
-                // A leftover of an earlier process with the same pid: try the next name.
-                Err(e) if e.kind() == io::ErrorKind::AlreadyExists && n < 1000 => continue,
-                Err(e) => return Err(io_error(e)),
-            }
-        };
-        let written = self.write_raw(&file).and_then(|()| file.sync_all());
-        drop(file);
-        let result = written.and_then(|()| std::fs::rename(&tmp, path));
-        if let Err(e) = result {
-            // The temporary file is ours and incomplete; a failure to remove it changes nothing.
-            let _ = std::fs::remove_file(&tmp);
-            return Err(io_error(e));
-        }
-        Ok(())
+        crate::fsutil::atomic_write(path.as_ref(), |w| self.write_raw(w))
     }
 
     /// Reads a file from `r`.

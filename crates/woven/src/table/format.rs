@@ -86,30 +86,12 @@ impl Table {
     }
 
     /// Saves the table to `path` atomically: a temporary file in the same folder, renamed over
-    /// `path` only once complete.
+    /// `path` only once complete (a device or pipe is written in place).
     ///
     /// # Errors
     /// [`Error::Io`] if the folder is not writable or the disk is full.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
-        let path = path.as_ref();
-        let io = |source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        };
-        let dir = path
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        let name = path
-            .file_name()
-            .map_or_else(|| "table".into(), |n| n.to_string_lossy().to_string());
-        let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-        let result =
-            std::fs::write(&tmp, self.to_bytes()).and_then(|()| std::fs::rename(&tmp, path));
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result.map_err(io)
+        crate::fsutil::atomic_write(path.as_ref(), |w| w.write_all(&self.to_bytes()))
     }
 
     /// Reads a table from bytes; `origin` names the source in errors.
