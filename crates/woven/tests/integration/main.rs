@@ -1,5 +1,7 @@
 //! Integration tests of the `woven` library (one binary, per STYLE.md).
 
+mod cloth;
+mod cloth_files;
 mod common;
 mod export;
 mod fiber;
