@@ -8,7 +8,7 @@
 //! `dω_r = sin χ dχ dω`, so the ridge is the line `χ = χ₀` and panels in `χ` resolve it.
 
 use crate::cloth::Structure;
-use crate::math::quadrature::GaussLegendre;
+use crate::math::quadrature::{adaptive, GaussLegendre};
 use crate::math::Vec3;
 use crate::yarn::Yarn;
 use crate::Model;
@@ -81,7 +81,7 @@ fn yarn_albedo(yarn: &Yarn, s: Vec3, phi_y: f64) -> f64 {
 
 /// `∫ f_θ(s, v; φ_a) cos θ_r dω_r` for fibers at azimuth `phi_a`.
 fn oriented_albedo(yarn: &Yarn, s: Vec3, phi_a: f64) -> f64 {
-    let (gl_chi, gl_omega) = rules();
+    let (gl_chi, _) = rules();
     let (sp, cp) = phi_a.sin_cos();
     let e_f = Vec3::new(cp, sp, 0.0);
     let e_u = Vec3::new(-sp, cp, 0.0);
@@ -95,9 +95,19 @@ fn oriented_albedo(yarn: &Yarn, s: Vec3, phi_a: f64) -> f64 {
         }
     }
     edges.sort_by(f64::total_cmp);
-    // The in-plane mirror direction ψ_v = −ψ_s splits the ω range (the arc highlight).
+    // In the cross-section the facet of angle θ mirrors s into ψ_v = 2θ − ψ_s, i.e.
+    // ω = π/2 − 2θ + ψ_s: split there for the arc top (θ = 0) and the mean lateral slopes (±μ),
+    // and integrate each ω panel adaptively (single profiles have sharp lateral highlights).
     let psi_s = s.dot(e_u).atan2(s.z);
-    let omega_m = FRAC_PI_2 + psi_s;
+    let mu = yarn.params().slope_mean;
+    let mut omega_breaks = vec![0.0, PI];
+    for theta in [0.0, mu, -mu] {
+        let w = FRAC_PI_2 - 2.0 * theta + psi_s;
+        if w > 0.0 && w < PI {
+            omega_breaks.push(w);
+        }
+    }
+    omega_breaks.sort_by(f64::total_cmp);
     let mut total = 0.0;
     for e in edges.windows(2) {
         total += gl_chi.integrate(e[0], e[1], |chi| {
@@ -110,7 +120,11 @@ fn oriented_albedo(yarn: &Yarn, s: Vec3, phi_a: f64) -> f64 {
                 }
                 yarn.slope_averaged(s, v, phi_a) * v.z
             };
-            sc * (gl_omega.integrate(0.0, omega_m, inner) + gl_omega.integrate(omega_m, PI, inner))
+            let mut acc = 0.0;
+            for b in omega_breaks.windows(2) {
+                acc += adaptive(b[0], b[1], 1e-5, 1e-9, 12, inner);
+            }
+            sc * acc
         });
     }
     total

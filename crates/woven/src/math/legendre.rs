@@ -35,6 +35,11 @@ fn basis() -> &'static Basis {
     })
 }
 
+/// The `PANEL_NODES`-point Gauss–Legendre rule the panels use.
+pub fn panel_rule() -> &'static GaussLegendre {
+    &basis().gl
+}
+
 /// `P_0(x) … P_{N}(x)` by the three-term recurrence (one more than the panel degree, for the
 /// antiderivative).
 #[inline]

@@ -32,8 +32,14 @@ pub struct CrossSection<'a> {
     peak_width: f64,
     /// Width of the sampling panels near the highlight, in highlight widths.
     panel_widths: f64,
+    /// The sampling panels of `g` (also used by the exact arc integral of a single profile).
+    edges: Vec<f64>,
     g: PiecewiseLegendre,
 }
+
+/// Widest sampling panel of the facet lobe, radians (10 nodes resolve any smooth lobe on it to
+/// ~1e-9).
+const MAX_PANEL: f64 = 0.15;
 
 /// Panel width (in highlight widths) for a single profile: golden-value accuracy (~1e-8).
 pub const FINE_PANELS: f64 = 1.5;
@@ -64,6 +70,7 @@ impl<'a> CrossSection<'a> {
             theta_peak,
             peak_width,
             panel_widths,
+            edges: Vec::new(),
             g: PiecewiseLegendre::default(),
         };
         cs.sample_g();
@@ -105,12 +112,18 @@ impl<'a> CrossSection<'a> {
             edges.push(c + d);
             d *= 2.0;
         }
-        edges.retain(|&e| e >= lo && e <= hi);
-        edges.sort_by(f64::total_cmp);
-        edges.dedup();
+        // The lobe vanishes at the ends of the facing range through the cosines and the Smith
+        // terms, which turn sharply there: grade panels toward both ends.
+        for d in [0.005, 0.02, 0.06] {
+            edges.push(lo + d);
+            edges.push(hi - d);
+        }
+        // No panel wider than MAX_PANEL: a wide lobe (rough fibers) is not one polynomial.
+        panel_edges(&mut edges, lo, hi, MAX_PANEL);
         let mut g = std::mem::take(&mut self.g);
         g.resample(&edges, |t| self.g_direct(t));
         self.g = g;
+        self.edges = edges;
     }
 
     /// The macro BRDF `f_p` of one profile (Eq. (17) with exact masking; MODEL.md §2.3).
@@ -125,21 +138,43 @@ impl<'a> CrossSection<'a> {
             return self.fiber.eval(self.s, self.v);
         }
         let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
-        self.profile_sum(profile, &lv, |t| self.g_direct(t)) / (period * self.s.z * self.v.z)
+        let sum = self.profile_sum(
+            profile,
+            &lv,
+            |lo, hi| self.arc_integral_exact(lo, hi),
+            |t| self.g_direct(t),
+        );
+        sum / (period * self.s.z * self.v.z)
     }
 
-    /// `∫_arc g + g(θ_a) ℓ_right + g(−θ_a) ℓ_left` over the given intervals; `lateral_g` gives
-    /// `g` at a lateral's normal angle (exact, or from the interpolant).
+    /// `∫_arc g dθ` over `[lo, hi]` with the exact facet lobe: the sampling panels' Gauss–Legendre
+    /// rule on their intersections with the interval (a single profile's accuracy, ~1e-10).
+    fn arc_integral_exact(&self, lo: f64, hi: f64) -> f64 {
+        let rule = crate::math::legendre::panel_rule();
+        let mut sum = 0.0;
+        for e in self.edges.windows(2) {
+            let (a, b) = (e[0].max(lo), e[1].min(hi));
+            if b > a {
+                sum += rule.integrate(a, b, |t| self.g_direct(t));
+            }
+        }
+        sum
+    }
+
+    /// `∫_arc g + g(θ_a) ℓ_right + g(−θ_a) ℓ_left` over the given intervals; `arc` integrates
+    /// `g` over an arc interval and `lateral_g` gives `g` at a lateral's normal angle (exact, or
+    /// from the interpolant).
     #[inline]
     fn profile_sum(
         &self,
         profile: &Profile,
         lv: &PieceIntervals,
+        arc: impl Fn(f64, f64) -> f64,
         lateral_g: impl Fn(f64) -> f64,
     ) -> f64 {
         let mut sum = 0.0;
         if let Some((lo, hi)) = lv.arc {
-            sum += self.g.integral(lo, hi);
+            sum += arc(lo, hi);
         }
         let len = |iv: Option<(f64, f64)>| iv.map_or(0.0, |(a, b)| b - a);
         let (lr, ll) = (len(lv.right), len(lv.left));
@@ -203,8 +238,14 @@ impl<'a> CrossSection<'a> {
                 return slopes.density(theta_a) * flat;
             }
             let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
-            slopes.density(theta_a) * self.profile_sum(&profile, &lv, |t| self.g.value(t))
-                / (period * sz_vz)
+            // The interpolant of a non-negative lobe can dip below 0 in its far tails: clamp.
+            let sum = self.profile_sum(
+                &profile,
+                &lv,
+                |lo, hi| self.g.integral(lo, hi).max(0.0),
+                |t| self.g.value(t).max(0.0),
+            );
+            slopes.density(theta_a) * sum / (period * sz_vz)
         };
         let mut total = 0.0;
         for b in breaks.windows(2) {

@@ -105,13 +105,26 @@ pub struct Quadrature {
     pub slope_nodes: usize,
     /// Nodes per panel in `φ_a` (Eqs. (21)–(22)).
     pub azimuth_nodes: usize,
+    /// Nodes per panel in `φ_a` when light or viewer is beyond [`GRAZING_THETA`] (masking makes
+    /// `f_θ(φ_a)` steeper there).
+    pub azimuth_nodes_grazing: usize,
 }
+
+/// Polar angle (80°) beyond which the azimuth average uses
+/// [`Quadrature::azimuth_nodes_grazing`].
+pub const GRAZING_THETA: f64 = 80.0 * std::f64::consts::PI / 180.0;
+
+/// Light or viewer this close to the horizon (`cos θ ≤ 1e-6`, θ > 89.99994°) gives a yarn BRDF
+/// of 0: the profile BRDF divides by `s_z v_z`, which would amplify rounding without bound, and
+/// the reflected radiance `f cos θ_i` is 0 to that precision anyway.
+pub const HORIZON_COS: f64 = 1e-6;
 
 impl Default for Quadrature {
     fn default() -> Self {
         Quadrature {
             slope_nodes: 6,
             azimuth_nodes: 6,
+            azimuth_nodes_grazing: 10,
         }
     }
 }
@@ -127,6 +140,7 @@ pub struct Yarn {
     quadrature: Quadrature,
     slope_rule: GaussLegendre,
     azimuth_rule: GaussLegendre,
+    azimuth_rule_grazing: GaussLegendre,
 }
 
 impl Yarn {
@@ -153,6 +167,7 @@ impl Yarn {
             quadrature: q,
             slope_rule: GaussLegendre::new(q.slope_nodes),
             azimuth_rule: GaussLegendre::new(q.azimuth_nodes),
+            azimuth_rule_grazing: GaussLegendre::new(q.azimuth_nodes_grazing),
         })
     }
 
@@ -161,6 +176,7 @@ impl Yarn {
         self.quadrature = q;
         self.slope_rule = GaussLegendre::new(q.slope_nodes.max(1));
         self.azimuth_rule = GaussLegendre::new(q.azimuth_nodes.max(1));
+        self.azimuth_rule_grazing = GaussLegendre::new(q.azimuth_nodes_grazing.max(1));
         self
     }
 
@@ -187,7 +203,7 @@ impl Yarn {
     /// The profile BRDF `f_p` (Eq. (17), exact masking; MODEL.md §2.3) of the single profile of
     /// slope `theta_a` with this yarn's lateral length, fibers at azimuth `phi_a`.
     pub fn profile_brdf(&self, s: Vec3, v: Vec3, phi_a: f64, theta_a: f64) -> f64 {
-        if s.z <= 0.0 || v.z <= 0.0 {
+        if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
         CrossSection::new(&self.fiber, s, v, phi_a, cross_section::FINE_PANELS).profile_brdf(
@@ -201,7 +217,7 @@ impl Yarn {
     /// `f_θ` (Eq. (18)): the slope-averaged BRDF of fibers at azimuth `phi_a`, before
     /// interreflection.
     pub fn slope_averaged(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
-        if s.z <= 0.0 || v.z <= 0.0 {
+        if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
         let panels = if self.slopes.single().is_some() {
@@ -219,7 +235,7 @@ impl Yarn {
     /// `f_ir` (Eq. (20); MODEL.md §2.5) for fibers at azimuth `phi_a`:
     /// `(1 − ħ) f_θ + ħ ρ / π`.
     pub fn eval_oriented(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
-        if s.z <= 0.0 || v.z <= 0.0 {
+        if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
         let p = &self.params;
@@ -238,7 +254,7 @@ impl Yarn {
     /// fiber azimuths: `f_θ(φ_a)` is π-periodic, and each yarn's twist window `φ_k ± π/2` is one
     /// whole period, so all the yarns' weights are applied to the same samples.
     pub fn eval_mix(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)]) -> f64 {
-        if s.z <= 0.0 || v.z <= 0.0 {
+        if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
         let p = &self.params;
@@ -314,9 +330,14 @@ impl Yarn {
             .map(|b| b.rem_euclid(PI))
             .collect();
         panel_edges(&mut edges, 0.0, PI, 0.25 * PI);
+        let rule = if s.z.min(v.z) < GRAZING_THETA.cos() {
+            &self.azimuth_rule_grazing
+        } else {
+            &self.azimuth_rule
+        };
         let mut total = 0.0;
         for e in edges.windows(2) {
-            total += self.azimuth_rule.integrate(e[0], e[1], |phi_a| {
+            total += rule.integrate(e[0], e[1], |phi_a| {
                 let wt = weight(phi_a);
                 if wt == 0.0 {
                     return 0.0;
