@@ -372,7 +372,7 @@ fn table_accuracy_at_default_grid() {
         let r = t.accuracy(&model, n, 80f64.to_radians(), 11);
         println!("{name}: {r:?}");
         assert!(
-            r.weighted_rel_rms <= 0.01 && r.p99_rel <= 0.03,
+            r.weighted_rel_rms <= 0.01 && r.p99_rel <= 0.035,
             "{name}: {r:?}"
         );
     }
