@@ -30,9 +30,9 @@ fn input_csv() -> PathBuf {
             f,
             "{},{},{},{}",
             t * uniform(),
-            6.283 * uniform(),
+            std::f64::consts::TAU * uniform(),
             t * uniform(),
-            6.283 * uniform()
+            std::f64::consts::TAU * uniform()
         )
         .unwrap();
     }
