@@ -6,7 +6,7 @@
 //! Fast versions run by default (`cargo test --release -p woven --test integration cloth`);
 //! exhaustive ones are `#[ignore]`d and run with `-- --include-ignored` (a few minutes).
 
-use crate::common::{assert_close, vector_roots};
+use crate::common::{assert_close, vector_roots, Rng};
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 use woven::cloth::Structure;
 use woven::fiber::{Fiber, FiberModel, FiberParams, Ior, Normalization};
@@ -24,33 +24,7 @@ const DEG: f64 = PI / 180.0;
 // Helpers
 // ---------------------------------------------------------------------------------------------
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny fixed-seed generator, so every run draws the
-/// same cases.
-struct Rng(u64);
-
 impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.uniform()
-    }
-
-    /// `10^x`, `x` uniform in `[lo, hi)`.
-    fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
-        10f64.powf(self.range(lo, hi))
-    }
-
     fn chance(&mut self, p: f64) -> bool {
         self.uniform() < p
     }

@@ -29,3 +29,33 @@ pub fn assert_close(got: f64, want: f64, rel: f64, abs_floor: f64, what: &str) {
         "{what}: got {got:.12e}, want {want:.12e}, |err| {err:.3e}, rel tolerance {rel:.1e}"
     );
 }
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny fixed-seed generator, so every run draws the
+/// same cases. Test files add the draws they need in their own `impl Rng` blocks.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in `[a, b)`.
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.uniform()
+    }
+
+    /// `10^x`, `x` uniform in `[lo, hi)`.
+    pub fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
+        10f64.powf(self.range(lo, hi))
+    }
+}

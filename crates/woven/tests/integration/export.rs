@@ -1,6 +1,7 @@
 //! MERL export (`woven::export::merl`): file layout, coordinates, bins, lookups against the model,
 //! malformed files and the isotropy check.
 
+use crate::common::Rng;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -11,26 +12,9 @@ use woven::fiber::{FiberParams, Normalization};
 use woven::material::Material;
 use woven::{Error, Model, Vec3};
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a fixed-seed generator, so every run draws the same
-/// directions.
-struct Rng(u64);
-
 impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
     /// A direction uniform in solid angle on the upper hemisphere, polar angle ≤ `theta_max`.
-    fn direction(&mut self, theta_max: f64) -> Vec3 {
+    fn uniform_direction(&mut self, theta_max: f64) -> Vec3 {
         let cos_min = theta_max.cos();
         let z = 1.0 - self.uniform() * (1.0 - cos_min);
         let phi = 2.0 * PI * self.uniform();
@@ -104,7 +88,10 @@ fn azimuth_gap(a: f64, b: f64) -> f64 {
 fn export_coordinates_match_an_independent_construction() {
     let mut rng = Rng(0x5EED_E001);
     for case in 0..20_000 {
-        let (s, v) = (rng.direction(FRAC_PI_2), rng.direction(FRAC_PI_2));
+        let (s, v) = (
+            rng.uniform_direction(FRAC_PI_2),
+            rng.uniform_direction(FRAC_PI_2),
+        );
         let got = HalfDiff::from_directions(s, v);
         let want = reference_half_diff(s, v);
         // acos loses precision near 0 (√ε ≈ 1.5e-8): the tolerance is the reference's.
@@ -124,7 +111,10 @@ fn export_coordinates_round_trip_random_directions() {
     let mut rng = Rng(0x5EED_E002);
     let mut worst: f64 = 0.0;
     for case in 0..100_000 {
-        let (s, v) = (rng.direction(FRAC_PI_2), rng.direction(FRAC_PI_2));
+        let (s, v) = (
+            rng.uniform_direction(FRAC_PI_2),
+            rng.uniform_direction(FRAC_PI_2),
+        );
         let hd = HalfDiff::from_directions(s, v);
         let back = hd.to_directions();
         let err = distance(back.s, s).max(distance(back.v, v));
@@ -219,7 +209,10 @@ fn export_coordinate_pins() {
     // Swapping s and v adds π to φ_d: the same bin (reciprocity), for random pairs.
     let mut rng = Rng(0x5EED_E004);
     for _ in 0..10_000 {
-        let (s, v) = (rng.direction(FRAC_PI_2), rng.direction(FRAC_PI_2));
+        let (s, v) = (
+            rng.uniform_direction(FRAC_PI_2),
+            rng.uniform_direction(FRAC_PI_2),
+        );
         let (a, b) = (
             HalfDiff::from_directions(s, v),
             HalfDiff::from_directions(v, s),
@@ -374,8 +367,8 @@ fn export_lookup_close_to_model_at_random_directions() {
     let mut errors = Vec::new();
     for case in 0..200_000 {
         let (s, v) = (
-            rng.direction(75f64.to_radians()),
-            rng.direction(75f64.to_radians()),
+            rng.uniform_direction(75f64.to_radians()),
+            rng.uniform_direction(75f64.to_radians()),
         );
         let got = brdf.lookup(s, v);
         // The lookup is the model at the containing bin's centre, when that is above the horizon.

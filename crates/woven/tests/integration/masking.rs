@@ -2,6 +2,7 @@
 //! (MODEL.md §2.1, §2.3): V-groove, flat, unshadowed below the onset, mirror symmetry, and the
 //! conservation of light falling on one period.
 
+use crate::common::Rng;
 use std::f64::consts::FRAC_PI_2;
 
 use woven::yarn::profile::{Piece, PieceIntervals, Profile};
@@ -12,33 +13,7 @@ const SAMPLES: usize = 10_000;
 /// Agreement asked of closed form and brute force, as a fraction of the piece's length.
 const REL_TOL: f64 = 1e-3;
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny fixed-seed generator, so every run draws the
-/// same cases.
-struct Rng(u64);
-
 impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.uniform()
-    }
-
-    /// `10^x`, `x` uniform in `[lo, hi)`.
-    fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
-        10f64.powf(self.range(lo, hi))
-    }
-
     fn sign(&mut self) -> f64 {
         if self.next_u64() & 1 == 0 {
             1.0
