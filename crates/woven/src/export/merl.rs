@@ -99,9 +99,10 @@
 //!
 //! [`MerlBrdf::from_fn`] evaluates the bins one after the other, [`MerlBrdf::from_fn_threaded`]
 //! on scoped threads. A caller with its own thread pool evaluates [`eval_bin`] over
-//! `0..MERL_BINS` and hands the values to [`MerlBrdf::from_values`] or [`MerlBrdf::from_rgb`]:
+//! `0..MERL_BINS` (with rayon, as `woven export` does) and hands the values to
+//! [`MerlBrdf::from_values`] or [`MerlBrdf::from_rgb`]:
 //!
-//! ```ignore
+//! ```text
 //! let model = material.build(550.0)?;
 //! let mono: Vec<f64> = (0..merl::MERL_BINS)
 //!     .into_par_iter()
