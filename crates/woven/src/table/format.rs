@@ -220,7 +220,7 @@ impl Table {
             .unwrap_or("")
             .to_string();
         let wavelength_nm = float("wavelength_nm")?;
-        Ok(Table::assemble_with(
+        Ok(Table::assemble(
             symmetry,
             Axis {
                 lo: 0.0,

@@ -215,7 +215,7 @@ impl Table {
                 let f0_values = fill(theta, f0_phi, f0_t, options.threads, &stage, |s, v| {
                     yarn.slope_averaged(s, v, 0.0)
                 });
-                let f0 = Table::assemble_with(
+                let f0 = Table::assemble(
                     Symmetry::Mirror,
                     theta,
                     f0_phi,
@@ -260,31 +260,11 @@ impl Table {
             values,
             material_toml.to_string(),
             model.fiber().wavelength_nm(),
+            None,
         ))
     }
 
     fn assemble(
-        symmetry: Symmetry,
-        theta: Axis,
-        phi: Axis,
-        t: Axis,
-        values: Vec<f32>,
-        material_toml: String,
-        wavelength_nm: f64,
-    ) -> Table {
-        Self::assemble_with(
-            symmetry,
-            theta,
-            phi,
-            t,
-            values,
-            material_toml,
-            wavelength_nm,
-            None,
-        )
-    }
-
-    fn assemble_with(
         symmetry: Symmetry,
         theta: Axis,
         phi: Axis,

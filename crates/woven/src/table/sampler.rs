@@ -68,24 +68,12 @@ impl Sampler {
                     c += self.cell_pdf[(node * nc + iy) * nc + ix] as f64 * dt * dt;
                     self.conditional[base_c + ix + 1] = c as f32;
                 }
-                // Normalize the row's CDF (an empty row keeps a uniform CDF; it is never chosen).
-                for ix in 1..=nc {
-                    self.conditional[base_c + ix] = if c > 0.0 {
-                        (self.conditional[base_c + ix] as f64 / c) as f32
-                    } else {
-                        ix as f32 / nc as f32
-                    };
-                }
+                // An empty row keeps a uniform CDF; it is never chosen.
+                normalize_cdf(&mut self.conditional[base_c..base_c + nc + 1], c);
                 row_mass += c;
                 self.marginal[base_m + iy + 1] = row_mass as f32;
             }
-            for iy in 1..=nc {
-                self.marginal[base_m + iy] = if row_mass > 0.0 {
-                    (self.marginal[base_m + iy] as f64 / row_mass) as f32
-                } else {
-                    iy as f32 / nc as f32
-                };
-            }
+            normalize_cdf(&mut self.marginal[base_m..base_m + nc + 1], row_mass);
         }
     }
 
@@ -278,6 +266,19 @@ fn jacobian_abs_mean(s: Vec3, t0x: f64, t0y: f64, dt: f64) -> f64 {
         0.0
     } else {
         acc / k as f64
+    }
+}
+
+/// Divides an unnormalized CDF (`cdf[0] = 0`, last entry `total`) by `total`; a zero total gives
+/// the uniform CDF.
+fn normalize_cdf(cdf: &mut [f32], total: f64) {
+    let n = cdf.len() - 1;
+    for (k, c) in cdf.iter_mut().enumerate().skip(1) {
+        *c = if total > 0.0 {
+            (*c as f64 / total) as f32
+        } else {
+            k as f32 / n as f32
+        };
     }
 }
 
