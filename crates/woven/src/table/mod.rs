@@ -17,7 +17,7 @@
 //! |---|---|---|
 //! | `n_theta` | nodes in `θ_i`, uniform on `[0, theta_max]` | 30 |
 //! | `theta_max_deg` | last `θ_i` node (beyond: clamped) | 87° |
-//! | `n_phi` | nodes in `φ_i` on `[0, π/2]` (anisotropic materials) | 13 |
+//! | `n_phi` | nodes in `φ_i` on `[0, π/2]` (anisotropic materials) | 19 |
 //! | `n_h` | nodes per half-vector slope axis, `t ∈ [−1, 1]` (anisotropic) | 81 |
 //! | `n_h_isotropic` | the same for isotropic materials | 161 |
 //! | `azimuth_nodes` | fiber azimuths per period for twisted/isotropic yarns | 180 |
@@ -78,7 +78,7 @@ impl Default for TableOptions {
         TableOptions {
             n_theta: 30,
             theta_max_deg: 87.0,
-            n_phi: 13,
+            n_phi: 19,
             n_h: 81,
             n_h_isotropic: 161,
             azimuth_nodes: 180,
@@ -212,8 +212,8 @@ impl Table {
                 // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
                 let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
                 let stage = |done: usize, total: usize| progress(done, 2 * total);
-                let f0_values = fill(theta, f0_phi, f0_t, options.threads, &stage, |s, v| {
-                    yarn.slope_averaged(s, v, 0.0)
+                let f0_values = fill(theta, f0_phi, f0_t, options.threads, &stage, |s| {
+                    move |v| yarn.slope_averaged(s, v, 0.0)
                 });
                 let f0 = Table::assemble(
                     Symmetry::Mirror,
@@ -232,24 +232,27 @@ impl Table {
                 let (hbar, rho) = (p.interreflection, p.interreflection_albedo);
                 let rows = theta.n * phi.n;
                 let stage2 = |done: usize, _total: usize| progress(rows + done, 2 * rows);
-                fill(theta, phi, t, options.threads, &stage2, |s, v| {
-                    let mut acc = 0.0;
-                    for (j, &w) in weights.iter().enumerate() {
-                        if w == 0.0 {
-                            continue;
-                        }
-                        let phi_a = (j as f64 + 0.5) * PI / n as f64;
-                        let (sp, cp) = phi_a.sin_cos();
-                        // Into the frame whose x is the fiber axis e_f.
-                        let to_fiber =
-                            |d: Vec3| Vec3::new(cp * d.x + sp * d.y, -sp * d.x + cp * d.y, d.z);
-                        acc += w * f0.eval_folded(to_fiber(s), to_fiber(v));
+                fill(theta, phi, t, options.threads, &stage2, |s| {
+                    // Per fiber azimuth, light in the fiber frame, folded into F₀'s domain and
+                    // located once per row; each v then costs a rotation and a look-up.
+                    let azimuths: Vec<Azimuth> = weights
+                        .iter()
+                        .enumerate()
+                        .filter(|&(_, &w)| w != 0.0)
+                        .map(|(j, &w)| {
+                            let phi_a = (j as f64 + 0.5) * PI / n as f64;
+                            Azimuth::new(&f0, s, phi_a, w)
+                        })
+                        .collect();
+                    let f0 = &f0;
+                    move |v: Vec3| {
+                        let acc: f64 = azimuths.iter().map(|a| a.eval(f0, v)).sum();
+                        (1.0 - hbar) * acc + hbar * rho * FRAC_1_PI
                     }
-                    (1.0 - hbar) * acc + hbar * rho * FRAC_1_PI
                 })
             }
-            _ => fill(theta, phi, t, options.threads, progress, |s, v| {
-                model.eval(s, v)
+            _ => fill(theta, phi, t, options.threads, progress, |s| {
+                move |v| model.eval(s, v)
             }),
         };
         Ok(Table::assemble(
@@ -370,14 +373,8 @@ impl Table {
             ),
             Symmetry::Isotropic => (s, v),
         };
-        let theta_i = s.z.clamp(-1.0, 1.0).acos();
-        let phi_i = s.y.atan2(s.x);
-        let h = s + v;
-        let (it, wt) = self.theta.locate(theta_i);
-        let (ip, wp) = self.phi.locate(phi_i);
-        let y = self.t.locate(t_of_slope(h.y / h.z));
-        let x = self.t.locate(t_of_slope(h.x / h.z));
-        self.eval_at((it, wt, ip, wp), y, x, s.z, v.z)
+        let (incidence, y, x) = locate_query(&self.theta, &self.phi, &self.t, s, v);
+        self.eval_at(incidence, y, x, s.z, v.z)
     }
 
     /// Quadrilinear interpolation at located coordinates: `(iθ, wθ, iφ, wφ)`, `(i_y, w_y)`,
@@ -408,6 +405,78 @@ impl Table {
         }
         // The table stores f cos θ_i cos θ_r (continued linearly below the horizon).
         (acc / (cos_i * cos_r)).max(0.0)
+    }
+}
+
+/// The cell of a folded query: `(iθ, wθ, iφ, wφ)`, `(i_y, w_y)`, `(i_x, w_x)`.
+#[inline]
+fn locate_query(
+    theta: &Axis,
+    phi: &Axis,
+    t: &Axis,
+    s: Vec3,
+    v: Vec3,
+) -> ((usize, f64, usize, f64), (usize, f64), (usize, f64)) {
+    let theta_i = s.z.clamp(-1.0, 1.0).acos();
+    let phi_i = s.y.atan2(s.x);
+    let h = s + v;
+    let (it, wt) = theta.locate(theta_i);
+    let (ip, wp) = phi.locate(phi_i);
+    let y = t.locate(t_of_slope(h.y / h.z));
+    let x = t.locate(t_of_slope(h.x / h.z));
+    ((it, wt, ip, wp), y, x)
+}
+
+/// One fiber azimuth `φ_a` of the twist average for a fixed light direction: the rotation into
+/// the frame whose x is the fiber axis, the mirror fold of the rotated light, and its located
+/// incidence in the `F₀` table.
+struct Azimuth {
+    weight: f64,
+    cos: f64,
+    sin: f64,
+    flip_x: bool,
+    flip_y: bool,
+    s: Vec3,
+    incidence: (usize, f64, usize, f64),
+}
+
+impl Azimuth {
+    fn new(f0: &Table, s: Vec3, phi_a: f64, weight: f64) -> Azimuth {
+        let (sin, cos) = phi_a.sin_cos();
+        let r = Vec3::new(cos * s.x + sin * s.y, -sin * s.x + cos * s.y, s.z);
+        let (flip_x, flip_y) = (r.x < 0.0, r.y < 0.0);
+        let s = Vec3::new(r.x.abs(), r.y.abs(), r.z);
+        let theta_i = s.z.clamp(-1.0, 1.0).acos();
+        let (it, wt) = f0.theta.locate(theta_i);
+        let (ip, wp) = f0.phi.locate(s.y.atan2(s.x));
+        Azimuth {
+            weight,
+            cos,
+            sin,
+            flip_x,
+            flip_y,
+            s,
+            incidence: (it, wt, ip, wp),
+        }
+    }
+
+    /// `w · F₀(s, v)` in the fiber frame: what `w · f0.eval_folded(rotate(s), rotate(v))` gives.
+    #[inline]
+    fn eval(&self, f0: &Table, v: Vec3) -> f64 {
+        if self.s.z <= 0.0 || v.z <= 0.0 {
+            return 0.0;
+        }
+        let x = self.cos * v.x + self.sin * v.y;
+        let y = -self.sin * v.x + self.cos * v.y;
+        let v = Vec3::new(
+            if self.flip_x { -x } else { x },
+            if self.flip_y { -y } else { y },
+            v.z,
+        );
+        let h = self.s + v;
+        let ty = f0.t.locate(t_of_slope(h.y / h.z));
+        let tx = f0.t.locate(t_of_slope(h.x / h.z));
+        self.weight * f0.eval_at(self.incidence, ty, tx, self.s.z, v.z)
     }
 }
 
@@ -452,7 +521,7 @@ fn azimuth_weights(n: usize, isotropic: bool, twist_std: f64, gamma: f64) -> Vec
 /// `cos θ_r` of the unlifted `v`. The stored `f cos θ_i cos θ_r` then continues linearly through
 /// the horizon (the BRDF is continuous up to it: the Smith term cancels `1/cos θ_r`), so cells that
 /// straddle it interpolate correctly on their valid side; `eval` returns 0 below it regardless.
-fn extrapolated(s: Vec3, px: f64, py: f64, f: &impl Fn(Vec3, Vec3) -> f64) -> f64 {
+fn extrapolated(s: Vec3, px: f64, py: f64, f: &impl Fn(Vec3) -> f64) -> f64 {
     let h = grid::h_of_slopes(px, py);
     let sh = s.dot(h);
     if sh <= 0.0 {
@@ -467,17 +536,87 @@ fn extrapolated(s: Vec3, px: f64, py: f64, f: &impl Fn(Vec3, Vec3) -> f64) -> f6
     }
     let c = (1.0 - min_z * min_z).sqrt() / r_xy;
     let lifted = Vec3::new(v.x * c, v.y * c, min_z);
-    f(s, lifted) * s.z * v.z
+    f(lifted) * s.z * v.z
 }
 
-/// Evaluates `f(s, v)` at every node, rows of `(θ_i, φ_i)` spread over threads.
-fn fill(
+/// Which half-vector nodes of incidence row `(it, ip)` some valid query interpolates, row-major
+/// `(i_y, i_x)`.
+///
+/// A query `(s, v)` with `v` above the horizon reads the nodes around its cell: incidence nodes
+/// `it, it + 1` and `ip, ip + 1` around `s`, half-vector nodes around its slopes `p`. For light from
+/// `s`, `v` is above the horizon exactly when `|p − a|² < 1 + |a|²` with `a = (s_x, s_y)/s_z`
+/// (a disk of radius `sec θ_i` about `a = tan θ_i (cos φ_i, sin φ_i)`; from
+/// `v_z = 2 (s·h) h_z − s_z > 0`). A node is reachable when that disk meets the slope rectangle of
+/// the cells around it for some `s` in the incidence cells around it (sampled 17 × 17, each disk
+/// widened by how far it moves to the next sample). The rest — more than a third of a
+/// table, below the horizon whatever the light — need no exact evaluation.
+fn reachable_nodes(theta: Axis, phi: Axis, t: Axis, it: usize, ip: usize) -> Vec<bool> {
+    let n = t.n;
+    // Incidence range whose queries read node (it, ip); beyond the last θ node queries clamp to it.
+    let th_lo = theta.node(it.saturating_sub(1));
+    let th_hi = if it + 1 < theta.n {
+        theta.node(it + 1)
+    } else {
+        FRAC_PI_2
+    };
+    let (ph_lo, ph_hi) = if phi.n == 1 {
+        (phi.lo, phi.lo)
+    } else {
+        (
+            phi.node(ip.saturating_sub(1)),
+            phi.node((ip + 1).min(phi.n - 1)),
+        )
+    };
+    const SAMPLES: usize = 17;
+    let disk = |a: usize, b: usize| {
+        // Stop short of the horizon, where the disk is unbounded.
+        let th =
+            (th_lo + (th_hi - th_lo) * a as f64 / (SAMPLES - 1) as f64).min(89.9f64.to_radians());
+        let ph = ph_lo + (ph_hi - ph_lo) * b as f64 / (SAMPLES - 1) as f64;
+        let r = th.tan();
+        (r * ph.cos(), r * ph.sin(), (1.0 + r * r).sqrt())
+    };
+    let mut disks = Vec::with_capacity(SAMPLES * SAMPLES);
+    for a in 0..SAMPLES {
+        for b in 0..SAMPLES {
+            // Every incidence is within half a step in θ and in φ of a sample; over such a
+            // step the disk moves and grows by at most half its change to the neighbouring
+            // samples (tan θ is convex): widen it by that, so the sampled union covers them all.
+            let (x, y, r) = disk(a, b);
+            let change = |(x2, y2, r2): (f64, f64, f64)| (x2 - x).hypot(y2 - y) + (r2 - r).abs();
+            let along_theta =
+                change(disk((a + 1).min(SAMPLES - 1), b)).max(change(disk(a.saturating_sub(1), b)));
+            let along_phi =
+                change(disk(a, (b + 1).min(SAMPLES - 1))).max(change(disk(a, b.saturating_sub(1))));
+            let pad = 0.5 * (along_theta + along_phi);
+            disks.push((x, y, (r + pad) * (r + pad)));
+        }
+    }
+    let slope = |k: isize| slope_of_t(t.node(k.clamp(0, n as isize - 1) as usize));
+    let gap = |x: f64, lo: f64, hi: f64| (lo - x).max(x - hi).max(0.0);
+    let mut out = vec![false; n * n];
+    for iy in 0..n {
+        let (y_lo, y_hi) = (slope(iy as isize - 1), slope(iy as isize + 1));
+        for ix in 0..n {
+            let (x_lo, x_hi) = (slope(ix as isize - 1), slope(ix as isize + 1));
+            out[iy * n + ix] = disks.iter().any(|&(ax, ay, r2)| {
+                let (dx, dy) = (gap(ax, x_lo, x_hi), gap(ay, y_lo, y_hi));
+                dx * dx + dy * dy < r2
+            });
+        }
+    }
+    out
+}
+
+/// Evaluates the BRDF at every reachable node, rows of `(θ_i, φ_i)` spread over threads:
+/// `row(s)` prepares the evaluation for light from `s` and returns `v ↦ f(s, v)`.
+fn fill<R: Fn(Vec3) -> f64>(
     theta: Axis,
     phi: Axis,
     t: Axis,
     threads: usize,
     progress: &(dyn Fn(usize, usize) + Sync),
-    f: impl Fn(Vec3, Vec3) -> f64 + Sync,
+    row: impl Fn(Vec3) -> R + Sync,
 ) -> Vec<f32> {
     let rows = theta.n * phi.n;
     let row_len = t.n * t.n;
@@ -503,15 +642,21 @@ fn fill(
                 }
                 let (it, ip) = (r / phi.n, r % phi.n);
                 let s = Vec3::from_spherical(theta.node(it), phi.node(ip));
+                let needed = reachable_nodes(theta, phi, t, it, ip);
+                let f = row(s);
                 let mut row = chunks[r].lock().expect("row lock poisoned");
                 for iy in 0..t.n {
                     let py = slope_of_t(t.node(iy));
                     for ix in 0..t.n {
+                        if !needed[iy * t.n + ix] {
+                            // No valid query interpolates this node: leave it 0.
+                            continue;
+                        }
                         let px = slope_of_t(t.node(ix));
                         // Stored: f cos θ_i cos θ_r, which varies far more slowly with θ_i at fixed h
                         // than f (whose 1/(cos θ_i cos θ_r) dominates near the highlight).
                         row[iy * t.n + ix] = match v_of_slopes(s, px, py) {
-                            Some((v, _)) => f(s, v) * s.z * v.z,
+                            Some((v, _)) => f(v) * s.z * v.z,
                             None => extrapolated(s, px, py, &f),
                         } as f32;
                     }
@@ -554,5 +699,77 @@ impl Bsdf for Table {
             pdf,
             weight: f * v.z / pdf,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::table::report::SplitMix;
+
+    /// Every node a valid query interpolates is one `fill` evaluates: random folded queries,
+    /// grazing ones over-represented, on coarse and fine grids of both symmetries.
+    #[test]
+    fn queries_read_only_reachable_nodes() {
+        let mut rng = SplitMix(5);
+        for (n_theta, n_phi, n_t) in [(30, 19, 81), (6, 4, 17), (30, 1, 161), (12, 13, 41)] {
+            let theta = Axis {
+                lo: 0.0,
+                hi: 87f64.to_radians(),
+                n: n_theta,
+                grading: THETA_GRADING,
+            };
+            let phi = Axis::uniform(0.0, FRAC_PI_2, n_phi);
+            let t = Axis::uniform(-1.0, 1.0, n_t);
+            let rows: Vec<Vec<bool>> = (0..n_theta * n_phi)
+                .map(|r| reachable_nodes(theta, phi, t, r / n_phi, r % n_phi))
+                .collect();
+            let reachable = rows.iter().flatten().filter(|&&b| b).count();
+            let total = rows.len() * n_t * n_t;
+            assert!(
+                reachable < total,
+                "mask prunes nothing ({n_theta}, {n_phi}, {n_t})"
+            );
+            for k in 0..200_000 {
+                // Half the draws within 10° of the horizon.
+                let lim = if k % 2 == 0 { 1.0 } else { 0.17 };
+                let mut pick = |rng: &mut SplitMix| {
+                    let z = lim * rng.uniform().max(1e-9);
+                    let ph = if n_phi == 1 && k % 3 == 0 {
+                        0.0
+                    } else {
+                        FRAC_PI_2 * rng.uniform()
+                    };
+                    let r = (1.0 - z * z).sqrt();
+                    (r, ph, z)
+                };
+                let (r, ph, z) = pick(&mut rng);
+                let ph = if n_phi == 1 { 0.0 } else { ph };
+                let s = Vec3::new(r * ph.cos(), r * ph.sin(), z);
+                let (r2, _, z2) = pick(&mut rng);
+                let pv = 2.0 * std::f64::consts::PI * rng.uniform();
+                let v = Vec3::new(r2 * pv.cos(), r2 * pv.sin(), z2);
+                let ((it, wt, ip, wp), (iy, wy), (ix, wx)) = locate_query(&theta, &phi, &t, s, v);
+                let dp = usize::from(n_phi > 1);
+                // Nodes read with weight 0 (clamped beyond the last θ node) do not count.
+                for (a, fa) in [(it, 1.0 - wt), (it + 1, wt)] {
+                    for (b, fb) in [(ip, 1.0 - wp), (ip + dp, wp)] {
+                        for (y, fy) in [(iy, 1.0 - wy), (iy + 1, wy)] {
+                            for (x, fx) in [(ix, 1.0 - wx), (ix + 1, wx)] {
+                                assert!(
+                                    fa * fb * fy * fx == 0.0 || rows[a * n_phi + b][y * n_t + x],
+                                    "grid ({n_theta}, {n_phi}, {n_t}): s {s:?} v {v:?} reads \
+                                     unevaluated node ({a}, {b}, {y}, {x})"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+            println!(
+                "grid ({n_theta}, {n_phi}, {n_t}): {:.1} % of nodes reachable",
+                100.0 * reachable as f64 / total as f64
+            );
+        }
     }
 }
