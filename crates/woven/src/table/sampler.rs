@@ -3,13 +3,16 @@
 //!
 //! For the node's light direction `s_k`, cell `(i_y, i_x)` gets the weight
 //! `∫_cell f(s_k, v) cos θ_r |∂ω_r/∂t| dt`, where `|∂ω_r/∂t|` is the map's Jacobian
-//! (see [`super::grid::jacobian`]), estimated from the cell's corners and centre, plus a defensive 1 % spread uniformly
-//! over solid angle so no direction the table can reach has zero density. For an arbitrary `s`
-//! the four surrounding nodes are mixed with their bilinear weights (the first uniform picks the
-//! node and is reused), so the density is exact: `p(v) = Σ_k w_k p_k(t(v)) / |∂ω/∂t|`, evaluated
-//! with the actual `s`. Directions a node's cells map below the horizon for the actual `s` are
-//! rejected (`sample` returns `None`); that lost mass, significant only at grazing incidence,
-//! is the gap between `∫ pdf dω` and 1.
+//! (see [`super::grid::jacobian`]), estimated from the cell's corners and centre, plus a defensive
+//! 1 % spread uniformly over solid angle so no direction the table can reach has zero density.
+//! An arbitrary `s` samples from the incidence node nearest it: in half-vector coordinates the
+//! peaks stay put as the light moves, so the nearest node's density fits well, and reading one
+//! node instead of mixing the four around `s` keeps a sample to three rounds of memory access
+//! (marginal, conditional, then the cell's density and the table's values) and a `pdf` to one
+//! look-up. The density is exact: `p(v) = p_k(t(v)) / |∂ω/∂t|`, with the Jacobian of the actual
+//! `s`. Directions a node's cells map below the horizon for the actual `s` are rejected (`sample`
+//! returns `None`); that lost mass, significant only at grazing incidence, is the gap between
+//! `∫ pdf dω` and 1.
 
 use super::grid::{jacobian, t_of_slope};
 use super::Table;
@@ -155,25 +158,18 @@ impl Sampler {
         out
     }
 
-    /// The bilinear node mixture for folded `s`: up to four `(node, weight)`, and the located
-    /// `(iθ, wθ, iφ, wφ)`.
+    /// The incidence node nearest folded `s` (in the axes' graded coordinates), whose density
+    /// `sample` draws from and `pdf` reports, and the located `(iθ, wθ, iφ, wφ)` for evaluation.
     #[inline]
-    fn nodes(table: &Table, s: Vec3) -> ([(usize, f64); 4], Located) {
+    fn node(table: &Table, s: Vec3) -> (usize, Located) {
         let theta_i = s.z.clamp(-1.0, 1.0).acos();
         let phi_i = s.y.atan2(s.x);
         let (it, wt) = table.theta.locate(theta_i);
         let (ip, wp) = table.phi.locate(phi_i);
         let np = table.phi.n;
-        let dp = usize::from(np > 1);
-        (
-            [
-                (it * np + ip, (1.0 - wt) * (1.0 - wp)),
-                (it * np + ip + dp, (1.0 - wt) * wp),
-                ((it + 1) * np + ip, wt * (1.0 - wp)),
-                ((it + 1) * np + ip + dp, wt * wp),
-            ],
-            (it, wt, ip, wp),
-        )
+        let dp = usize::from(np > 1 && wp >= 0.5);
+        let dt = usize::from(wt >= 0.5);
+        ((it + dt) * np + ip + dp, (it, wt, ip, wp))
     }
 
     /// Samples a folded `v` for folded `s`: `(v, pdf, f)`, with `f` the table's value there
@@ -187,23 +183,8 @@ impl Sampler {
     ) -> Option<(Vec3, f64, f64)> {
         let nc = self.nc;
         let dt = (table.t.hi - table.t.lo) / nc as f64;
-        let (mixture, located) = Self::nodes(table, s);
-        // Pick a node with the first uniform, then rescale it.
-        let mut u = u1.clamp(0.0, 1.0 - f64::EPSILON);
-        let mut chosen = None;
-        let mut acc = 0.0;
-        for (node, w) in mixture {
-            if w <= 0.0 {
-                continue;
-            }
-            chosen = Some(node);
-            if u < acc + w {
-                u = ((u - acc) / w).clamp(0.0, 1.0 - f64::EPSILON);
-                break;
-            }
-            acc += w;
-        }
-        let node = chosen?;
+        let (node, located) = Self::node(table, s);
+        let u = u1.clamp(0.0, 1.0 - f64::EPSILON);
         let marg = &self.marginal[node * (nc + 1)..(node + 1) * (nc + 1)];
         let (iy, fy) = invert(marg, u)?;
         let cond = &self.conditional[(node * nc + iy) * (nc + 1)..(node * nc + iy + 1) * (nc + 1)];
@@ -214,14 +195,8 @@ impl Sampler {
         if j <= 0.0 {
             return None;
         }
-        // The mixture's density in this cell over the map's Jacobian.
-        let mut p = 0.0;
-        for (node, w) in mixture {
-            if w > 0.0 {
-                p += w * self.cell_pdf[(node * nc + iy) * nc + ix] as f64;
-            }
-        }
-        let pdf = p / j;
+        // The node's density in this cell over the map's Jacobian.
+        let pdf = self.cell_pdf[(node * nc + iy) * nc + ix] as f64 / j;
         let f = table.eval_at(located, (iy, fy), (ix, fx), s.z, v.z);
         (pdf > 0.0 && pdf.is_finite()).then_some((v, pdf, f))
     }
@@ -242,13 +217,8 @@ impl Sampler {
         let nc = self.nc;
         let (iy, _) = table.t.locate(ty);
         let (ix, _) = table.t.locate(tx);
-        let mut p = 0.0;
-        for (node, w) in Self::nodes(table, s).0 {
-            if w > 0.0 {
-                p += w * self.cell_pdf[(node * nc + iy) * nc + ix] as f64;
-            }
-        }
-        p / j
+        let (node, _) = Self::node(table, s);
+        self.cell_pdf[(node * nc + iy) * nc + ix] as f64 / j
     }
 }
 
@@ -286,8 +256,13 @@ fn normalize_cdf(cdf: &mut [f32], total: f64) {
 #[inline]
 fn invert(cdf: &[f32], u: f64) -> Option<(usize, f64)> {
     let n = cdf.len() - 1;
-    // First index whose CDF exceeds u.
-    let k = cdf.partition_point(|&c| (c as f64) <= u);
+    // The number of entries ≤ u, i.e. the first index whose CDF exceeds u (the CDF is sorted).
+    // Counted branch-free over the whole CDF rather than bisected: its loads do not depend on one
+    // another, so the cache lines of a CDF that is not in cache arrive together rather than one
+    // miss after another.
+    let k = cdf
+        .iter()
+        .fold(0usize, |k, &c| k + usize::from(c as f64 <= u));
     let i = k.checked_sub(1)?.min(n - 1);
     let (lo, hi) = (cdf[i] as f64, cdf[i + 1] as f64);
     if hi <= lo {
