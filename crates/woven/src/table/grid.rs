@@ -30,8 +30,13 @@ pub fn t_of_slope(p: f64) -> f64 {
 /// `dp/dt`.
 #[inline]
 pub fn dslope_dt(t: f64) -> f64 {
-    let c = (K * t * t.abs()).cos();
-    2.0 * K * t.abs() / (c * c)
+    dslope_dt_at(t, slope_of_t(t))
+}
+
+/// `dp/dt` given `p = slope_of_t(t)`: `2K|t| / cos²(K t|t|) = 2K|t| (1 + p²)`, no cosine.
+#[inline]
+fn dslope_dt_at(t: f64, p: f64) -> f64 {
+    2.0 * K * t.abs() * (1.0 + p * p)
 }
 
 /// The half vector of slopes `(px, py)`.
@@ -62,7 +67,7 @@ pub fn jacobian(s: Vec3, tx: f64, ty: f64) -> Option<(Vec3, f64)> {
     let q = 1.0 + px * px + py * py;
     Some((
         v,
-        4.0 * s.dot(h) / (q * q.sqrt()) * dslope_dt(tx) * dslope_dt(ty),
+        4.0 * s.dot(h) / (q * q.sqrt()) * dslope_dt_at(tx, px) * dslope_dt_at(ty, py),
     ))
 }
 

@@ -382,7 +382,7 @@ impl Table {
     #[inline]
     fn eval_at(
         &self,
-        (it, wt, ip, wp): (usize, f64, usize, f64),
+        (it, wt, ip, wp): Incidence,
         (iy, wy): (usize, f64),
         (ix, wx): (usize, f64),
         cos_i: f64,
@@ -408,6 +408,12 @@ impl Table {
     }
 }
 
+/// A located incidence: `(iθ, wθ, iφ, wφ)`, each node index with the weight of the next node.
+type Incidence = (usize, f64, usize, f64);
+
+/// A located coordinate on one axis: `(k, w)`.
+type AxisPos = (usize, f64);
+
 /// The cell of a folded query: `(iθ, wθ, iφ, wφ)`, `(i_y, w_y)`, `(i_x, w_x)`.
 #[inline]
 fn locate_query(
@@ -416,7 +422,7 @@ fn locate_query(
     t: &Axis,
     s: Vec3,
     v: Vec3,
-) -> ((usize, f64, usize, f64), (usize, f64), (usize, f64)) {
+) -> (Incidence, AxisPos, AxisPos) {
     let theta_i = s.z.clamp(-1.0, 1.0).acos();
     let phi_i = s.y.atan2(s.x);
     let h = s + v;
@@ -437,7 +443,7 @@ struct Azimuth {
     flip_x: bool,
     flip_y: bool,
     s: Vec3,
-    incidence: (usize, f64, usize, f64),
+    incidence: Incidence,
 }
 
 impl Azimuth {
@@ -733,7 +739,7 @@ mod tests {
             for k in 0..200_000 {
                 // Half the draws within 10° of the horizon.
                 let lim = if k % 2 == 0 { 1.0 } else { 0.17 };
-                let mut pick = |rng: &mut SplitMix| {
+                let pick = |rng: &mut SplitMix| {
                     let z = lim * rng.uniform().max(1e-9);
                     let ph = if n_phi == 1 && k % 3 == 0 {
                         0.0

@@ -8,9 +8,10 @@
 //! An arbitrary `s` samples from the incidence node nearest it: in half-vector coordinates the
 //! peaks stay put as the light moves, so the nearest node's density fits well, and reading one
 //! node instead of mixing the four around `s` keeps a sample to three rounds of memory access
-//! (marginal, conditional, then the cell's density and the table's values) and a `pdf` to one
-//! look-up. The density is exact: `p(v) = p_k(t(v)) / |∂ω/∂t|`, with the Jacobian of the actual
-//! `s`. Directions a node's cells map below the horizon for the actual `s` are rejected (`sample`
+//! (marginal CDF, conditional CDF, the table's values) and a `pdf` to two CDF entries. The
+//! density is read off the CDFs themselves (row probability × cell probability over the cell's
+//! area), so it is exactly what the CDFs draw: `p(v) = p_k(t(v)) / |∂ω/∂t|`, with the Jacobian of
+//! the actual `s`. The per-cell densities the CDFs are cumulated from are kept for the file only. Directions a node's cells map below the horizon for the actual `s` are rejected (`sample`
 //! returns `None`); that lost mass, significant only at grazing incidence, is the gap between
 //! `∫ pdf dω` and 1.
 
@@ -21,8 +22,7 @@ use crate::math::Vec3;
 /// Fraction of each node's sampling mass spread uniformly over solid angle.
 const DEFENSIVE: f64 = 0.01;
 
-/// A located incidence: `(iθ, wθ, iφ, wφ)`.
-type Located = (usize, f64, usize, f64);
+use super::Incidence as Located;
 
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Sampler {
@@ -172,6 +172,18 @@ impl Sampler {
         ((it + dt) * np + ip + dp, (it, wt, ip, wp))
     }
 
+    /// The density in `t` space of cell `(iy, ix)` at `node`, exactly as the CDFs draw it: the
+    /// row's and the cell's probabilities over the cell's area. Read from the CDFs rather than
+    /// `cell_pdf` (which they round): `sample` has just read those entries, and `cell_pdf` stays
+    /// out of the cache.
+    #[inline]
+    fn density(&self, node: usize, iy: usize, ix: usize, dt: f64) -> f64 {
+        let nc = self.nc;
+        let m = &self.marginal[node * (nc + 1) + iy..];
+        let c = &self.conditional[(node * nc + iy) * (nc + 1) + ix..];
+        (m[1] as f64 - m[0] as f64) * (c[1] as f64 - c[0] as f64) / (dt * dt)
+    }
+
     /// Samples a folded `v` for folded `s`: `(v, pdf, f)`, with `f` the table's value there
     /// (computed from the sampled coordinates, without re-deriving them from `v`).
     pub(crate) fn sample(
@@ -196,7 +208,7 @@ impl Sampler {
             return None;
         }
         // The node's density in this cell over the map's Jacobian.
-        let pdf = self.cell_pdf[(node * nc + iy) * nc + ix] as f64 / j;
+        let pdf = self.density(node, iy, ix, dt) / j;
         let f = table.eval_at(located, (iy, fy), (ix, fx), s.z, v.z);
         (pdf > 0.0 && pdf.is_finite()).then_some((v, pdf, f))
     }
@@ -218,7 +230,8 @@ impl Sampler {
         let (iy, _) = table.t.locate(ty);
         let (ix, _) = table.t.locate(tx);
         let (node, _) = Self::node(table, s);
-        self.cell_pdf[(node * nc + iy) * nc + ix] as f64 / j
+        let dt = (table.t.hi - table.t.lo) / nc as f64;
+        self.density(node, iy, ix, dt) / j
     }
 }
 

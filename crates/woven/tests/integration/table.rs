@@ -346,10 +346,9 @@ fn tables_fold_symmetric_directions_onto_one_another() {
 }
 
 /// Accuracy of the default grid over random pairs with θi, θr ≤ 80°, for every preset and for a
-/// rough and a very smooth flat fiber. The goal is a cosine-weighted relative RMS ≤ 1 % and a
-/// 99th percentile ≤ 3 %; measured: RMS 0.18–0.63 % everywhere, 99th percentile ≤ 2.7 % except
-/// belt-cloth (3.2 %: grazing near-retro pairs), so the percentile bound here is 3.5 % until the
-/// grid is refined there. Builds full tables (tens of seconds each):
+/// rough and a very smooth flat fiber: the cosine-weighted relative RMS error ≤ 1 % and the 99th
+/// percentile of the relative error ≤ 3 % (the tabulation issue's targets). Builds full tables
+/// (tens of seconds each):
 /// `cargo test --release -p woven --test integration table_accuracy_at_default_grid -- --ignored`.
 #[test]
 #[ignore = "slow: builds full-resolution tables"]
@@ -372,7 +371,7 @@ fn table_accuracy_at_default_grid() {
         let r = t.accuracy(&model, n, 80f64.to_radians(), 11);
         println!("{name}: {r:?}");
         assert!(
-            r.weighted_rel_rms <= 0.01 && r.p99_rel <= 0.035,
+            r.weighted_rel_rms <= 0.01 && r.p99_rel <= 0.03,
             "{name}: {r:?}"
         );
     }
