@@ -257,27 +257,19 @@ mod file {
             }
         }
 
-        fn from_weave(w: &Weave) -> Self {
+        /// `inline`: write a WIF pattern as its matrix rather than its path.
+        fn from_weave(w: &Weave, inline: bool) -> Self {
             match w {
                 Weave::WeftFraction(g) => RawWeave {
                     weft_fraction: Some(*g),
                     pattern: None,
                 },
-                Weave::Pattern { spec, .. } => RawWeave {
+                Weave::Pattern { spec, pattern } => RawWeave {
                     weft_fraction: None,
                     pattern: Some(match spec {
                         PatternSpec::Name(n) => toml::Value::String(n.clone()),
-                        PatternSpec::Matrix(m) => toml::Value::Array(
-                            m.iter()
-                                .map(|row| {
-                                    toml::Value::Array(
-                                        row.iter()
-                                            .map(|&c| toml::Value::Integer(c as i64))
-                                            .collect(),
-                                    )
-                                })
-                                .collect(),
-                        ),
+                        PatternSpec::Wif(_) if inline => matrix_value(&pattern.to_matrix()),
+                        PatternSpec::Matrix(m) => matrix_value(m),
                         PatternSpec::Wif(p) => {
                             let mut t = toml::map::Map::new();
                             t.insert("wif".into(), toml::Value::String(p.display().to_string()));
@@ -287,6 +279,21 @@ mod file {
                 },
             }
         }
+    }
+
+    /// A 0/1 matrix as a TOML array of arrays.
+    fn matrix_value(m: &[Vec<u8>]) -> toml::Value {
+        toml::Value::Array(
+            m.iter()
+                .map(|row| {
+                    toml::Value::Array(
+                        row.iter()
+                            .map(|&c| toml::Value::Integer(c as i64))
+                            .collect(),
+                    )
+                })
+                .collect(),
+        )
     }
 
     fn parse_pattern(v: toml::Value, base: Option<&Path>) -> Result<Weave> {
@@ -625,13 +632,24 @@ mod file {
         }
 
         /// The material as TOML text that [`from_toml_str`](Self::from_toml_str) reads back
-        /// unchanged.
+        /// unchanged (a WIF pattern stays a path, relative to the material file's folder).
         pub fn to_toml_string(&self) -> String {
+            self.to_toml(false)
+        }
+
+        /// As [`to_toml_string`](Self::to_toml_string), with a WIF pattern written as its 0/1
+        /// matrix: text that parses anywhere, for records kept away from the material file
+        /// (a table's header, say). Otherwise the same text.
+        pub fn to_self_contained_toml_string(&self) -> String {
+            self.to_toml(true)
+        }
+
+        fn to_toml(&self, inline: bool) -> String {
             let raw = RawMaterial {
                 name: self.name.clone(),
                 fiber: RawFiber::from_params(&self.fiber),
                 yarn: self.yarn.as_ref().map(RawYarn::from_params),
-                weave: self.weave.as_ref().map(RawWeave::from_weave),
+                weave: self.weave.as_ref().map(|w| RawWeave::from_weave(w, inline)),
             };
             toml::to_string_pretty(&raw).expect("a material always serializes")
         }

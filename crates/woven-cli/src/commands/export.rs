@@ -190,7 +190,9 @@ fn material_of(args: &ExportArgs, table: Option<&Table>) -> Result<(Material, St
             let name = source.display_name(&material);
             if let Some(table) = table {
                 let theirs = recorded(table)?;
-                if theirs.to_toml_string() != material.to_toml_string() {
+                if theirs.to_self_contained_toml_string()
+                    != material.to_self_contained_toml_string()
+                {
                     bail!(
                         "--table `{}` was built from another material than --material `{source}` \
                          (`woven tabulate` records it); leave --material out to export the \

@@ -184,7 +184,7 @@ pub fn build_table(material: &Material, model: &Model, options: &TableOptions) -
     let start = Instant::now();
     let table = Table::build(
         model,
-        &material.to_toml_string(),
+        &material.to_self_contained_toml_string(),
         options,
         &|done, total| bar.set(done as u64, total as u64),
     )

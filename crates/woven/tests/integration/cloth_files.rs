@@ -296,6 +296,21 @@ fn wif_pattern_is_relative_to_the_material_file() {
             m,
             "round trip of {name}"
         );
+        // The self-contained text (what a table records) parses with no folder at all, to the
+        // same pattern; the path-keeping text does not.
+        let anywhere = Material::from_toml_str(&m.to_self_contained_toml_string(), "<record>")
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        match (&anywhere.weave, &m.weave) {
+            (
+                Some(Weave::Pattern {
+                    spec: PatternSpec::Matrix(_),
+                    pattern: a,
+                }),
+                Some(Weave::Pattern { pattern: b, .. }),
+            ) => assert_eq!(a, b, "{name}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(Material::from_toml_str(&m.to_toml_string(), "<record>").is_err());
     }
     // An absolute path works from anywhere.
     let abs = dir.path().join("twill.wif");
