@@ -133,7 +133,8 @@ fn export_merl(args: &ExportArgs) -> Result<()> {
                 format!("cannot prepare material `{name}` at --wavelength-nm {wavelength_nm}")
             })?;
             if material.yarn.is_some() {
-                let built = tabulate::build_table(&material, &model, &TableOptions::default())?;
+                let built =
+                    tabulate::build_table(&material, &model, &TableOptions::for_model(&model))?;
                 let (n_theta, _, n_h) = built.table.dims();
                 println!(
                     "`{name}` has isotropic yarns: an exact evaluation takes about a millisecond, \

@@ -24,10 +24,13 @@ per evaluation, with importance sampling for renderers.
 The grid exploits the material's symmetry. Isotropic materials (flat fiber surfaces, yarns with \
 `isotropic = true`) need one incidence azimuth: --n-theta × --n-h-isotropic² nodes. All other \
 woven materials are mirror-symmetric in x and y, so φi covers [0°, 90°]: --n-theta × --n-phi × \
---n-h² nodes. Flat fibers and single-orientation yarns are evaluated exactly at every node. \
-Twisted and isotropic yarns (about a millisecond per exact evaluation) first tabulate the yarn \
+--n-h² nodes. Flat fibers and single-orientation yarns are evaluated exactly at every node that \
+a direction above the horizon can read. Twisted and isotropic yarns (about a millisecond per exact evaluation) first tabulate the yarn \
 with its fibers along x exactly (--n-theta × 13 × --n-h² nodes), then average rotated look-ups \
-of it over 180 fiber azimuths. The build uses every core; a progress bar shows on standard \
+of it over 180 fiber azimuths. Smooth fibers get a finer half-vector grid unless --n-h says \
+otherwise: 81 nodes at roughness 0.05 and above (every preset), rising to 121 at 0.02, because \
+the yarns' highlights are as narrow as the fiber's lobe. The build uses every core; a progress \
+bar shows on standard \
 error when it is a terminal and the build is long.
 
 The table is written atomically (a failed build leaves no file) and records the material and \
@@ -68,10 +71,11 @@ pub struct TabulateArgs {
     pub n_phi: u64,
 
     /// Nodes per half-vector axis for anisotropic materials, and for the intermediate table of
-    /// twisted and isotropic yarns.
-    #[arg(long, value_name = "N", default_value_t = TableOptions::default().n_h as u64,
+    /// twisted and isotropic yarns [default: 81, more for fibers smoother than roughness 0.05:
+    /// up to 121 at 0.02].
+    #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u64).range(N_H.0..=N_H.1))]
-    pub n_h: u64,
+    pub n_h: Option<u64>,
 
     /// Nodes per half-vector axis for isotropic materials (one φi slice, so finer is cheap).
     #[arg(long, value_name = "N",
@@ -131,15 +135,17 @@ pub fn symmetry_of(material: &Material) -> Symmetry {
     }
 }
 
-/// The table options of the parsed arguments (already within [`TableOptions::validate`]'s
-/// ranges: clap checks them).
-fn options(args: &TabulateArgs) -> TableOptions {
+/// The table options of the parsed arguments for `model` (already within
+/// [`TableOptions::validate`]'s ranges: clap checks them); `--n-h` defaults to
+/// [`TableOptions::for_model`]'s.
+fn options(args: &TabulateArgs, model: &Model) -> TableOptions {
+    let auto = TableOptions::for_model(model);
     TableOptions {
         n_theta: args.n_theta as usize,
         n_phi: args.n_phi as usize,
-        n_h: args.n_h as usize,
+        n_h: args.n_h.map_or(auto.n_h, |n| n as usize),
         n_h_isotropic: args.n_h_isotropic as usize,
-        ..TableOptions::default()
+        ..auto
     }
 }
 
@@ -200,7 +206,7 @@ pub fn build_table(material: &Material, model: &Model, options: &TableOptions) -
 pub fn run(args: &TabulateArgs) -> Result<()> {
     check_output_dirs(std::slice::from_ref(&args.output))?;
     let (material, model) = args.material.load_and_build()?;
-    let options = options(args);
+    let options = options(args, &model);
     let built = build_table(&material, &model, &options)?;
     // The CLI's atomic writer rather than `Table::save`: the same temporary file and rename, and
     // a device such as /dev/null is written, not replaced.

@@ -15,10 +15,10 @@
 //!
 //! | option | meaning | default |
 //! |---|---|---|
-//! | `n_theta` | nodes in `θ_i`, uniform on `[0, theta_max]` | 30 |
+//! | `n_theta` | nodes in `θ_i` on `[0, theta_max]`, graded toward grazing | 30 |
 //! | `theta_max_deg` | last `θ_i` node (beyond: clamped) | 87° |
 //! | `n_phi` | nodes in `φ_i` on `[0, π/2]` (anisotropic materials) | 19 |
-//! | `n_h` | nodes per half-vector slope axis, `t ∈ [−1, 1]` (anisotropic) | 81 |
+//! | `n_h` | nodes per half-vector slope axis, `t ∈ [−1, 1]` (anisotropic) | 81 ([`TableOptions::for_model`]: up to 121 for smooth fibers) |
 //! | `n_h_isotropic` | the same for isotropic materials | 161 |
 //! | `azimuth_nodes` | fiber azimuths per period for twisted/isotropic yarns | 180 |
 
@@ -87,7 +87,38 @@ impl Default for TableOptions {
     }
 }
 
+/// Fibers whose half-vector lobe (the Beckmann `α = 2σ_h/τ`) is at least this wide get the default
+/// `n_h` ([`TableOptions::for_model`]): roughness 0.05 and up, every preset.
+pub const N_H_WIDE_LOBE: f64 = 0.1;
+/// Fibers with a lobe this narrow or narrower (roughness 0.02) get [`N_H_SMOOTH`] nodes.
+pub const N_H_NARROW_LOBE: f64 = 0.04;
+/// `n_h` for the smoothest fibers: the most a mirror table holds under 64 MiB (30 × 19 × 121²
+/// values and their sampling densities, 63 MiB).
+pub const N_H_SMOOTH: usize = 121;
+
 impl TableOptions {
+    /// The default options, with the half-vector grid refined for smooth fibers: `n_h` grows
+    /// linearly in `1/w` (`w` the fiber's half-vector lobe width: `α = 2σ_h/τ`, or the
+    /// diffraction width `2/(kτ)` where the full model's is wider) from 81 at `w ≥ 0.1`
+    /// (roughness 0.05) to 121 at `w ≤ 0.04` (roughness 0.02).
+    ///
+    /// The yarn ridges are as narrow as the fiber lobe, and bilinear interpolation across them
+    /// needs a few nodes per lobe width: a sateen at roughness 0.02 has a 99th-percentile error
+    /// of 3.9 % with 81 nodes, 3.0 % with 101 and 2.0 % with 121 (RMS 0.93, 0.64, 0.50 %), at
+    /// (121/81)² ≈ 2.2× the build time. The presets (roughness ≥ 0.05) keep 81.
+    pub fn for_model(model: &Model) -> TableOptions {
+        let w = model.fiber().lobe_width(1.0);
+        let (n0, n1) = (TableOptions::default().n_h as f64, N_H_SMOOTH as f64);
+        let x =
+            ((N_H_WIDE_LOBE / w - 1.0) / (N_H_WIDE_LOBE / N_H_NARROW_LOBE - 1.0)).clamp(0.0, 1.0);
+        // Odd, so the axes t = 0 (the ridges) stay nodes.
+        let n_h = ((n0 - 1.0 + x * (n1 - n0)) / 2.0).round() as usize * 2 + 1;
+        TableOptions {
+            n_h: n_h.clamp(n0 as usize, N_H_SMOOTH),
+            ..TableOptions::default()
+        }
+    }
+
     /// Checks the options.
     ///
     /// # Errors
@@ -712,6 +743,35 @@ impl Bsdf for Table {
 mod tests {
     use super::*;
     use crate::table::report::SplitMix;
+
+    #[test]
+    fn smooth_fibers_get_finer_half_vector_grids() {
+        let n_h = |roughness: f64| {
+            let m = crate::material::Material::from_toml_str(
+                &format!("[fiber]\neta = 1.5\nroughness = {roughness}\ndiffuse = 0.1\n"),
+                "test",
+            )
+            .unwrap();
+            TableOptions::for_model(&m.build(550.0).unwrap()).n_h
+        };
+        assert_eq!(n_h(0.3), 81);
+        assert_eq!(n_h(0.05), 81);
+        assert_eq!(n_h(0.02), N_H_SMOOTH);
+        assert_eq!(n_h(0.005), N_H_SMOOTH);
+        let mid = n_h(0.03);
+        assert!(mid > 81 && mid < N_H_SMOOTH && mid % 2 == 1, "{mid}");
+        let mut prev = 0;
+        for k in 0..=12 {
+            let n = n_h(0.01 + 0.005 * (k * k) as f64);
+            assert!(n % 2 == 1, "n_h {n} is even");
+            assert!(prev == 0 || n <= prev, "n_h not decreasing with roughness");
+            prev = n;
+        }
+        // Everything else is the default.
+        let m = crate::material::Material::preset("silk").unwrap();
+        let o = TableOptions::for_model(&m.build(550.0).unwrap());
+        assert_eq!(o, TableOptions::default());
+    }
 
     /// Every node a valid query interpolates is one `fill` evaluates: random folded queries,
     /// grazing ones over-represented, on coarse and fine grids of both symmetries.
