@@ -11,18 +11,17 @@
 //! (marginal CDF, conditional CDF, the table's values) and a `pdf` to two CDF entries. The
 //! density is read off the CDFs themselves (row probability × cell probability over the cell's
 //! area), so it is exactly what the CDFs draw: `p(v) = p_k(t(v)) / |∂ω/∂t|`, with the Jacobian of
-//! the actual `s`. The per-cell densities the CDFs are cumulated from are kept for the file only. Directions a node's cells map below the horizon for the actual `s` are rejected (`sample`
-//! returns `None`); that lost mass, significant only at grazing incidence, is the gap between
-//! `∫ pdf dω` and 1.
+//! the actual `s`. The per-cell densities the CDFs are cumulated from are kept for the file
+//! only. Directions a node's cells map below the horizon for the actual `s` are rejected
+//! (`sample` returns `None`); that lost mass, significant only at grazing incidence, is the gap
+//! between `∫ pdf dω` and 1.
 
 use super::grid::{jacobian, t_of_slope};
-use super::Table;
+use super::{Incidence, Table};
 use crate::math::Vec3;
 
 /// Fraction of each node's sampling mass spread uniformly over solid angle.
 const DEFENSIVE: f64 = 0.01;
-
-use super::Incidence as Located;
 
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Sampler {
@@ -161,7 +160,7 @@ impl Sampler {
     /// The incidence node nearest folded `s` (in the axes' graded coordinates), whose density
     /// `sample` draws from and `pdf` reports, and the located `(iθ, wθ, iφ, wφ)` for evaluation.
     #[inline]
-    fn node(table: &Table, s: Vec3) -> (usize, Located) {
+    fn node(table: &Table, s: Vec3) -> (usize, Incidence) {
         let theta_i = s.z.clamp(-1.0, 1.0).acos();
         let phi_i = s.y.atan2(s.x);
         let (it, wt) = table.theta.locate(theta_i);
