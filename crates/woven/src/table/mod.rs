@@ -440,7 +440,7 @@ impl Table {
 }
 
 /// A located incidence: `(iθ, wθ, iφ, wφ)`, each node index with the weight of the next node.
-type Incidence = (usize, f64, usize, f64);
+pub(crate) type Incidence = (usize, f64, usize, f64);
 
 /// A located coordinate on one axis: `(k, w)`.
 type AxisPos = (usize, f64);
@@ -454,14 +454,26 @@ fn locate_query(
     s: Vec3,
     v: Vec3,
 ) -> (Incidence, AxisPos, AxisPos) {
-    let theta_i = s.z.clamp(-1.0, 1.0).acos();
-    let phi_i = s.y.atan2(s.x);
+    let (y, x) = locate_half_vector(t, s, v);
+    (locate_incidence(theta, phi, s), y, x)
+}
+
+/// The located incidence of a folded light direction `s`.
+#[inline]
+pub(crate) fn locate_incidence(theta: &Axis, phi: &Axis, s: Vec3) -> Incidence {
+    let (it, wt) = theta.locate(s.z.clamp(-1.0, 1.0).acos());
+    let (ip, wp) = phi.locate(s.y.atan2(s.x));
+    (it, wt, ip, wp)
+}
+
+/// The located half-vector slopes `(t_y, t_x)` of `(s, v)`.
+#[inline]
+fn locate_half_vector(t: &Axis, s: Vec3, v: Vec3) -> (AxisPos, AxisPos) {
     let h = s + v;
-    let (it, wt) = theta.locate(theta_i);
-    let (ip, wp) = phi.locate(phi_i);
-    let y = t.locate(t_of_slope(h.y / h.z));
-    let x = t.locate(t_of_slope(h.x / h.z));
-    ((it, wt, ip, wp), y, x)
+    (
+        t.locate(t_of_slope(h.y / h.z)),
+        t.locate(t_of_slope(h.x / h.z)),
+    )
 }
 
 /// One fiber azimuth `φ_a` of the twist average for a fixed light direction: the rotation into
@@ -483,9 +495,6 @@ impl Azimuth {
         let r = Vec3::new(cos * s.x + sin * s.y, -sin * s.x + cos * s.y, s.z);
         let (flip_x, flip_y) = (r.x < 0.0, r.y < 0.0);
         let s = Vec3::new(r.x.abs(), r.y.abs(), r.z);
-        let theta_i = s.z.clamp(-1.0, 1.0).acos();
-        let (it, wt) = f0.theta.locate(theta_i);
-        let (ip, wp) = f0.phi.locate(s.y.atan2(s.x));
         Azimuth {
             weight,
             cos,
@@ -493,7 +502,7 @@ impl Azimuth {
             flip_x,
             flip_y,
             s,
-            incidence: (it, wt, ip, wp),
+            incidence: locate_incidence(&f0.theta, &f0.phi, s),
         }
     }
 
@@ -510,9 +519,7 @@ impl Azimuth {
             if self.flip_y { -y } else { y },
             v.z,
         );
-        let h = self.s + v;
-        let ty = f0.t.locate(t_of_slope(h.y / h.z));
-        let tx = f0.t.locate(t_of_slope(h.x / h.z));
+        let (ty, tx) = locate_half_vector(&f0.t, self.s, v);
         self.weight * f0.eval_at(self.incidence, ty, tx, self.s.z, v.z)
     }
 }

@@ -17,7 +17,7 @@
 //! between `∫ pdf dω` and 1.
 
 use super::grid::{jacobian, t_of_slope};
-use super::{Incidence, Table};
+use super::{locate_incidence, Incidence, Table};
 use crate::math::Vec3;
 
 /// Fraction of each node's sampling mass spread uniformly over solid angle.
@@ -161,10 +161,7 @@ impl Sampler {
     /// `sample` draws from and `pdf` reports, and the located `(iθ, wθ, iφ, wφ)` for evaluation.
     #[inline]
     fn node(table: &Table, s: Vec3) -> (usize, Incidence) {
-        let theta_i = s.z.clamp(-1.0, 1.0).acos();
-        let phi_i = s.y.atan2(s.x);
-        let (it, wt) = table.theta.locate(theta_i);
-        let (ip, wp) = table.phi.locate(phi_i);
+        let (it, wt, ip, wp) = locate_incidence(&table.theta, &table.phi, s);
         let np = table.phi.n;
         let dp = usize::from(np > 1 && wp >= 0.5);
         let dt = usize::from(wt >= 0.5);
