@@ -28,9 +28,8 @@ use std::path::Path;
 /// The file's magic bytes.
 pub const MAGIC: &[u8; 8] = b"WOVENTAB";
 /// The format version this build writes and reads.
-pub const VERSION: u32 = 1;
-/// Largest accepted value count (a 64 MiB payload is 16 Mi values; this leaves room).
-const MAX_VALUES: u64 = 1 << 28;
+pub const VERSION: u32 = 2;
+use super::MAX_VALUES;
 
 fn format_error(origin: &str, message: impl Into<String>) -> Error {
     Error::Parse {
@@ -109,7 +108,13 @@ impl Table {
         let version = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
         if version != VERSION {
             return Err(err(&format!(
-                "format version {version}, this build reads version {VERSION}"
+                "format version {version}, this build reads version {VERSION}{}",
+                if version < VERSION {
+                    " (the file was written by an earlier woven; build it again with \
+                     `woven tabulate`)"
+                } else {
+                    ""
+                }
             )));
         }
         let hlen = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
@@ -188,7 +193,8 @@ impl Table {
         if !(0.0..std::f64::consts::FRAC_PI_2).contains(&theta_max) {
             return Err(err("theta_max out of range"));
         }
-        let expected = (n_theta * n_phi * n_h * n_h) as u64;
+        // Two halves (light and view).
+        let expected = 2 * (n_theta * n_phi * n_h * n_h) as u64;
         if expected != count {
             return Err(err(&format!(
                 "{count} values, but the grid needs {expected}"
