@@ -1,7 +1,7 @@
 //! Building a [`Table`]: exact evaluation at the nodes each half reads, and the twist average of
 //! twisted and isotropic yarns applied to an intermediate table.
 
-use super::eval::{locate_axis, locate_half_vector, Incidence};
+use super::eval::{locate_axis, Incidence, Query};
 use super::grid::{h_of_slopes, v_of_slopes, Axis};
 use super::{
     value_count, Half, Symmetry, Table, TableOptions, F0_PHI_NODES, HORIZON_LIFT_DEG, MAX_VALUES,
@@ -182,8 +182,7 @@ impl Azimuth {
         );
         let (s, v) = self.half.join(self.axis, o);
         if Half::of(s, v) == self.half {
-            let (ty, tx) = locate_half_vector(&f0.t, self.axis, o);
-            self.weight * f0.eval_at(self.half, self.located, ty, tx)
+            self.weight * f0.eval_at(self.half, self.located, Query::new(self.axis, o))
         } else {
             self.weight * f0.eval(s, v)
         }

@@ -148,6 +148,8 @@ pub struct Table {
     axis_dirs: Vec<Vec3>,
     /// The slope `p` of each half-vector node.
     slopes: Vec<f64>,
+    /// `(cos φ, sin φ)` of each azimuth node.
+    phi_cs: Vec<(f64, f64)>,
     /// The material (TOML) and wavelength the table was built from.
     material_toml: String,
     wavelength_nm: f64,
@@ -172,7 +174,14 @@ impl Table {
             .map(|r| Vec3::from_spherical(theta.node(r / phi.n), phi.node(r % phi.n)))
             .collect();
         let slopes = (0..t.n).map(|k| slope_of_t(t.node(k))).collect();
+        let phi_cs = (0..phi.n)
+            .map(|k| {
+                let (s, c) = phi.node(k).sin_cos();
+                (c, s)
+            })
+            .collect();
         let mut table = Table {
+            phi_cs,
             symmetry,
             theta,
             phi,
