@@ -118,7 +118,6 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt;
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 /// Number of `θ_h` bins.
 pub const THETA_H_RES: usize = 90;
@@ -398,33 +397,31 @@ impl MerlBrdf {
         Self::from_values(&mono)
     }
 
-    /// As [`from_fn`](Self::from_fn), on `threads` scoped threads (0: one per available core).
+    /// As [`from_fn`](Self::from_fn), on `threads` worker threads (0: one per available core).
     ///
     /// # Errors
-    /// As [`from_fn`](Self::from_fn).
+    /// As [`from_fn`](Self::from_fn), or [`Error::InvalidParameter`] if no thread pool of that
+    /// size can be made.
     ///
     /// # Panics
     /// If `f` panics.
     pub fn from_fn_threaded(f: impl Fn(Vec3, Vec3) -> f64 + Sync, threads: usize) -> Result<Self> {
-        let threads = match threads {
-            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-            n => n,
-        };
+        use rayon::prelude::*;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| Error::invalid("threads", threads, format!("a usable count ({e})")))?;
         let mut mono = vec![BELOW_HORIZON_VALUE; MERL_BINS];
-        // θ_h slices, handed out one at a time: their costs differ (more bins lie below the
-        // horizon at large θ_h), so a fixed split would leave threads idle.
-        let slices = Mutex::new(mono.chunks_mut(SLICE).enumerate());
-        std::thread::scope(|scope| {
-            for _ in 0..threads.min(THETA_H_RES) {
-                scope.spawn(|| loop {
-                    // A poisoned lock means another thread panicked; the scope re-raises that.
-                    let next = slices.lock().unwrap_or_else(|e| e.into_inner()).next();
-                    let Some((k, slice)) = next else { break };
+        // θ_h slices, one task each: their costs differ (more bins lie below the horizon at
+        // large θ_h), so rayon balances them.
+        pool.install(|| {
+            mono.par_chunks_mut(SLICE)
+                .enumerate()
+                .for_each(|(k, slice)| {
                     for (j, out) in slice.iter_mut().enumerate() {
                         *out = eval_bin(k * SLICE + j, &f);
                     }
-                });
-            }
+                })
         });
         Self::from_values(&mono)
     }
