@@ -9,9 +9,6 @@ use crate::math::Vec3;
 /// A located axis direction: `(iθ, wθ, iφ, wφ)`, each node index with the weight of the next node.
 pub(crate) type Incidence = (usize, f64, usize, f64);
 
-/// A located coordinate on one axis: `(k, w)`.
-#[allow(dead_code)]
-pub(crate) type AxisPos = (usize, f64);
 
 /// The symmetry fold that brings an axis direction into the table's domain, to apply to both
 /// directions of a pair and to undo on a sampled one.
@@ -214,16 +211,6 @@ pub(crate) fn locate_axis(theta: &Axis, phi: &Axis, d: Vec3) -> Incidence {
     let (it, wt) = theta.locate(d.z.clamp(-1.0, 1.0).acos());
     let (ip, wp) = phi.locate(d.y.atan2(d.x));
     (it, wt, ip, wp)
-}
-
-/// The located half-vector slopes `(t_y, t_x)` of a pair.
-#[inline]
-pub(crate) fn locate_half_vector(t: &Axis, a: Vec3, b: Vec3) -> (AxisPos, AxisPos) {
-    let h = a + b;
-    (
-        t.locate(t_of_slope(h.y / h.z)),
-        t.locate(t_of_slope(h.x / h.z)),
-    )
 }
 
 impl Bsdf for Table {
