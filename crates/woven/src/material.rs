@@ -3,7 +3,7 @@
 //! ```toml
 //! name = "my-fabric"            # optional
 //! [fiber]
-//! model = "rough"               # "rough" (MODEL.md §1.3, default) | "htsg" (§1.4)
+//! model = "rough"               # "rough" (docs/spec.md §1.3, default) | "htsg" (§1.4)
 //! eta = 1.6                     # or: eta = { cauchy_a = 1.55, cauchy_b_nm2 = 4000.0 }
 //! roughness = 0.05              # σ_h/τ, for "rough"
 //! sigma_h_um = 0.2              # for "htsg" (instead of roughness)
@@ -140,7 +140,7 @@ impl Material {
         Ok(crate::Model::new(structure))
     }
 
-    /// The names of the built-in presets (MODEL.md §5), usable wherever a material file is.
+    /// The names of the built-in presets (docs/spec.md §5), usable wherever a material file is.
     pub fn preset_names() -> &'static [&'static str] {
         &["polyester-sateen", "belt-cloth", "silk"]
     }

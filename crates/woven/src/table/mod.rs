@@ -1,6 +1,6 @@
 //! Tabulated cloth BRDFs: fast evaluation and importance sampling for renderers.
 //!
-//! The exact model (MODEL.md §2) nests up to four integrals; a [`Table`] stores it on a grid in
+//! The exact model (docs/spec.md §2) nests up to four integrals; a [`Table`] stores it on a grid in
 //! incidence `(θ_i, φ_i)` and warped half-vector coordinates `(t_x, t_y)` (see [`grid`]) and
 //! interpolates quadrilinearly. The material's symmetries shrink the grid: every woven material is
 //! invariant under the mirrors `x → −x` and `y → −y` (profiles are symmetric, twist densities even),
