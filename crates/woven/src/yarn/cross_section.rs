@@ -49,7 +49,7 @@ pub const COARSE_PANELS: f64 = 2.5;
 impl<'a> CrossSection<'a> {
     /// Prepares the cross-section of fibers along `e_f = (cos φ_a, sin φ_a, 0)` for light from `s`
     /// and a viewer at `v` (both with positive `z`), sampling the facet lobe on panels
-    /// `panel_widths` highlight widths wide ([`FINE_PANELS`] or [`COARSE_PANELS`]).
+    /// `panel_widths` highlight widths wide (`FINE_PANELS` or `COARSE_PANELS`).
     pub fn new(fiber: &'a Fiber, s: Vec3, v: Vec3, phi_a: f64, panel_widths: f64) -> Self {
         let (sp, cp) = phi_a.sin_cos();
         let e_u = Vec3::new(-sp, cp, 0.0);
