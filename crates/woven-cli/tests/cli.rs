@@ -886,6 +886,8 @@ fn tabulate_report_prints_the_accuracy() {
             "report lacks `{needle}`:\n{stdout}"
         );
     }
+    // It ran with --report: no hint to add --report.
+    assert!(!stdout.contains("--report checks"), "{stdout}");
     // A coarse grid of a smooth lobe: a few per cent, not wildly off.
     let rms: f64 = stdout
         .split("relative RMS error ")
@@ -1012,8 +1014,9 @@ fn export_merl_of_a_flat_fiber_round_trips() {
     let dir = tempfile::tempdir().unwrap();
     let (_material_dir, material) = material_file(FLAT);
     let output = dir.path().join("flat.binary");
+    // No --format: merl is the default.
     woven()
-        .args(["export", "--format", "merl", "-m"])
+        .args(["export", "-m"])
         .arg(&material)
         .arg("-o")
         .arg(&output)
@@ -1072,7 +1075,9 @@ fn export_refuses_anisotropic_materials() {
         .assert()
         .code(1)
         .stderr(predicate::str::contains("polyester-sateen"))
-        .stderr(predicate::str::contains("isotropic"));
+        .stderr(predicate::str::contains("no half-vector azimuth"))
+        .stderr(predicate::str::contains("woven tabulate"))
+        .stderr(predicate::str::contains("isotropic = true"));
     assert!(!output.exists());
     woven()
         .args(["export", "-m", "silk", "--format", "obj", "-o"])
