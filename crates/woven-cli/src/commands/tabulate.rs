@@ -222,7 +222,8 @@ pub fn run(args: &TabulateArgs) -> Result<()> {
             &built,
             &options,
             &args.output,
-            bytes
+            bytes,
+            args.report
         )
     );
     if args.report {
@@ -282,6 +283,7 @@ fn summary(
     options: &TableOptions,
     path: &Path,
     bytes: u64,
+    report: bool,
 ) -> String {
     let table = &built.table;
     let (n_theta, n_phi, n_h) = table.dims();
@@ -310,8 +312,7 @@ fn summary(
     };
     format!(
         "Tabulated `{name}` at {} nm into {} ({}) in {} on {threads} thread{}. Symmetry: \
-         {symmetry} = {} values (f32).{method} Evaluate it with `woven eval --table {}`; \
-         --report checks it against the exact model.",
+         {symmetry} = {} values (f32).{method} Evaluate it with `woven eval --table {}`{}",
         short(table.wavelength_nm()),
         path.display(),
         megabytes(bytes),
@@ -319,6 +320,11 @@ fn summary(
         if threads == 1 { "" } else { "s" },
         group_digits(values),
         path.display(),
+        if report {
+            "."
+        } else {
+            "; --report checks it against the exact model."
+        },
     )
 }
 
