@@ -2,6 +2,7 @@
 
 use crate::args::{parse_degrees, parse_finite, MaterialArgs};
 use crate::io;
+use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
 use rayon::prelude::*;
@@ -17,7 +18,8 @@ hemisphere — the fraction of the light arriving from polar angle θi that the 
 for a list of incidence angles.
 
 Prints CSV with the header `theta_i_deg,albedo` (standard output unless --output is given). \
-In the `paper` normalization the albedo never exceeds 1.",
+In the `paper` normalization the albedo never exceeds 1. Twisted and isotropic yarns take a \
+second or more per angle; a progress bar then shows on standard error when it is a terminal.",
     after_help = "Examples:
   woven albedo --material polyester.toml
   woven albedo -m polyester.toml --theta-deg 0:89:1 --output albedo.csv
@@ -61,12 +63,19 @@ fn parse_theta_list(value: &str) -> Result<ThetaList, String> {
 pub fn run(args: &AlbedoArgs) -> Result<()> {
     let model = args.material.build()?;
     let phi_i = args.phi_deg.to_radians();
+    // One tick per finished angle: a twisted or isotropic yarn takes a second or more each.
+    let bar = Progress::new(Some(args.theta_deg.0.len() as u64), "angles", true);
     let albedos: Vec<f64> = args
         .theta_deg
         .0
         .par_iter()
-        .map(|theta_deg| model.albedo(theta_deg.to_radians(), phi_i))
+        .map(|theta_deg| {
+            let albedo = model.albedo(theta_deg.to_radians(), phi_i);
+            bar.inc(1);
+            albedo
+        })
         .collect();
+    bar.finish();
     io::write_output(args.output.as_deref(), |out| {
         write_table(out, &args.theta_deg.0, &albedos)
     })
