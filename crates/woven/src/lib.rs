@@ -103,4 +103,21 @@ mod readme {
         }
         assert!(names.len() >= 2, "expected the examples, found {names:?}");
     }
+
+    /// The README's material file (its ```toml block) parses and builds.
+    #[cfg(feature = "serde")]
+    #[test]
+    fn readme_material_file_parses() {
+        let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let readme = std::fs::read_to_string(crate_dir.join("../../README.md")).unwrap();
+        let start = readme
+            .find("```toml\n")
+            .expect("a ```toml block in README.md")
+            + 8;
+        let len = readme[start..].find("```").unwrap();
+        let material =
+            crate::material::Material::from_toml_str(&readme[start..start + len], "README.md")
+                .unwrap_or_else(|e| panic!("README.md's material file: {e}"));
+        material.build(550.0).unwrap();
+    }
 }
