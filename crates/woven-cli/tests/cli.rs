@@ -790,7 +790,7 @@ fn small_table(dir: &Path, extra: &[&str]) -> (PathBuf, String) {
     std::fs::write(&material, FLAT).unwrap();
     let table = dir.join("flat.wtab");
     let assert = woven()
-        .args(["tabulate", "--n-theta", "8", "--n-h-isotropic", "33", "-m"])
+        .args(["tabulate", "--n-theta", "12", "--n-h-isotropic", "33", "-m"])
         .arg(&material)
         .arg("-o")
         .arg(&table)
@@ -805,7 +805,7 @@ fn small_table(dir: &Path, extra: &[&str]) -> (PathBuf, String) {
 fn tabulated_table_evaluates_as_the_library_does() {
     let dir = tempfile::tempdir().unwrap();
     let (path, stdout) = small_table(dir.path(), &[]);
-    for needle in ["isotropic", "two halves", "8 polar × 33²", "17,424 values", "kB", "thread"] {
+    for needle in ["isotropic", "two halves", "12 polar × 33²", "26,136 values", "kB", "thread"] {
         assert!(
             stdout.contains(needle),
             "summary lacks `{needle}`:\n{stdout}"
@@ -813,7 +813,7 @@ fn tabulated_table_evaluates_as_the_library_does() {
     }
     assert!(!stdout.contains("Accuracy"), "{stdout}");
     let table = woven::table::Table::load(&path).unwrap();
-    assert_eq!(table.dims(), (8, 1, 33));
+    assert_eq!(table.dims(), (12, 1, 33));
     assert_eq!(table.wavelength_nm(), 550.0);
     // The material and the table: no temporary file is left.
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
@@ -889,6 +889,8 @@ fn tabulate_report_prints_the_accuracy() {
             "report lacks `{needle}`:\n{stdout}"
         );
     }
+    // It ran with --report: no hint to add --report.
+    assert!(!stdout.contains("--report checks"), "{stdout}");
     // A coarse grid of a smooth lobe: a few per cent, not wildly off, in every band.
     for band in ["≤ 80°", "80°–89°", "89°–90°"] {
         let rms: f64 = stdout
@@ -1017,8 +1019,9 @@ fn export_merl_of_a_flat_fiber_round_trips() {
     let dir = tempfile::tempdir().unwrap();
     let (_material_dir, material) = material_file(FLAT);
     let output = dir.path().join("flat.binary");
+    // No --format: merl is the default.
     woven()
-        .args(["export", "--format", "merl", "-m"])
+        .args(["export", "-m"])
         .arg(&material)
         .arg("-o")
         .arg(&output)
@@ -1077,7 +1080,9 @@ fn export_refuses_anisotropic_materials() {
         .assert()
         .code(1)
         .stderr(predicate::str::contains("polyester-sateen"))
-        .stderr(predicate::str::contains("isotropic"));
+        .stderr(predicate::str::contains("no half-vector azimuth"))
+        .stderr(predicate::str::contains("woven tabulate"))
+        .stderr(predicate::str::contains("isotropic = true"));
     assert!(!output.exists());
     woven()
         .args(["export", "-m", "silk", "--format", "obj", "-o"])

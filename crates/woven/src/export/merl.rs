@@ -345,24 +345,27 @@ pub fn check_isotropic(material: &Material) -> Result<()> {
         Some(name) => format!("material {name:?}"),
         None => "the material".to_string(),
     };
-    let yarns = if yarn.twist_std > 0.0 {
+    let why = if yarn.twist_std > 0.0 {
         format!(
-            "has twisted yarns (twist_std = {} rad), whose fibers spread about yarn axes that still \
-             run along the weft and the warp",
+            "its fibers spread only twist_std = {} rad about yarn axes that run along the weft and \
+             the warp",
             yarn.twist_std
         )
     } else {
-        "has single-orientation yarns, whose fibers run along the weft and the warp".to_string()
+        "its fibers run along its yarns, that is along the weft and the warp".to_string()
     };
     Err(Error::invalid(
         "yarn.isotropic",
         false,
         format!(
-            "an isotropic material for MERL export: {which} {yarns}, so its BRDF depends on the \
-             azimuth φ_h of the half vector relative to the weft, and the MERL layout's three \
-             coordinates (θ_h, θ_d, φ_d) assume a BRDF independent of φ_h; export a table \
-             instead (it keeps the azimuth), or use a material with `isotropic = true` in \
-             [yarn] or a flat fiber (no [yarn] table)"
+            "an isotropic material for MERL export: a MERL file has no half-vector azimuth (its \
+             bins are θ_h, θ_d, φ_d), so only isotropic BRDFs, the same at every azimuth, fit in \
+             it; {which} is anisotropic because {why}, so its highlights move with the azimuth φ_h \
+             of the half vector relative to the weft; instead, build a table with `woven \
+             tabulate` (woven::table::Table in code: it keeps the azimuth, and renderers can \
+             sample it), or make the yarns isotropic with `isotropic = true` in [yarn] (fibers in \
+             every azimuth, as in the silk preset); a flat fiber surface, without [yarn], is \
+             isotropic too"
         ),
     ))
 }

@@ -579,8 +579,8 @@ fn export_check_isotropic() {
 
     // Anisotropic: twisted yarns, single-orientation yarns; the message says why and what to do.
     for (name, reason) in [
-        ("belt-cloth", "twisted yarns"),
-        ("polyester-sateen", "single-orientation yarns"),
+        ("belt-cloth", "twist_std = 0.35 rad"),
+        ("polyester-sateen", "fibers run along its yarns"),
     ] {
         let err = merl::check_isotropic(&Material::preset(name).unwrap()).unwrap_err();
         let Error::InvalidParameter { name: key, .. } = &err else {
@@ -591,9 +591,11 @@ fn export_check_isotropic() {
         for needle in [
             reason,
             name,
+            "no half-vector azimuth",
+            "anisotropic",
             "φ_h",
             "relative to the weft",
-            "table",
+            "woven tabulate",
             "isotropic = true",
             "flat fiber",
         ] {
