@@ -805,7 +805,14 @@ fn small_table(dir: &Path, extra: &[&str]) -> (PathBuf, String) {
 fn tabulated_table_evaluates_as_the_library_does() {
     let dir = tempfile::tempdir().unwrap();
     let (path, stdout) = small_table(dir.path(), &[]);
-    for needle in ["isotropic", "two halves", "12 polar × 33²", "26,136 values", "kB", "thread"] {
+    for needle in [
+        "isotropic",
+        "two halves",
+        "12 polar × 33²",
+        "26,136 values",
+        "kB",
+        "thread",
+    ] {
         assert!(
             stdout.contains(needle),
             "summary lacks `{needle}`:\n{stdout}"

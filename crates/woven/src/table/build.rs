@@ -151,7 +151,11 @@ struct Azimuth {
 impl Azimuth {
     fn new(f0: &Table, half: Half, axis: Vec3, phi_a: f64, weight: f64) -> Azimuth {
         let (sin, cos) = phi_a.sin_cos();
-        let r = Vec3::new(cos * axis.x + sin * axis.y, -sin * axis.x + cos * axis.y, axis.z);
+        let r = Vec3::new(
+            cos * axis.x + sin * axis.y,
+            -sin * axis.x + cos * axis.y,
+            axis.z,
+        );
         let (flip_x, flip_y) = (r.x < 0.0, r.y < 0.0);
         let axis = Vec3::new(r.x.abs(), r.y.abs(), r.z);
         Azimuth {
@@ -274,7 +278,11 @@ fn needed_nodes(theta: Axis, phi: Axis, t: Axis, it: usize, ip: usize) -> Vec<bo
     let step: Vec<f64> = (0..n)
         .map(|k| {
             let lo = if k > 0 { angle(k) - angle(k - 1) } else { 0.0 };
-            let hi = if k + 1 < n { angle(k + 1) - angle(k) } else { 0.0 };
+            let hi = if k + 1 < n {
+                angle(k + 1) - angle(k)
+            } else {
+                0.0
+            };
             lo.abs().max(hi.abs())
         })
         .collect();
@@ -343,7 +351,6 @@ fn fill<R: Fn(Vec3) -> f64>(
         });
     values
 }
-
 
 #[cfg(test)]
 mod tests {

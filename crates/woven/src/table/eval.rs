@@ -9,7 +9,6 @@ use crate::math::Vec3;
 /// A located axis direction: `(iθ, wθ, iφ, wφ)`, each node index with the weight of the next node.
 pub(crate) type Incidence = (usize, f64, usize, f64);
 
-
 /// The symmetry fold that brings an axis direction into the table's domain, to apply to both
 /// directions of a pair and to undo on a sampled one.
 #[derive(Clone, Copy, Debug)]
@@ -189,7 +188,10 @@ impl Query {
         } else {
             (1.0, 0.0)
         };
-        let (lo, hi) = (TURN_FROM_DEG.to_radians().cos(), TURN_FULL_DEG.to_radians().cos());
+        let (lo, hi) = (
+            TURN_FROM_DEG.to_radians().cos(),
+            TURN_FULL_DEG.to_radians().cos(),
+        );
         let x = ((lo - other.z) / (lo - hi)).clamp(0.0, 1.0);
         Query {
             h: axis + other,

@@ -241,8 +241,6 @@ impl Table {
 
     #[inline]
     fn index(&self, half: Half, it: usize, ip: usize, iy: usize, ix: usize) -> usize {
-        half.index() * self.half_len()
-            + ((it * self.phi.n + ip) * self.t.n + iy) * self.t.n
-            + ix
+        half.index() * self.half_len() + ((it * self.phi.n + ip) * self.t.n + iy) * self.t.n + ix
     }
 }

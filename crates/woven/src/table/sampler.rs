@@ -16,8 +16,8 @@
 //! (`sample` returns `None`); that lost mass, significant only at grazing incidence, is the gap
 //! between `∫ pdf dω` and 1.
 
-use super::grid::{jacobian, t_of_slope};
 use super::eval::{locate_axis, Incidence, Query};
+use super::grid::{jacobian, t_of_slope};
 use super::{Half, Table};
 use crate::math::Vec3;
 

@@ -653,10 +653,18 @@ fn merl_export_of_silk_agrees_with_the_exact_model() {
             } else {
                 2
             };
-            Some((band, d.s.z * d.v.z, exported.value(i)[0], model.eval(d.s, d.v)))
+            Some((
+                band,
+                d.s.z * d.v.z,
+                exported.value(i)[0],
+                model.eval(d.s, d.v),
+            ))
         })
         .collect();
-    let peak = rows.iter().map(|r| r.1 * r.3).fold(table.peak_cosine_weighted(), f64::max);
+    let peak = rows
+        .iter()
+        .map(|r| r.1 * r.3)
+        .fold(table.peak_cosine_weighted(), f64::max);
     for band in 0..3 {
         let (mut num, mut den, mut worst) = (0.0, 0.0, 0.0f64);
         let mut rel: Vec<f64> = Vec::new();

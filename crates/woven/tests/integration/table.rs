@@ -374,12 +374,21 @@ fn assert_horizon_targets(name: &str, model: &Model, t: &Table, per_band: usize)
         );
     }
     let (bulk, grazing) = (r.bands[0], r.bands[1]);
-    assert!(bulk.weighted_rel_rms <= 0.01 && bulk.p99_rel <= 0.03, "{name}: {bulk:?}");
-    assert!(grazing.weighted_rel_rms <= 0.02 && grazing.p99_rel <= 0.10, "{name}: {grazing:?}");
+    assert!(
+        bulk.weighted_rel_rms <= 0.01 && bulk.p99_rel <= 0.03,
+        "{name}: {bulk:?}"
+    );
+    assert!(
+        grazing.weighted_rel_rms <= 0.02 && grazing.p99_rel <= 0.10,
+        "{name}: {grazing:?}"
+    );
     assert!(r.max_peak_rel() <= 0.01, "{name}: {r:?}");
     let worst = sampling_weight_spread(t, 4000);
     println!("  sampling: largest weight / median weight {worst:.2}");
-    assert!(worst <= 10.0, "{name}: a sampling weight {worst:.1}× its median");
+    assert!(
+        worst <= 10.0,
+        "{name}: a sampling weight {worst:.1}× its median"
+    );
 }
 
 /// The largest ratio, over incidences from normal to 89.9° (10 polar angles × 5 azimuths), of
@@ -419,7 +428,10 @@ fn table_accuracy_at_default_grid() {
     // WOVEN_TABLE_MATERIALS=silk,belt-cloth checks only those.
     let only = std::env::var("WOVEN_TABLE_MATERIALS").ok();
     for name in MATERIALS.iter().copied().chain(["smooth-sateen"]) {
-        if only.as_ref().is_some_and(|o| !o.split(',').any(|x| x == name)) {
+        if only
+            .as_ref()
+            .is_some_and(|o| !o.split(',').any(|x| x == name))
+        {
             continue;
         }
         let m = material(name);
@@ -453,7 +465,10 @@ fn grazing_pairs_are_never_amplified() {
         rng.uniform();
         for &(band, s, v) in pairs.iter().filter(|p| p.0 > 0) {
             let (f, e) = (t.eval(s, v), model.eval(s, v));
-            assert!(f.is_finite() && f >= 0.0 && f <= largest * (1.0 + 1e-6), "{name}: {f}");
+            assert!(
+                f.is_finite() && f >= 0.0 && f <= largest * (1.0 + 1e-6),
+                "{name}: {f}"
+            );
             // Small grids are coarse, but never far off where it matters.
             let c = s.z * v.z;
             assert!(
