@@ -5,6 +5,7 @@
 #![allow(missing_docs)]
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use rayon::prelude::*;
 use woven::bsdf::Bsdf;
 use woven::material::Material;
 use woven::table::report::SplitMix;
@@ -13,20 +14,9 @@ use woven::Vec3;
 
 const BATCH: usize = 1 << 20;
 
-fn threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
-}
-
-/// Splits `0..n` over all cores and sums `f` over each part.
-fn parallel_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
-    let t = threads();
-    std::thread::scope(|scope| {
-        let f = &f;
-        let handles: Vec<_> = (0..t)
-            .map(|k| scope.spawn(move || (k * n / t..(k + 1) * n / t).map(f).sum::<f64>()))
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).sum()
-    })
+/// Sums `f` over `0..n` on all cores.
+fn parallel_sum(n: usize, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {
+    (0..n).into_par_iter().with_min_len(4096).map(f).sum()
 }
 
 fn bench_table(c: &mut Criterion) {
