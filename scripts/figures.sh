@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# The README's speed and table figures, from one run on the machine at hand (about 15 minutes on
+# two idle cores). Prints each figure with the command behind it; nothing is written outside
+# target/ and $OUT (default: a temporary folder).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+OUT=${OUT:-$(mktemp -d)}
+export CARGO_TERM_COLOR=never
+
+echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo), load $(cut -d' ' -f1-3 /proc/loadavg)"
+cargo build --release --locked -p woven-cli -q
+woven=target/release/woven
+
+echo
+echo "== criterion: cargo bench -p woven (fiber, cloth, table) and -p woven-cli (eval)"
+cargo bench --locked -p woven -p woven-cli 2>&1 | grep -E "^[a-z_]+/|time:|thrpt:" | tee "$OUT/bench.txt"
+
+echo
+echo "== tables: woven tabulate -m M -o M.wtab --report (wall time, file size, accuracy by band)"
+smooth="$OUT/smooth-sateen.toml"
+$woven materials --show polyester-sateen | sed 's/^roughness = 0.05/roughness = 0.02/' > "$smooth"
+grep -q '^roughness = 0.02' "$smooth"
+for m in polyester-sateen belt-cloth silk "$smooth"; do
+  name=$(basename "$m" .toml)
+  TIMEFORMAT="   build+report: %R s wall, %U s user"
+  time $woven tabulate -m "$m" -o "$OUT/$name.wtab" --report
+  echo
+done
+
+echo "== load: woven eval --table on 10^6 rows, and the exact belt cloth on 10^3 rows"
+python3 - "$OUT/dirs.csv" <<'PY'
+import math, random, sys
+random.seed(1)
+with open(sys.argv[1], "w") as f:
+    f.write("theta_i,phi_i,theta_r,phi_r\n")
+    for _ in range(10**6):
+        f.write("%.6f,%.6f,%.6f,%.6f\n" % (math.acos(random.random()), 2 * math.pi * random.random(),
+                                          math.acos(random.random()), 2 * math.pi * random.random()))
+PY
+TIMEFORMAT="   eval --table sateen, 10^6 rows: %R s wall"
+time $woven eval --table "$OUT/polyester-sateen.wtab" --input "$OUT/dirs.csv" -o "$OUT/t.csv"
+head -1001 "$OUT/dirs.csv" > "$OUT/dirs1k.csv"
+TIMEFORMAT="   eval exact belt-cloth, 10^3 rows: %R s wall, %U s user"
+time $woven eval -m belt-cloth --input "$OUT/dirs1k.csv" -o "$OUT/b.csv"
+TIMEFORMAT="   eval exact silk, 10^3 rows: %R s wall, %U s user"
+time $woven eval -m silk --input "$OUT/dirs1k.csv" -o "$OUT/s.csv"
+TIMEFORMAT="   bare woven (the default job): %R s wall"
+(cd "$OUT" && time "$OLDPWD/$woven" > /dev/null)
+echo "results in $OUT"
