@@ -25,6 +25,7 @@
 mod albedo;
 pub mod bsdf;
 pub mod cloth;
+pub mod directions;
 pub mod error;
 pub mod export;
 pub mod fiber;
