@@ -71,3 +71,86 @@ pub(crate) fn atomic_write(
     }
     Ok(())
 }
+
+/// `bytes` as a size for messages: `16 MiB`, `512 KiB`, or bytes.
+pub(crate) fn human_size(bytes: u64) -> String {
+    if bytes >= 1 << 20 && bytes % (1 << 20) == 0 {
+        format!("{} MiB", bytes >> 20)
+    } else if bytes >= 1 << 10 && bytes % (1 << 10) == 0 {
+        format!("{} KiB", bytes >> 10)
+    } else {
+        format!("{bytes} bytes")
+    }
+}
+
+/// Reads the whole of `path` as UTF-8 text, refusing a file longer than `cap` bytes without
+/// reading more than `cap + 1` (an endless stream such as `/dev/zero` or a pipe stops there).
+/// `what` names the kind of file in the message (`a material file`).
+///
+/// # Errors
+/// [`Error::Io`] naming `path` if it cannot be read or is not UTF-8; [`Error::Parse`] naming
+/// `path`, the limit and `what` if it is longer than `cap`.
+pub(crate) fn read_text_capped(path: &Path, cap: u64, what: &str) -> Result<String> {
+    use std::io::Read;
+    let io_error = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io_error)?;
+    let mut bytes = Vec::new();
+    file.take(cap + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io_error)?;
+    if bytes.len() as u64 > cap {
+        return Err(Error::Parse {
+            path: path.display().to_string(),
+            message: format!(
+                "larger than {}, the most {what} may hold (is it the file meant?)",
+                human_size(cap)
+            ),
+        });
+    }
+    String::from_utf8(bytes).map_err(|_| {
+        io_error(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("not UTF-8 text, so not {what}"),
+        ))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_read_as_people_write_them() {
+        assert_eq!(human_size(16 << 20), "16 MiB");
+        assert_eq!(human_size(512 << 10), "512 KiB");
+        assert_eq!(human_size(1000), "1000 bytes");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_endless_stream_stops_at_the_cap() {
+        let e = read_text_capped(Path::new("/dev/zero"), 1 << 16, "a test file").unwrap_err();
+        let m = e.to_string();
+        assert!(
+            m.starts_with("/dev/zero: larger than 64 KiB, the most a test file may hold"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn text_at_the_cap_is_read() {
+        let dir = std::env::temp_dir().join(format!("woven-fsutil-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("f.txt");
+        std::fs::write(&path, "abcd").unwrap();
+        assert_eq!(read_text_capped(&path, 4, "x").unwrap(), "abcd");
+        assert!(read_text_capped(&path, 3, "x").is_err());
+        std::fs::write(&path, [0xff, 0xfe]).unwrap();
+        let m = read_text_capped(&path, 4, "a WIF file").unwrap_err().to_string();
+        assert!(m.contains("f.txt") && m.contains("not UTF-8"), "{m}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

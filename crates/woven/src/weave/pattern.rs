@@ -11,6 +11,11 @@ use std::str::FromStr;
 /// for 2.5·10⁹ cells); real drafts, even whole-cloth WIF files, stay well below it.
 pub const MAX_THREADS: usize = 4096;
 
+/// The longest WIF file [`Pattern::from_wif_path`] reads, in bytes (16 MiB): a full
+/// [`MAX_THREADS`]-square draft with one shaft a thread is under 100 KiB a section; the limit
+/// stops an endless stream (`/dev/zero`, a pipe) from filling memory.
+pub const MAX_WIF_BYTES: u64 = 16 << 20;
+
 /// The names [`Pattern::from_name`] understands, for error messages.
 const VALID_NAMES: &str =
     "one of `plain`, `twill-N/M` (N, M ≥ 1), `satin-N` or `sateen-N` (N ≥ 5, N ≠ 6)";
@@ -300,14 +305,12 @@ impl Pattern {
     /// A pattern from a WIF file; see [`Pattern::from_wif_str`] for what is read.
     ///
     /// # Errors
-    /// [`Error::Io`] when the file cannot be read (or is not UTF-8); otherwise the errors of
-    /// [`Pattern::from_wif_str`], naming the path.
+    /// [`Error::Io`] when the file cannot be read (or is not UTF-8); [`Error::Parse`] when it is
+    /// longer than [`MAX_WIF_BYTES`]; otherwise the errors of [`Pattern::from_wif_str`], naming
+    /// the path.
     pub fn from_wif_path(path: impl AsRef<Path>) -> Result<Pattern> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::fsutil::read_text_capped(path, MAX_WIF_BYTES, "a WIF file")?;
         Pattern::from_wif_str(&text, &path.display().to_string())
     }
 
