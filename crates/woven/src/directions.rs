@@ -313,7 +313,9 @@ mod tests {
     fn an_endless_line_is_refused_in_bounded_memory() {
         // /dev/zero as an input: zero bytes, never a newline.
         let zeros = io::repeat(0).take(1 << 30);
-        let e = DirectionReader::new(zeros, "/dev/zero").unwrap_err().to_string();
+        let e = DirectionReader::new(zeros, "/dev/zero")
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("/dev/zero") && e.contains("longer than 4096 bytes"),
             "{e}"

@@ -8,7 +8,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Writes `path` atomically: `write` fills a new temporary file in the same folder, which is
 /// synced and renamed over `path`, so `path` never holds a partial file; on failure the temporary
 /// file is removed. A `path` that exists and is not a regular file (a device such as `/dev/null`,
-/// a pipe) is written in place instead — renaming over it would replace the device.
+/// a pipe) is written in place instead — renaming over it would replace the device. A read-only
+/// `path` is refused. A library cannot catch signals: a process killed while writing leaves the
+/// temporary file `.NAME.PID-N.tmp` beside `path`.
 ///
 /// # Errors
 /// [`Error::Io`] naming `path`.
@@ -30,6 +32,13 @@ pub(crate) fn atomic_write(
                 .and_then(|()| file.flush())
                 .map_err(io_error);
         }
+    }
+    // A read-only file is refused, not replaced: the rename needs only the folder writable.
+    if std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
+        return Err(io_error(io::Error::new(
+            io::ErrorKind::PermissionDenied,
+            "the file is read-only: refusing to replace it (make it writable, or write elsewhere)",
+        )));
     }
     let Some(name) = path.file_name() else {
         return Err(io_error(io::Error::new(
@@ -149,7 +158,9 @@ mod tests {
         assert_eq!(read_text_capped(&path, 4, "x").unwrap(), "abcd");
         assert!(read_text_capped(&path, 3, "x").is_err());
         std::fs::write(&path, [0xff, 0xfe]).unwrap();
-        let m = read_text_capped(&path, 4, "a WIF file").unwrap_err().to_string();
+        let m = read_text_capped(&path, 4, "a WIF file")
+            .unwrap_err()
+            .to_string();
         assert!(m.contains("f.txt") && m.contains("not UTF-8"), "{m}");
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -89,9 +89,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     };
     let bar = Progress::new(total, "rows", show);
     let rows = io::write_output(args.output.as_deref(), |out| {
-        eval_csv(&*brdf, input, &args.input.to_string(), out, |n| {
-            bar.inc(n)
-        })
+        eval_csv(&*brdf, input, &args.input.to_string(), out, |n| bar.inc(n))
     })
     .with_context(|| format!("evaluating `{}`", args.input))?;
     bar.finish();

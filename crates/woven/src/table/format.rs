@@ -236,7 +236,8 @@ fn read_bounded(mut r: impl Read, origin: &str) -> std::io::Result<Result<Vec<u8
         (&mut r).take(n).read_to_end(bytes)?;
         Ok(bytes.len() == want)
     };
-    let u64_at = |bytes: &[u8], at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+    let u64_at =
+        |bytes: &[u8], at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
     if !more(&mut bytes, 16)? || &bytes[..8] != MAGIC {
         // Short or foreign: from_bytes names what is wrong.
         return Ok(Ok(bytes));
@@ -311,7 +312,9 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
             None => Err(format!("header key `{k}` is missing")),
             Some(v) => match v.as_float() {
                 Some(x) if x.is_finite() && x >= lo && x <= hi => Ok(x),
-                _ => Err(format!("header key `{k}` = {v}: expected a number in [{lo}, {hi}]")),
+                _ => Err(format!(
+                    "header key `{k}` = {v}: expected a number in [{lo}, {hi}]"
+                )),
             },
         }
     };

@@ -129,7 +129,7 @@ impl<'a> Wif<'a> {
                     return Err(wif.error(format!(
                         "line {line}: text before the first section header: expected a weaving \
                          information file (WIF), which starts with a section such as `[WIF]`"
-                    )))
+                    )));
                 }
                 Some(None) => continue,
                 Some(Some(index)) => index,
