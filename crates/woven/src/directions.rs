@@ -9,7 +9,9 @@
 //! | `phi_r` | its azimuth | rad | any finite number |
 //!
 //! Both directions point away from the surface, in the cloth's local frame (`z` = macro normal).
-//! Fields may be surrounded by spaces; a UTF-8 byte-order mark before the header is ignored.
+//! Lines end in `\n` or `\r\n`; fields are separated by commas and may be surrounded by spaces
+//! or enclosed in double quotes (`"0.5"`); blank lines are skipped; a UTF-8 byte-order mark before
+//! the header is ignored.
 //!
 //! The input is a stream: [`DirectionReader`] reads one record at a time, so memory stays flat for
 //! any number of rows, and no line may exceed [`MAX_LINE_BYTES`] (an endless line — `/dev/zero`,
@@ -30,7 +32,8 @@
 use crate::error::{Error, Result};
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
-use std::io::{self, Read};
+use std::io::{self, BufRead, BufReader, Read};
+use std::ops::Range;
 
 /// The input columns, in order.
 pub const COLUMNS: [&str; 4] = ["theta_i", "phi_i", "theta_r", "phi_r"];
@@ -69,7 +72,14 @@ impl std::error::Error for RowError {}
 
 /// One data row as read: its fields' text, unparsed (see [`DirectionRecord::angles`]).
 #[derive(Clone, Debug, Default)]
-pub struct DirectionRecord(csv::ByteRecord);
+pub struct DirectionRecord {
+    /// 1-based line number.
+    line: u64,
+    /// The line's bytes, without its end.
+    text: Vec<u8>,
+    /// Each field's bytes in `text`: trimmed, quotes removed.
+    fields: Vec<Range<usize>>,
+}
 
 impl DirectionRecord {
     /// An empty record, to be filled by [`DirectionReader::read_record`].
@@ -77,14 +87,50 @@ impl DirectionRecord {
         Self::default()
     }
 
-    /// The fields exactly as read (surrounding spaces trimmed).
+    /// The fields exactly as read (surrounding spaces and quotes removed).
     pub fn fields(&self) -> impl Iterator<Item = &[u8]> {
-        self.0.iter()
+        self.fields.iter().map(|r| &self.text[r.clone()])
     }
 
-    /// The 1-based line the record starts on.
+    /// The bytes of the line.
+    pub fn byte_len(&self) -> usize {
+        self.text.len()
+    }
+
+    /// The 1-based line of the record.
     pub fn line(&self) -> u64 {
-        self.0.position().map_or(0, |p| p.line())
+        self.line
+    }
+
+    /// Splits `text` into fields.
+    fn split(&mut self) {
+        self.fields.clear();
+        let mut start = 0;
+        loop {
+            let end = self.text[start..]
+                .iter()
+                .position(|&b| b == b',')
+                .map_or(self.text.len(), |i| start + i);
+            let mut field = start..end;
+            // Surrounding spaces and tabs, then one pair of enclosing quotes.
+            while field.start < field.end && matches!(self.text[field.start], b' ' | b'\t') {
+                field.start += 1;
+            }
+            while field.end > field.start && matches!(self.text[field.end - 1], b' ' | b'\t') {
+                field.end -= 1;
+            }
+            if field.len() >= 2
+                && self.text[field.start] == b'"'
+                && self.text[field.end - 1] == b'"'
+            {
+                field = field.start + 1..field.end - 1;
+            }
+            self.fields.push(field);
+            if end == self.text.len() {
+                break;
+            }
+            start = end + 1;
+        }
     }
 
     /// The four angles `[theta_i, phi_i, theta_r, phi_r]`, in radians.
@@ -94,33 +140,31 @@ impl DirectionRecord {
     /// of columns, text that is not a number, a non-finite number, or a polar angle outside
     /// `[0, π/2]`.
     pub fn angles(&self) -> Result<[f64; 4], RowError> {
-        let line = self.line();
+        let line = self.line;
         let error = |column: Option<usize>, message: String| RowError {
             line,
             column,
             message,
         };
-        let record = &self.0;
-        if record.len() != COLUMNS.len() {
-            let message = if record.len() < COLUMNS.len() {
+        let n = self.fields.len();
+        if n != COLUMNS.len() {
+            let message = if n < COLUMNS.len() {
                 format!(
-                    "expected 4 columns ({}), found {}: column `{}` is missing",
+                    "expected 4 columns ({}), found {n}: column `{}` is missing",
                     COLUMNS.join(","),
-                    record.len(),
-                    COLUMNS[record.len()]
+                    COLUMNS[n]
                 )
             } else {
                 format!(
-                    "expected 4 columns ({}), found {}: extra column {}",
+                    "expected 4 columns ({}), found {n}: extra column {}",
                     COLUMNS.join(","),
-                    record.len(),
                     COLUMNS.len() + 1
                 )
             };
             return Err(error(None, message));
         }
         let mut angles = [0.0; 4];
-        for (c, field) in record.iter().enumerate() {
+        for (c, field) in self.fields().enumerate() {
             let text = std::str::from_utf8(field)
                 .map_err(|_| error(Some(c), "not valid UTF-8 text".into()))?;
             if text.is_empty() {
@@ -131,7 +175,7 @@ impl DirectionRecord {
             }
             let x: f64 = text
                 .parse()
-                .map_err(|_| error(Some(c), format!("`{text}` is not a number")))?;
+                .map_err(|_| error(Some(c), format!("`{}` is not a number", abbreviate(text))))?;
             if !x.is_finite() {
                 return Err(error(
                     Some(c),
@@ -157,7 +201,9 @@ impl DirectionRecord {
 /// A streaming reader of the direction CSV: checks the header on creation, then hands out one
 /// record at a time.
 pub struct DirectionReader<R: Read> {
-    csv: csv::Reader<LineLimit<R>>,
+    input: BufReader<R>,
+    /// Lines read so far.
+    line: u64,
     origin: String,
 }
 
@@ -165,6 +211,7 @@ impl<R: Read> fmt::Debug for DirectionReader<R> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("DirectionReader")
             .field("origin", &self.origin)
+            .field("line", &self.line)
             .finish_non_exhaustive()
     }
 }
@@ -177,17 +224,9 @@ impl<R: Read> DirectionReader<R> {
     /// `theta_i,phi_i,theta_r,phi_r`, or a line longer than [`MAX_LINE_BYTES`]; [`Error::Io`] if
     /// reading fails.
     pub fn new(input: R, origin: &str) -> Result<Self> {
-        let csv = csv::ReaderBuilder::new()
-            .has_headers(false)
-            .flexible(true)
-            .trim(csv::Trim::All)
-            .from_reader(LineLimit {
-                inner: input,
-                line: 1,
-                column: 0,
-            });
         let mut reader = DirectionReader {
-            csv,
+            input: BufReader::with_capacity(1 << 16, input),
+            line: 0,
             origin: origin.to_string(),
         };
         let mut header = DirectionRecord::new();
@@ -214,7 +253,7 @@ impl<R: Read> DirectionReader<R> {
         if fields != COLUMNS {
             return Err(reader.parse_error(format!(
                 "line {}: expected the header `{}`, found `{}`",
-                header.line().max(1),
+                header.line(),
                 COLUMNS.join(","),
                 // What the file holds is only echoed when it is short text.
                 abbreviate(&fields.join(","))
@@ -223,26 +262,68 @@ impl<R: Read> DirectionReader<R> {
         Ok(reader)
     }
 
-    /// Reads the next data row into `record` (reusing its buffers); `false` at the end.
+    /// Reads the next non-blank line into `record` (reusing its buffers); `false` at the end.
     ///
     /// # Errors
-    /// [`Error::Parse`] naming the input and the line for a line longer than [`MAX_LINE_BYTES`]
-    /// or malformed CSV; [`Error::Io`] if reading fails.
+    /// [`Error::Parse`] naming the input and the line for a line longer than
+    /// [`MAX_LINE_BYTES`]; [`Error::Io`] if reading fails.
     pub fn read_record(&mut self, record: &mut DirectionRecord) -> Result<bool> {
-        let line = self.csv.position().line();
-        self.csv.read_byte_record(&mut record.0).map_err(|e| {
-            let message = match e.into_kind() {
-                csv::ErrorKind::Io(e) if e.kind() == io::ErrorKind::InvalidData => e.to_string(),
-                csv::ErrorKind::Io(e) => {
-                    return Error::Io {
+        loop {
+            record.text.clear();
+            if !self.read_line(&mut record.text)? {
+                return Ok(false);
+            }
+            if record.text.last() == Some(&b'\r') {
+                record.text.pop();
+            }
+            if record.text.iter().all(|b| b.is_ascii_whitespace()) {
+                continue;
+            }
+            record.line = self.line;
+            record.split();
+            return Ok(true);
+        }
+    }
+
+    /// Appends the next line, without its `\n`, to `text`; `false` at the end of the input.
+    /// Never holds more than [`MAX_LINE_BYTES`] of one line.
+    fn read_line(&mut self, text: &mut Vec<u8>) -> Result<bool> {
+        let mut any = false;
+        loop {
+            let buf = match self.input.fill_buf() {
+                Ok(buf) => buf,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => {
+                    return Err(Error::Io {
                         path: self.origin.clone().into(),
                         source: e,
-                    }
+                    })
                 }
-                other => format!("line {line}: malformed CSV: {other:?}"),
             };
-            self.parse_error(message)
-        })
+            if buf.is_empty() {
+                if any {
+                    self.line += 1;
+                }
+                return Ok(any);
+            }
+            any = true;
+            let (take, done) = match buf.iter().position(|&b| b == b'\n') {
+                Some(i) => (i, true),
+                None => (buf.len(), false),
+            };
+            if text.len() + take > MAX_LINE_BYTES {
+                return Err(self.parse_error(format!(
+                    "line {} is longer than {MAX_LINE_BYTES} bytes: not a direction CSV",
+                    self.line + 1
+                )));
+            }
+            text.extend_from_slice(&buf[..take]);
+            self.input.consume(take + usize::from(done));
+            if done {
+                self.line += 1;
+                return Ok(true);
+            }
+        }
     }
 
     fn parse_error(&self, message: String) -> Error {
@@ -258,40 +339,6 @@ fn abbreviate(s: &str) -> String {
     match s.char_indices().nth(60) {
         Some((i, _)) => format!("{}…", &s[..i]),
         None => s.to_string(),
-    }
-}
-
-/// A reader that fails with [`io::ErrorKind::InvalidData`] once a line exceeds
-/// [`MAX_LINE_BYTES`], so that an endless line cannot fill memory.
-struct LineLimit<R> {
-    inner: R,
-    /// 1-based line of the next byte.
-    line: u64,
-    /// Bytes of the current line so far.
-    column: usize,
-}
-
-impl<R: Read> Read for LineLimit<R> {
-    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        for &b in &buf[..n] {
-            if b == b'\n' {
-                self.line += 1;
-                self.column = 0;
-            } else {
-                self.column += 1;
-                if self.column > MAX_LINE_BYTES {
-                    return Err(io::Error::new(
-                        io::ErrorKind::InvalidData,
-                        format!(
-                            "line {} is longer than {MAX_LINE_BYTES} bytes: not a direction CSV",
-                            self.line
-                        ),
-                    ));
-                }
-            }
-        }
-        Ok(n)
     }
 }
 
@@ -336,6 +383,26 @@ mod tests {
         let e = r[2].as_ref().unwrap_err().to_string();
         assert!(e.starts_with("line 4, column 3 `theta_r`"), "{e}");
         assert!(e.contains("not a finite number"), "{e}");
+    }
+
+    #[test]
+    fn fields_are_trimmed_unquoted_and_blank_lines_skipped() {
+        let r = rows(b"\xef\xbb\xbftheta_i, phi_i ,theta_r,\"phi_r\"\r\n\n \"0.5\" ,\t1,0.25,-3\r\n\n\n1,2,1,2")
+            .unwrap();
+        assert_eq!(r[0], Ok([0.5, 1.0, 0.25, -3.0]));
+        assert_eq!(r[1], Ok([1.0, 2.0, 1.0, 2.0]));
+        let r = rows(b"theta_i,phi_i,theta_r,phi_r\n\n0,0,0\n0,0,0,0,\n").unwrap();
+        assert_eq!(r[0].as_ref().unwrap_err().line, 3);
+        assert!(r[0]
+            .as_ref()
+            .unwrap_err()
+            .to_string()
+            .contains("`phi_r` is missing"));
+        assert!(r[1]
+            .as_ref()
+            .unwrap_err()
+            .to_string()
+            .contains("extra column 5"));
     }
 
     #[test]

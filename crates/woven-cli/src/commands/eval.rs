@@ -164,25 +164,36 @@ pub fn eval_csv(
     Ok(rows)
 }
 
-/// Reads up to [`CHUNK_ROWS`] records into `chunk` (reusing its buffers); returns whether the
-/// input may hold more.
+/// The most bytes of fields per batch: with lines of up to 4 KiB
+/// ([`woven::directions::MAX_LINE_BYTES`]), a batch of long lines ends before [`CHUNK_ROWS`].
+const CHUNK_BYTES: usize = 8 << 20;
+/// A record buffer that held more than this is dropped rather than kept for reuse, so that a few
+/// long lines do not leave every buffer large.
+const KEEP_RECORD_BYTES: usize = 256;
+
+/// Reads up to [`CHUNK_ROWS`] records (and about [`CHUNK_BYTES`]) into `chunk`, reusing its
+/// buffers; returns whether the input may hold more. Two chunks are alive at a time, so memory
+/// stays within a few tens of MiB for any input.
 fn fill_chunk(
     reader: &mut DirectionReader<impl Read + Send>,
     chunk: &mut Vec<DirectionRecord>,
 ) -> Result<bool> {
-    let mut n = 0;
+    let (mut n, mut bytes) = (0, 0);
     loop {
-        if n == CHUNK_ROWS {
+        if n == CHUNK_ROWS || bytes >= CHUNK_BYTES {
             chunk.truncate(n);
             return Ok(true);
         }
         if n == chunk.len() {
             chunk.push(DirectionRecord::new());
+        } else if chunk[n].byte_len() > KEEP_RECORD_BYTES {
+            chunk[n] = DirectionRecord::new();
         }
         if !reader.read_record(&mut chunk[n])? {
             chunk.truncate(n);
             return Ok(false);
         }
+        bytes += chunk[n].byte_len();
         n += 1;
     }
 }

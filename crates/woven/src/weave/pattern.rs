@@ -267,9 +267,11 @@ impl Pattern {
     ///
     /// What is read:
     /// - sections `[WIF]` (required, marks the format), `[WEAVING]`, `[WARP]`, `[WEFT]`,
-    ///   `[THREADING]` (required), `[TIEUP]` and `[TREADLING]`, or `[LIFTPLAN]` when either of
-    ///   those is absent; other sections (`[CONTENTS]`, colours, text, …) are skipped;
-    /// - keys are case-insensitive; `;` starts a comment, to the end of the line;
+    ///   `[THREADING]` (required), `[TIEUP]` and `[TREADLING]` or else `[LIFTPLAN]` (a lift
+    ///   plan beside both is an error: one of them would go unread); other sections
+    ///   (`[CONTENTS]`, colours, text, …) are skipped;
+    /// - keys are case-insensitive; `;` starts a comment, to the end of the line; two keys of a
+    ///   section that name the same number (`1=` and `01=`) are an error;
     /// - `[THREADING] 1=3`: end 1 is on shaft 3 (a list `1=3,4` is allowed); an end with no entry
     ///   is on no shaft and is never lifted;
     /// - `[TIEUP] 1=1,2`: treadle 1 lifts shafts 1 and 2; `[TREADLING] 1=2` (or `1=2,3`): pick 1
@@ -284,9 +286,11 @@ impl Pattern {
     ///
     /// # Errors
     /// [`Error::Parse`] naming `origin`, and the section and line number where there is one, for
-    /// a missing section, a malformed line, a non-numeric value, a duplicate key or section, an
+    /// a missing section, a malformed line, a non-numeric value, a duplicate key or section
+    /// (also under two spellings of one number), a lift plan beside tie-up and treadling, an
     /// index of 0, a shaft, treadle, end or pick out of range, or more than [`MAX_THREADS`] ends
-    /// or picks.
+    /// or picks. Text before the first section header is not quoted in the message (the file may
+    /// be anything).
     ///
     /// # Examples
     /// ```
