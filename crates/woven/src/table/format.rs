@@ -28,9 +28,8 @@ use std::path::Path;
 /// The file's magic bytes.
 pub const MAGIC: &[u8; 8] = b"WOVENTAB";
 /// The format version this build writes and reads.
-pub const VERSION: u32 = 1;
-/// Largest accepted value count (a 64 MiB payload is 16 Mi values; this leaves room).
-const MAX_VALUES: u64 = 1 << 28;
+pub const VERSION: u32 = 2;
+use super::MAX_VALUES;
 
 fn format_error(origin: &str, message: impl Into<String>) -> Error {
     Error::Parse {
@@ -109,7 +108,13 @@ impl Table {
         let version = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
         if version != VERSION {
             return Err(err(&format!(
-                "format version {version}, this build reads version {VERSION}"
+                "format version {version}, this build reads version {VERSION}{}",
+                if version < VERSION {
+                    " (the file was written by an earlier woven; build it again with \
+                     `woven tabulate`)"
+                } else {
+                    ""
+                }
             )));
         }
         let hlen = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
@@ -350,9 +355,10 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
         }
         Some(Some(_)) => {}
     }
-    // The counts, in u64 (each factor is at most 4097, so no product overflows).
+    // The counts, in u64 (each factor is at most 4097, so no product overflows); the values
+    // fill two halves (light and view).
     let incidences = (n_theta * n_phi) as u64;
-    let expected = incidences * (n_h * n_h) as u64;
+    let expected = 2 * incidences * (n_h * n_h) as u64;
     if expected != count {
         return Err(format!("{count} values, but the grid needs {expected}"));
     }

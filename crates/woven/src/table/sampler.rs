@@ -17,7 +17,8 @@
 //! between `∫ pdf dω` and 1.
 
 use super::grid::{jacobian, t_of_slope};
-use super::{locate_incidence, Incidence, Table};
+use super::eval::{locate_axis, Incidence};
+use super::{Half, Table};
 use crate::math::Vec3;
 
 /// Fraction of each node's sampling mass spread uniformly over solid angle.
@@ -96,33 +97,28 @@ impl Sampler {
         for node in 0..nodes {
             let (it, ip) = (node / table.phi.n, node % table.phi.n);
             let s = Vec3::from_spherical(table.theta.node(it), table.phi.node(ip));
-            // Stored values are f cos θ_i cos θ_r: f cos θ_r is the value over cos θ_i.
-            let value = |iy: usize, ix: usize| {
-                (table.values[table.index(it, ip, iy, ix)] as f64 / s.z.max(1e-9)).max(0.0)
-            };
+            // f cos θ_r at a node above the horizon (0 below it: no mass to sample there), from
+            // whichever half answers for the pair.
+            let value = |v: Vec3| (table.eval_folded(s, v) * v.z).max(0.0);
             for iy in 0..nc {
                 for ix in 0..nc {
                     let (t0y, t0x) = (table.t.node(iy), table.t.node(ix));
                     let corners = [(0, 0), (0, 1), (1, 0), (1, 1)];
                     let mut acc = 0.0;
                     let mut any = false;
+                    let mut corner_sum = 0.0;
                     for (a, b) in corners {
                         if let Some((v, j)) = jacobian(s, t0x + b as f64 * dt, t0y + a as f64 * dt)
                         {
-                            acc += value(iy + a, ix + b) * j;
-                            let _ = v;
+                            let fc = value(v);
+                            acc += fc * j;
+                            corner_sum += fc;
                             any = true;
                         }
                     }
                     let centre = jacobian(s, t0x + 0.5 * dt, t0y + 0.5 * dt);
-                    if let Some((v, j)) = centre {
-                        let fc = 0.25
-                            * (value(iy, ix)
-                                + value(iy, ix + 1)
-                                + value(iy + 1, ix)
-                                + value(iy + 1, ix + 1));
-                        acc += 4.0 * fc * j;
-                        let _ = v;
+                    if let Some((_, j)) = centre {
+                        acc += corner_sum * j;
                         any = true;
                     }
                     // Mean of corners and (double-weighted) centre, times the cell's area.
@@ -161,7 +157,7 @@ impl Sampler {
     /// `sample` draws from and `pdf` reports, and the located `(iθ, wθ, iφ, wφ)` for evaluation.
     #[inline]
     fn node(table: &Table, s: Vec3) -> (usize, Incidence) {
-        let (it, wt, ip, wp) = locate_incidence(&table.theta, &table.phi, s);
+        let (it, wt, ip, wp) = locate_axis(&table.theta, &table.phi, s);
         let np = table.phi.n;
         let dp = usize::from(np > 1 && wp >= 0.5);
         let dt = usize::from(wt >= 0.5);
@@ -205,7 +201,11 @@ impl Sampler {
         }
         // The node's density in this cell over the map's Jacobian.
         let pdf = self.density(node, iy, ix, dt) / j;
-        let f = table.eval_at(located, (iy, fy), (ix, fx), s.z, v.z);
+        let f = if Half::of(s, v) == Half::Light {
+            table.eval_at(Half::Light, located, (iy, fy), (ix, fx))
+        } else {
+            table.eval_folded(s, v)
+        };
         (pdf > 0.0 && pdf.is_finite()).then_some((v, pdf, f))
     }
 

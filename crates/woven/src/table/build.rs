@@ -1,0 +1,350 @@
+//! Building a [`Table`]: exact evaluation at the nodes each half reads, and the twist average of
+//! twisted and isotropic yarns applied to an intermediate table.
+
+use super::eval::{locate_axis, locate_half_vector, Incidence};
+use super::grid::{h_of_slopes, v_of_slopes, Axis};
+use super::{
+    value_count, Half, Symmetry, Table, TableOptions, F0_PHI_NODES, HORIZON_LIFT_DEG, MAX_VALUES,
+    THETA_GRADING,
+};
+use crate::cloth::Structure;
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::Model;
+use rayon::prelude::*;
+use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+impl Table {
+    /// Builds the table of `model` (prepared at `wavelength_nm` from `material_toml`, which is
+    /// stored in the file for provenance). `progress(done, total)` is called as rows complete,
+    /// from worker threads.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid options or a grid larger than a table file holds.
+    pub fn build(
+        model: &Model,
+        material_toml: &str,
+        options: &TableOptions,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Table> {
+        options.validate()?;
+        let symmetry = Symmetry::of(model);
+        let count = value_count(symmetry, options);
+        if count > MAX_VALUES {
+            return Err(Error::invalid(
+                "table grid",
+                format!("{count} values"),
+                format!("at most {MAX_VALUES} values (fewer nodes)"),
+            ));
+        }
+        let (n_theta, n_phi, n_h) = super::grid_of(symmetry, options);
+        let theta = Axis {
+            lo: 0.0,
+            hi: options.theta_max_deg.to_radians(),
+            n: n_theta,
+            grading: THETA_GRADING,
+        };
+        let phi = Axis::uniform(0.0, FRAC_PI_2, n_phi);
+        let t = Axis::uniform(-1.0, 1.0, n_h);
+        let pool = pool(options.threads)?;
+        let values = match model.structure() {
+            Structure::Woven {
+                yarn,
+                weft_fraction,
+            } if !yarn.is_single_orientation() => {
+                // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
+                let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
+                let f0_t = Axis::uniform(-1.0, 1.0, options.n_h);
+                let stage = |done: usize, total: usize| progress(done, 2 * total);
+                let f0_values = pool.install(|| {
+                    fill(theta, f0_phi, f0_t, &stage, |half, a| {
+                        move |o| {
+                            let (s, v) = half.join(a, o);
+                            yarn.slope_averaged(s, v, 0.0)
+                        }
+                    })
+                });
+                let f0 = Table::assemble(
+                    Symmetry::Mirror,
+                    theta,
+                    f0_phi,
+                    f0_t,
+                    f0_values,
+                    String::new(),
+                    0.0,
+                    Some(Vec::new()),
+                );
+                // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)).
+                let p = yarn.params();
+                let n = options.azimuth_nodes;
+                let weights = azimuth_weights(n, p.isotropic, p.twist_std, *weft_fraction);
+                let (hbar, rho) = (p.interreflection, p.interreflection_albedo);
+                let rows = 2 * theta.n * phi.n;
+                let stage2 = |done: usize, _total: usize| progress(rows + done, 2 * rows);
+                pool.install(|| {
+                    fill(theta, phi, t, &stage2, |half, a| {
+                        // Per fiber azimuth: the axis direction in the fiber frame, folded into
+                        // F₀'s domain and located once per row; each node then costs a rotation
+                        // and a look-up.
+                        let azimuths: Vec<Azimuth> = weights
+                            .iter()
+                            .enumerate()
+                            .filter(|&(_, &w)| w != 0.0)
+                            .map(|(j, &w)| {
+                                let phi_a = (j as f64 + 0.5) * PI / n as f64;
+                                Azimuth::new(&f0, half, a, phi_a, w)
+                            })
+                            .collect();
+                        let f0 = &f0;
+                        move |o: Vec3| {
+                            let acc: f64 = azimuths.iter().map(|z| z.eval(f0, o)).sum();
+                            (1.0 - hbar) * acc + hbar * rho * FRAC_1_PI
+                        }
+                    })
+                })
+            }
+            _ => pool.install(|| {
+                fill(theta, phi, t, progress, |half, a| {
+                    move |o| {
+                        let (s, v) = half.join(a, o);
+                        model.eval(s, v)
+                    }
+                })
+            }),
+        };
+        Ok(Table::assemble(
+            symmetry,
+            theta,
+            phi,
+            t,
+            values,
+            material_toml.to_string(),
+            model.fiber().wavelength_nm(),
+            None,
+        ))
+    }
+}
+
+/// A thread pool of `threads` workers (0: rayon's default, every core).
+fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::invalid("threads", threads, format!("a usable thread count ({e})")))
+}
+
+/// One fiber azimuth `φ_a` of the twist average for a fixed axis direction: the rotation into the
+/// frame whose x is the fiber axis, the mirror fold of the rotated axis direction, and its
+/// located position in the `F₀` table.
+struct Azimuth {
+    weight: f64,
+    half: Half,
+    cos: f64,
+    sin: f64,
+    flip_x: bool,
+    flip_y: bool,
+    axis: Vec3,
+    located: Incidence,
+}
+
+impl Azimuth {
+    fn new(f0: &Table, half: Half, axis: Vec3, phi_a: f64, weight: f64) -> Azimuth {
+        let (sin, cos) = phi_a.sin_cos();
+        let r = Vec3::new(cos * axis.x + sin * axis.y, -sin * axis.x + cos * axis.y, axis.z);
+        let (flip_x, flip_y) = (r.x < 0.0, r.y < 0.0);
+        let axis = Vec3::new(r.x.abs(), r.y.abs(), r.z);
+        Azimuth {
+            weight,
+            half,
+            cos,
+            sin,
+            flip_x,
+            flip_y,
+            axis,
+            located: locate_axis(&f0.theta, &f0.phi, axis),
+        }
+    }
+
+    /// `w · F₀` in the fiber frame for the other direction `o`: what `w · f0.eval` of the rotated
+    /// pair gives, reading the located axis when the pair belongs to this half.
+    #[inline]
+    fn eval(&self, f0: &Table, o: Vec3) -> f64 {
+        if self.axis.z <= 0.0 || o.z <= 0.0 {
+            return 0.0;
+        }
+        let x = self.cos * o.x + self.sin * o.y;
+        let y = -self.sin * o.x + self.cos * o.y;
+        let o = Vec3::new(
+            if self.flip_x { -x } else { x },
+            if self.flip_y { -y } else { y },
+            o.z,
+        );
+        let (s, v) = self.half.join(self.axis, o);
+        if Half::of(s, v) == self.half {
+            let (ty, tx) = locate_half_vector(&f0.t, self.axis, o);
+            self.weight * f0.eval_at(self.half, self.located, ty, tx)
+        } else {
+            self.weight * f0.eval(s, v)
+        }
+    }
+}
+
+impl Symmetry {
+    /// The symmetry of a model's BRDF, which its table uses: isotropic for flat fibers and
+    /// `isotropic = true` yarns, mirror for every other woven material.
+    pub fn of(model: &Model) -> Symmetry {
+        match model.structure() {
+            Structure::Flat(_) => Symmetry::Isotropic,
+            Structure::Woven { yarn, .. } if yarn.params().isotropic => Symmetry::Isotropic,
+            Structure::Woven { .. } => Symmetry::Mirror,
+        }
+    }
+}
+
+/// Quadrature weights of the fiber azimuths `φ_j = (j + ½)π/n` over one period, for the weave mix
+/// of twisted (Eq. (21)) or isotropic (Eq. (22)) yarns: normalized per yarn so each sums to its
+/// weight `γ` or `1 − γ` (isotropic: uniform, summing to 1).
+fn azimuth_weights(n: usize, isotropic: bool, twist_std: f64, gamma: f64) -> Vec<f64> {
+    if isotropic {
+        return vec![1.0 / n as f64; n];
+    }
+    let density = |centre: f64| -> Vec<f64> {
+        let w: Vec<f64> = (0..n)
+            .map(|j| {
+                let phi = (j as f64 + 0.5) * PI / n as f64;
+                // δ reduced to [−π/2, π/2): the twist window is one period.
+                let d = (phi - centre + FRAC_PI_2).rem_euclid(PI) - FRAC_PI_2;
+                (-d * d / (2.0 * twist_std * twist_std)).exp()
+            })
+            .collect();
+        let sum: f64 = w.iter().sum();
+        w.into_iter().map(|x| x / sum).collect()
+    };
+    let weft = density(0.0);
+    let warp = density(FRAC_PI_2);
+    weft.iter()
+        .zip(&warp)
+        .map(|(a, b)| gamma * a + (1.0 - gamma) * b)
+        .collect()
+}
+
+/// The other direction of a node whose derived direction lies below the horizon: lifted
+/// [`HORIZON_LIFT_DEG`] above it in the same azimuth (the BRDF is continuous up to the horizon: the
+/// Smith term cancels `1/cos θ`), or `None` where the half vector faces away from the axis.
+fn lifted(a: Vec3, px: f64, py: f64) -> Option<Vec3> {
+    let h = h_of_slopes(px, py);
+    let ah = a.dot(h);
+    if ah <= 0.0 {
+        return None;
+    }
+    let o = h * (2.0 * ah) - a;
+    let min_z = HORIZON_LIFT_DEG.to_radians().sin();
+    let r_xy = (o.x * o.x + o.y * o.y).sqrt();
+    if r_xy <= 0.0 {
+        return None;
+    }
+    let c = (1.0 - min_z * min_z).sqrt() / r_xy;
+    Some(Vec3::new(o.x * c, o.y * c, min_z))
+}
+
+/// Which half-vector nodes of row `(it, ip)` some pair of its half reads, row-major `(i_y, i_x)`.
+///
+/// A half answers for the pairs whose axis direction is the more grazing, `θ_o ≤ θ_a`. A pair
+/// reads the nodes around it: axis nodes within one polar step `Δθ` and one azimuth step `Δφ`
+/// (an angle of at most `Δθ + Δφ sin θ`), half-vector nodes within one cell (`δh`, the sum of the
+/// slope-angle steps of both axes). At a fixed half vector the other direction is the axis
+/// reflected about it, so it moves by as much as the axis, and by at most `2δh` as the half
+/// vector moves. A node is therefore read only if its own other direction has
+/// `θ_o ≤ θ_a + 2Δθ + Δφ sin θ_a + 2δh`; the rest of the row is never read and is not evaluated
+/// (below-horizon other directions count as `θ_o = 90°`).
+fn needed_nodes(theta: Axis, phi: Axis, t: Axis, it: usize, ip: usize) -> Vec<bool> {
+    let n = t.n;
+    let th = theta.node(it);
+    let prev = if it > 0 { th - theta.node(it - 1) } else { 0.0 };
+    let next = if it + 1 < theta.n {
+        theta.node(it + 1) - th
+    } else {
+        FRAC_PI_2 - th
+    };
+    let d_theta = prev.max(next);
+    let d_phi = if phi.n > 1 {
+        phi.node(1) - phi.node(0)
+    } else {
+        0.0
+    };
+    let a = Vec3::from_spherical(th, phi.node(ip));
+    let angle = |k: usize| super::grid::slope_of_t(t.node(k)).atan();
+    let step: Vec<f64> = (0..n)
+        .map(|k| {
+            let lo = if k > 0 { angle(k) - angle(k - 1) } else { 0.0 };
+            let hi = if k + 1 < n { angle(k + 1) - angle(k) } else { 0.0 };
+            lo.abs().max(hi.abs())
+        })
+        .collect();
+    // A little slack for rounding and the sampler's corner reads.
+    let base = th + 2.0 * d_theta + d_phi * th.sin() + 1e-3;
+    let mut out = vec![false; n * n];
+    for iy in 0..n {
+        let py = super::grid::slope_of_t(t.node(iy));
+        for ix in 0..n {
+            let px = super::grid::slope_of_t(t.node(ix));
+            let theta_o = match v_of_slopes(a, px, py) {
+                Some((o, _)) => o.z.clamp(-1.0, 1.0).acos(),
+                None => FRAC_PI_2,
+            };
+            out[iy * n + ix] = theta_o <= base + 2.0 * (step[ix] + step[iy]);
+        }
+    }
+    out
+}
+
+/// Evaluates both halves at every node they read, rows of `(half, θ, φ)` spread over the current
+/// rayon pool: `row(half, a)` prepares the evaluation for axis direction `a` and returns
+/// `o ↦ f(s, v)` with `(s, v) = half.join(a, o)`.
+fn fill<R: Fn(Vec3) -> f64>(
+    theta: Axis,
+    phi: Axis,
+    t: Axis,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    row: impl Fn(Half, Vec3) -> R + Sync,
+) -> Vec<f32> {
+    let rows_per_half = theta.n * phi.n;
+    let rows = 2 * rows_per_half;
+    let row_len = t.n * t.n;
+    let mut values = vec![0f32; rows * row_len];
+    let done = AtomicUsize::new(0);
+    values
+        .par_chunks_mut(row_len)
+        .enumerate()
+        .with_max_len(1)
+        .for_each(|(r, out)| {
+            let half = if r < rows_per_half {
+                Half::Light
+            } else {
+                Half::View
+            };
+            let rr = r % rows_per_half;
+            let (it, ip) = (rr / phi.n, rr % phi.n);
+            let a = Vec3::from_spherical(theta.node(it), phi.node(ip));
+            let needed = needed_nodes(theta, phi, t, it, ip);
+            let f = row(half, a);
+            for iy in 0..t.n {
+                let py = super::grid::slope_of_t(t.node(iy));
+                for ix in 0..t.n {
+                    if !needed[iy * t.n + ix] {
+                        continue;
+                    }
+                    let px = super::grid::slope_of_t(t.node(ix));
+                    let o = match v_of_slopes(a, px, py) {
+                        Some((o, _)) => Some(o),
+                        None => lifted(a, px, py),
+                    };
+                    out[iy * t.n + ix] = o.map_or(0.0, &f) as f32;
+                }
+            }
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, rows);
+        });
+    values
+}
+
