@@ -102,7 +102,11 @@ pub fn run(args: &EvalArgs) -> Result<()> {
 }
 
 /// The number of data rows of a CSV file (lines after the header), for the progress bar's length.
+/// Only regular files are counted: a device or a pipe (`/dev/zero`) may never end.
 fn count_rows(path: &Path) -> std::io::Result<u64> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::other("not a regular file"));
+    }
     let mut file = std::fs::File::open(path)?;
     let mut buf = vec![0u8; 1 << 16];
     let (mut lines, mut last) = (0u64, b'\n');
@@ -341,6 +345,9 @@ mod tests {
         assert_eq!(count_rows(&path).unwrap(), 2);
         std::fs::write(&path, "theta_i,phi_i,theta_r,phi_r\n1,2,3,4\n").unwrap();
         assert_eq!(count_rows(&path).unwrap(), 1);
+        // An endless device is not counted (it would never end).
+        #[cfg(unix)]
+        assert!(count_rows(Path::new("/dev/zero")).is_err());
         assert_eq!(block_rows(10), MIN_BLOCK_ROWS);
         assert_eq!(block_rows(10_000_000), BLOCK_ROWS);
     }
