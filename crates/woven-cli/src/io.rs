@@ -55,20 +55,44 @@ impl std::fmt::Display for InputSource {
 ///
 /// A `path` that exists but is no regular file (`/dev/null`, a named pipe) is written in place:
 /// renaming over it would replace the device with a file.
+///
+/// A read-only `path` is refused, not replaced (a rename would otherwise succeed, since it needs
+/// only the folder to be writable). If the process is interrupted (SIGINT, SIGTERM, SIGHUP) while
+/// writing, the temporary file is removed before it exits; SIGKILL cannot be caught, and leaves
+/// the temporary file (named `.woven-*.tmp`) behind.
+///
+/// # Errors
+/// Every error names `path`: an output that cannot be created, written or renamed, and a write
+/// failure inside `write` (a full disk).
 pub fn write_atomically<T>(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<T>,
 ) -> Result<T> {
+    // An I/O failure of `write` is a failure to write `path`; other errors (a bad input row) are
+    // passed on as they are.
+    let name_path = |e: anyhow::Error| {
+        if e.downcast_ref::<io::Error>().is_some() {
+            e.context(format!("cannot write `{}`", path.display()))
+        } else {
+            e
+        }
+    };
     if is_special_file(path) {
         let file = std::fs::OpenOptions::new()
             .write(true)
             .open(path)
             .with_context(|| format!("cannot open `{}` for writing", path.display()))?;
         let mut out = BufWriter::with_capacity(1 << 16, file);
-        let value = write(&mut out)?;
+        let value = write(&mut out).map_err(name_path)?;
         out.flush()
             .with_context(|| format!("cannot write `{}`", path.display()))?;
         return Ok(value);
+    }
+    if std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
+        anyhow::bail!(
+            "`{}` is read-only: refusing to replace it (make it writable, or write elsewhere)",
+            path.display()
+        );
     }
     let dir = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
@@ -93,8 +117,9 @@ pub fn write_atomically<T>(
             path.display()
         )
     })?;
+    let _pending = interrupt::Pending::register(tmp.path());
     let mut out = BufWriter::with_capacity(1 << 16, tmp);
-    let value = write(&mut out)?;
+    let value = write(&mut out).map_err(name_path)?;
     let tmp = out
         .into_inner()
         .map_err(|e| e.into_error())
@@ -106,6 +131,55 @@ pub fn write_atomically<T>(
         .map_err(|e| e.error)
         .with_context(|| format!("cannot create `{}`", path.display()))?;
     Ok(value)
+}
+
+/// Removal of unfinished temporary files when the process is interrupted.
+mod interrupt {
+    use std::path::{Path, PathBuf};
+    use std::sync::{Mutex, Once};
+
+    /// The temporary files being written now.
+    static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+    /// A temporary file registered for removal on interruption while this value lives.
+    pub struct Pending(PathBuf);
+
+    impl Pending {
+        /// Registers `path` (and installs the signal handler on first use).
+        pub fn register(path: &Path) -> Pending {
+            static HANDLER: Once = Once::new();
+            HANDLER.call_once(|| {
+                // SIGINT, SIGTERM and SIGHUP (the `termination` feature). Failure (another
+                // handler already set) leaves the default behaviour: the process dies at once.
+                let _ = ctrlc::set_handler(|| {
+                    let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+                    for path in pending.iter() {
+                        // Already renamed or removed: nothing left to clean.
+                        let _ = std::fs::remove_file(path);
+                    }
+                    eprintln!("interrupted: no output written");
+                    // 128 + SIGINT, the shell's code for an interrupted command.
+                    std::process::exit(130);
+                });
+            });
+            lock().push(path.to_path_buf());
+            Pending(path.to_path_buf())
+        }
+    }
+
+    impl Drop for Pending {
+        fn drop(&mut self) {
+            let mut pending = lock();
+            if let Some(i) = pending.iter().position(|p| *p == self.0) {
+                pending.swap_remove(i);
+            }
+        }
+    }
+
+    fn lock() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+        // A panic while holding the lock leaves a valid list.
+        PENDING.lock().unwrap_or_else(|e| e.into_inner())
+    }
 }
 
 /// Whether `path` exists and is neither a regular file nor a folder: a device such as

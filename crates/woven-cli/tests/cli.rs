@@ -1167,3 +1167,183 @@ fn bare_woven_runs_the_main_job_in_the_current_folder() {
     );
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 3);
 }
+
+/// `woven eval` with a flat material and the given arguments, stopped after 60 s at most.
+fn eval_with(args: &[&str]) -> assert_cmd::assert::Assert {
+    woven()
+        .arg("eval")
+        .args(args)
+        .timeout(std::time::Duration::from_secs(60))
+        .assert()
+}
+
+#[cfg(unix)]
+#[test]
+fn endless_inputs_are_refused_naming_the_file() {
+    let m = material();
+    let m = m.to_str().unwrap();
+    eval_with(&["-m", m, "--input", "/dev/zero"])
+        .failure()
+        .stderr(predicate::str::contains("/dev/zero"))
+        .stderr(predicate::str::contains("longer than 4096 bytes"));
+    eval_with(&["-m", "/dev/zero", "--input", "-"])
+        .failure()
+        .stderr(predicate::str::contains(
+            "/dev/zero: larger than 1 MiB, the most a material file may hold",
+        ));
+    eval_with(&["--table", "/dev/zero", "--input", "-"])
+        .failure()
+        .stderr(predicate::str::contains("/dev/zero"))
+        .stderr(predicate::str::contains("wrong magic"));
+    // An endless line on standard input.
+    woven()
+        .args(["eval", "-m", m, "--input", "-"])
+        .write_stdin(format!("{HEADER}\n0,0,0,0\n{}", "1".repeat(100_000)))
+        .timeout(std::time::Duration::from_secs(60))
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains(
+            "<stdin>: line 3 is longer than 4096 bytes",
+        ));
+}
+
+#[cfg(unix)]
+#[test]
+fn output_onto_a_read_only_file_is_refused_and_kept() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("d.csv");
+    std::fs::write(&input, rows_csv()).unwrap();
+    let out = dir.path().join("out.csv");
+    std::fs::write(&out, "keep me").unwrap();
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let m = material();
+    eval_with(&[
+        "-m",
+        m.to_str().unwrap(),
+        "--input",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ])
+    .failure()
+    .stderr(predicate::str::contains(
+        "out.csv` is read-only: refusing to replace it",
+    ));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep me");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+    // A writable file is replaced as before.
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o644)).unwrap();
+    eval_with(&[
+        "-m",
+        m.to_str().unwrap(),
+        "--input",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ])
+    .success();
+    check_eval_output(&std::fs::read_to_string(&out).unwrap());
+}
+
+#[cfg(unix)]
+#[test]
+fn write_failures_name_the_file() {
+    // /dev/full behind a name with the extension the command wants (a device: written in place).
+    if !Path::new("/dev/full").exists() {
+        eprintln!("no /dev/full: skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("full.png");
+    std::os::unix::fs::symlink("/dev/full", &png).unwrap();
+    woven()
+        .args(["plot", "fig3", "-o", png.to_str().unwrap()])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("cannot write `"))
+        .stderr(predicate::str::contains("full.png`"));
+    let input = dir.path().join("d.csv");
+    std::fs::write(&input, rows_csv()).unwrap();
+    let m = material();
+    eval_with(&[
+        "-m",
+        m.to_str().unwrap(),
+        "--input",
+        input.to_str().unwrap(),
+        "-o",
+        "/dev/full",
+    ])
+    .failure()
+    .stderr(predicate::str::contains("`/dev/full`"));
+}
+
+#[test]
+fn a_file_that_is_not_a_wif_is_named_not_printed() {
+    let (dir, path) = material_file(
+        "[fiber]\neta = 1.5\nroughness = 0.2\n[yarn]\nlateral_length = 1.0\nslope_mean = 0.5\n\
+         [weave]\npattern = { wif = \"secret.txt\" }\n",
+    );
+    std::fs::write(dir.path().join("secret.txt"), "password=hunter2\n").unwrap();
+    woven()
+        .args(["eval", "-m", path.to_str().unwrap(), "--input", "-"])
+        .write_stdin(rows_csv())
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("secret.txt"))
+        .stderr(predicate::str::contains("weaving information file"))
+        .stderr(predicate::str::contains("hunter2").not());
+}
+
+/// Starts a long `woven eval -o` (the belt cloth, ~1 ms a row, 10⁶ rows), waits for its temporary
+/// file, sends `signal`, and checks that neither the temporary file nor the output remain.
+#[cfg(unix)]
+fn interrupted_eval_leaves_nothing(signal: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("d.csv");
+    let mut csv = format!("{HEADER}\n");
+    for k in 0..1_000_000 {
+        csv.push_str(&format!("0.{},0,0.3,{}\n", k % 10, k % 7));
+    }
+    std::fs::write(&input, csv).unwrap();
+    let out = dir.path().join("out.csv");
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("woven"))
+        .args(["eval", "-m", "belt-cloth", "--input"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let tmp_files = || {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+            .count()
+    };
+    let start = std::time::Instant::now();
+    while tmp_files() == 0 {
+        assert!(start.elapsed().as_secs() < 60, "no temporary file appeared");
+        assert!(child.try_wait().unwrap().is_none(), "eval ended early");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    // Some rows in: the temporary file is being written.
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let killed = std::process::Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "{signal}: {status:?}");
+    assert_eq!(tmp_files(), 0, "{signal} left a temporary file");
+    assert!(!out.exists(), "{signal} left an output");
+}
+
+#[cfg(unix)]
+#[test]
+fn an_interrupted_eval_removes_its_temporary_file() {
+    interrupted_eval_leaves_nothing("-TERM");
+    interrupted_eval_leaves_nothing("-INT");
+}

@@ -65,6 +65,7 @@
 mod albedo;
 pub mod bsdf;
 pub mod cloth;
+pub mod directions;
 pub mod error;
 pub mod export;
 pub mod fiber;

@@ -58,9 +58,14 @@ use crate::cloth::Structure;
 use crate::error::check_range;
 use crate::error::{Error, Result};
 use crate::fiber::{Fiber, FiberModel, FiberParams, Ior, Normalization};
-use crate::weave::Pattern;
+use crate::weave::{Pattern, MAX_THREADS};
 use crate::yarn::{Yarn, YarnParams};
 use std::path::{Path, PathBuf};
+
+/// The longest material file [`Material::from_path`] reads, in bytes (1 MiB): room for an inline
+/// pattern of several hundred threads square (larger drafts belong in a WIF file); the limit stops
+/// an endless stream (`/dev/zero`, a pipe) or a huge matrix from filling memory.
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
 /// A complete material: a fiber surface, optionally arranged in yarns and a weave.
 #[derive(Clone, Debug, PartialEq)]
@@ -329,6 +334,19 @@ mod file {
                 spec: PatternSpec::Name(name),
             }),
             toml::Value::Array(rows) => {
+                // The size limit first, before anything is built from the matrix.
+                let cols = rows.iter().map(|r| r.as_array().map_or(0, Vec::len)).max();
+                let cols = cols.unwrap_or(0);
+                if rows.len() > MAX_THREADS || cols > MAX_THREADS {
+                    return Err(Error::invalid(
+                        "weave.pattern",
+                        format!("a matrix of {} rows and up to {cols} columns", rows.len()),
+                        format!(
+                            "at most {MAX_THREADS} rows and columns (a larger draft is not a \
+                             repeat)"
+                        ),
+                    ));
+                }
                 let mut m = Vec::with_capacity(rows.len());
                 for (i, row) in rows.iter().enumerate() {
                     let toml::Value::Array(cells) = row else {
@@ -646,13 +664,11 @@ mod file {
         /// Reads and parses a material file.
         ///
         /// # Errors
-        /// [`Error::Io`] if the file cannot be read; otherwise as [`from_toml_str`](Self::from_toml_str).
+        /// [`Error::Io`] if the file cannot be read; [`Error::Parse`] if it is longer than
+        /// [`MAX_FILE_BYTES`]; otherwise as [`from_toml_str`](Self::from_toml_str).
         pub fn from_path(path: impl AsRef<Path>) -> Result<Self> {
             let path = path.as_ref();
-            let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-                path: path.to_path_buf(),
-                source,
-            })?;
+            let text = crate::fsutil::read_text_capped(path, MAX_FILE_BYTES, "a material file")?;
             Self::parse(&text, &path.display().to_string(), path.parent())
         }
 

@@ -5,13 +5,12 @@ use crate::io::{self, InputSource};
 use crate::progress::{self, Progress};
 use anyhow::{Context, Result};
 use clap::{ArgGroup, Args};
-use csv::ByteRecord;
 use rayon::prelude::*;
 use std::f64::consts::FRAC_PI_2;
-use std::fmt;
 use std::io::{IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 use woven::bsdf::Bsdf;
+use woven::directions::{DirectionReader, DirectionRecord, RowError, COLUMNS};
 use woven::Vec3;
 
 /// Arguments of `woven eval`.
@@ -90,7 +89,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     };
     let bar = Progress::new(total, "rows", show);
     let rows = io::write_output(args.output.as_deref(), |out| {
-        eval_csv(&*brdf, input, out, |n| bar.inc(n))
+        eval_csv(&*brdf, input, &args.input.to_string(), out, |n| bar.inc(n))
     })
     .with_context(|| format!("evaluating `{}`", args.input))?;
     bar.finish();
@@ -103,7 +102,11 @@ pub fn run(args: &EvalArgs) -> Result<()> {
 }
 
 /// The number of data rows of a CSV file (lines after the header), for the progress bar's length.
+/// Only regular files are counted: a device or a pipe (`/dev/zero`) may never end.
 fn count_rows(path: &Path) -> std::io::Result<u64> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::other("not a regular file"));
+    }
     let mut file = std::fs::File::open(path)?;
     let mut buf = vec![0u8; 1 << 16];
     let (mut lines, mut last) = (0u64, b'\n');
@@ -119,75 +122,27 @@ fn count_rows(path: &Path) -> std::io::Result<u64> {
     Ok((lines + u64::from(last != b'\n')).saturating_sub(1))
 }
 
-/// The input columns, in order.
-pub const COLUMNS: [&str; 4] = ["theta_i", "phi_i", "theta_r", "phi_r"];
-
 /// Rows evaluated per parallel batch: large enough to keep every core busy, small enough that
 /// memory stays flat for any input size.
 const CHUNK_ROWS: usize = 1 << 16;
 
-/// What is wrong with one input row.
-#[derive(Debug)]
-pub struct RowError {
-    /// 1-based line number in the input.
-    pub line: u64,
-    /// 0-based column index, where one column is to blame.
-    pub column: Option<usize>,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for RowError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.column {
-            Some(c) => write!(
-                f,
-                "line {}, column {} `{}`: {}",
-                self.line,
-                c + 1,
-                COLUMNS[c],
-                self.message
-            ),
-            None => write!(f, "line {}: {}", self.line, self.message),
-        }
-    }
-}
-
-impl std::error::Error for RowError {}
-
-/// Reads direction pairs from `input` and writes them with the BRDF `brdf` gives to `output`.
-/// `progress` is told, from the worker threads, the number of rows of each block evaluated.
-/// Returns the number of rows.
+/// Reads direction pairs from `input` (named `origin` in errors) and writes them with the BRDF
+/// `brdf` gives to `output`. `progress` is told, from the worker threads, the number of rows of
+/// each block evaluated. Returns the number of rows.
 pub fn eval_csv(
     brdf: &dyn Bsdf,
     input: impl Read + Send,
+    origin: &str,
     output: &mut dyn Write,
     progress: impl Fn(u64) + Sync,
 ) -> Result<u64> {
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .trim(csv::Trim::All)
-        .from_reader(input);
-
-    // The header: exactly the four column names.
-    let mut header = ByteRecord::new();
-    if !reader
-        .read_byte_record(&mut header)
-        .context("cannot read the header")?
-    {
-        anyhow::bail!(
-            "the input is empty: expected the header `{}`",
-            COLUMNS.join(",")
-        );
-    }
-    check_header(&header)?;
+    let mut reader = DirectionReader::new(input, origin)?;
     writeln!(output, "{},brdf", COLUMNS.join(","))?;
 
     // Two buffers of records: one is evaluated while the other is read, so reading (one thread)
     // overlaps the parallel evaluation.
-    let mut current: Vec<ByteRecord> = Vec::new();
-    let mut next: Vec<ByteRecord> = Vec::new();
+    let mut current: Vec<DirectionRecord> = Vec::new();
+    let mut next: Vec<DirectionRecord> = Vec::new();
     let mut more = fill_chunk(&mut reader, &mut current)?;
     let mut rows = 0u64;
     while !current.is_empty() {
@@ -213,57 +168,38 @@ pub fn eval_csv(
     Ok(rows)
 }
 
-/// Reads up to [`CHUNK_ROWS`] records into `chunk` (reusing its buffers); returns whether the
-/// input may hold more.
+/// The most bytes of fields per batch: with lines of up to 4 KiB
+/// ([`woven::directions::MAX_LINE_BYTES`]), a batch of long lines ends before [`CHUNK_ROWS`].
+const CHUNK_BYTES: usize = 8 << 20;
+/// A record buffer that held more than this is dropped rather than kept for reuse, so that a few
+/// long lines do not leave every buffer large.
+const KEEP_RECORD_BYTES: usize = 256;
+
+/// Reads up to [`CHUNK_ROWS`] records (and about [`CHUNK_BYTES`]) into `chunk`, reusing its
+/// buffers; returns whether the input may hold more. Two chunks are alive at a time, so memory
+/// stays within a few tens of MiB for any input.
 fn fill_chunk(
-    reader: &mut csv::Reader<impl Read + Send>,
-    chunk: &mut Vec<ByteRecord>,
+    reader: &mut DirectionReader<impl Read + Send>,
+    chunk: &mut Vec<DirectionRecord>,
 ) -> Result<bool> {
-    let mut n = 0;
+    let (mut n, mut bytes) = (0, 0);
     loop {
-        if n == CHUNK_ROWS {
+        if n == CHUNK_ROWS || bytes >= CHUNK_BYTES {
             chunk.truncate(n);
             return Ok(true);
         }
         if n == chunk.len() {
-            chunk.push(ByteRecord::new());
+            chunk.push(DirectionRecord::new());
+        } else if chunk[n].byte_len() > KEEP_RECORD_BYTES {
+            chunk[n] = DirectionRecord::new();
         }
-        let line = reader.position().line();
-        let got = reader
-            .read_byte_record(&mut chunk[n])
-            .with_context(|| format!("cannot read the input near line {line}"))?;
-        if !got {
+        if !reader.read_record(&mut chunk[n])? {
             chunk.truncate(n);
             return Ok(false);
         }
+        bytes += chunk[n].byte_len();
         n += 1;
     }
-}
-
-fn check_header(header: &ByteRecord) -> Result<()> {
-    let fields: Vec<String> = header
-        .iter()
-        .enumerate()
-        .map(|(i, f)| {
-            let s = String::from_utf8_lossy(f);
-            // A UTF-8 byte-order mark from spreadsheet exports is not part of the name.
-            let s = if i == 0 {
-                s.trim_start_matches('\u{feff}')
-            } else {
-                &s
-            };
-            s.to_string()
-        })
-        .collect();
-    if fields != COLUMNS {
-        let line = header.position().map_or(1, |p| p.line());
-        anyhow::bail!(
-            "line {line}: expected the header `{}`, found `{}`",
-            COLUMNS.join(","),
-            fields.join(",")
-        );
-    }
-    Ok(())
 }
 
 /// The most rows per parallel task: enough to amortize scheduling for fast materials, few enough
@@ -283,7 +219,7 @@ fn block_rows(rows: usize) -> usize {
 /// the first bad row of the block. `progress` is told each block's row count when it is done.
 fn evaluate_chunk(
     brdf: &dyn Bsdf,
-    chunk: &[ByteRecord],
+    chunk: &[DirectionRecord],
     progress: &(impl Fn(u64) + Sync),
 ) -> Vec<Result<Vec<u8>, RowError>> {
     chunk
@@ -293,8 +229,8 @@ fn evaluate_chunk(
             let mut out = Vec::with_capacity(block.len() * 100);
             let mut number = String::new();
             for record in block {
-                let [theta_i, phi_i, theta_r, phi_r] = parse_row(record)?;
-                for field in record.iter() {
+                let [theta_i, phi_i, theta_r, phi_r] = record.angles()?;
+                for field in record.fields() {
                     out.extend_from_slice(field);
                     out.push(b',');
                 }
@@ -321,64 +257,6 @@ pub fn eval_row(brdf: &dyn Bsdf, theta_i: f64, phi_i: f64, theta_r: f64, phi_r: 
     )
 }
 
-fn parse_row(record: &ByteRecord) -> Result<[f64; 4], RowError> {
-    let line = record.position().map_or(0, |p| p.line());
-    let error = |column: Option<usize>, message: String| RowError {
-        line,
-        column,
-        message,
-    };
-    if record.len() != COLUMNS.len() {
-        let message = if record.len() < COLUMNS.len() {
-            format!(
-                "expected 4 columns ({}), found {}: column `{}` is missing",
-                COLUMNS.join(","),
-                record.len(),
-                COLUMNS[record.len()]
-            )
-        } else {
-            format!(
-                "expected 4 columns ({}), found {}: extra column {}",
-                COLUMNS.join(","),
-                record.len(),
-                COLUMNS.len() + 1
-            )
-        };
-        return Err(error(None, message));
-    }
-    let mut angles = [0.0; 4];
-    for (c, field) in record.iter().enumerate() {
-        let text = std::str::from_utf8(field)
-            .map_err(|_| error(Some(c), "not valid UTF-8 text".into()))?;
-        if text.is_empty() {
-            return Err(error(
-                Some(c),
-                "empty value: expected a number of radians".into(),
-            ));
-        }
-        let x: f64 = text
-            .parse()
-            .map_err(|_| error(Some(c), format!("`{text}` is not a number")))?;
-        if !x.is_finite() {
-            return Err(error(
-                Some(c),
-                format!("`{text}` is not a finite number of radians"),
-            ));
-        }
-        // Polar angles: the hemisphere above the surface.
-        if (c == 0 || c == 2) && !(0.0..=FRAC_PI_2).contains(&x) {
-            return Err(error(
-                Some(c),
-                format!(
-                    "value {text} is outside the valid range [0, π/2] = [0, {FRAC_PI_2}] radians"
-                ),
-            ));
-        }
-        angles[c] = x;
-    }
-    Ok(angles)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -394,7 +272,7 @@ mod tests {
 
     fn run(input: &str) -> Result<String> {
         let mut out = Vec::new();
-        eval_csv(&model(), input.as_bytes(), &mut out, |_| {})?;
+        eval_csv(&model(), input.as_bytes(), "<test>", &mut out, |_| {})?;
         Ok(String::from_utf8(out).unwrap())
     }
 
@@ -427,7 +305,7 @@ mod tests {
         assert_eq!(out.lines().count(), n + 1);
         // Progress is reported for every row, block by block, whatever the order of the blocks.
         let done = std::sync::atomic::AtomicU64::new(0);
-        eval_csv(&model(), input.as_bytes(), &mut Vec::new(), |k| {
+        eval_csv(&model(), input.as_bytes(), "<test>", &mut Vec::new(), |k| {
             done.fetch_add(k, std::sync::atomic::Ordering::Relaxed);
         })
         .unwrap();
@@ -467,6 +345,9 @@ mod tests {
         assert_eq!(count_rows(&path).unwrap(), 2);
         std::fs::write(&path, "theta_i,phi_i,theta_r,phi_r\n1,2,3,4\n").unwrap();
         assert_eq!(count_rows(&path).unwrap(), 1);
+        // An endless device is not counted (it would never end).
+        #[cfg(unix)]
+        assert!(count_rows(Path::new("/dev/zero")).is_err());
         assert_eq!(block_rows(10), MIN_BLOCK_ROWS);
         assert_eq!(block_rows(10_000_000), BLOCK_ROWS);
     }

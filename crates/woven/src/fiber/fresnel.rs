@@ -89,6 +89,24 @@ impl Ior {
             }
         }
     }
+
+    /// The index at `lambda_nm`, checked to lie in `[1, 4]` there too: [`validate`](Self::validate)
+    /// checks a Cauchy index over the visible range only, and `B/λ²` grows fast below it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `fiber.eta`, the index and the wavelength.
+    pub fn checked_at(&self, lambda_nm: f64) -> Result<f64> {
+        let eta = self.at(lambda_nm);
+        if eta.is_finite() && (1.0..=4.0).contains(&eta) {
+            Ok(eta)
+        } else {
+            Err(Error::invalid(
+                "fiber.eta",
+                format!("{eta} at {lambda_nm} nm"),
+                "an index in [1, 4] at the wavelength evaluated",
+            ))
+        }
+    }
 }
 
 #[cfg(test)]

@@ -191,6 +191,7 @@ impl Fiber {
     pub fn new(params: &FiberParams, wavelength_nm: f64) -> Result<Self> {
         params.validate()?;
         check_range("wavelength_nm", wavelength_nm, 200.0, 2500.0)?;
+        params.eta.checked_at(wavelength_nm)?;
         let mut fiber = Self::unnormalized(params, wavelength_nm);
         if params.normalization == Normalization::Paper {
             fiber.beta = Some(Arc::new(BetaTable::build(&fiber)));

@@ -156,62 +156,27 @@ impl Table {
         }
         let header = std::str::from_utf8(&bytes[16..after_header])
             .map_err(|_| err("header is not UTF-8"))?;
-        let header: toml::Table = header.parse().map_err(|e| err(&format!("header: {e}")))?;
-        let int = |k: &str| -> Result<usize> {
-            header
-                .get(k)
-                .and_then(|v| v.as_integer())
-                .filter(|&x| (1..=1 << 20).contains(&x))
-                .map(|x| x as usize)
-                .ok_or_else(|| err(&format!("header key `{k}` missing or out of range")))
-        };
-        let float = |k: &str| -> Result<f64> {
-            header
-                .get(k)
-                .and_then(|v| v.as_float())
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| err(&format!("header key `{k}` missing or not a number")))
-        };
-        let symmetry = match header.get("symmetry").and_then(|v| v.as_str()) {
-            Some("isotropic") => Symmetry::Isotropic,
-            Some("mirror") => Symmetry::Mirror,
-            _ => {
-                return Err(err(
-                    "header key `symmetry` must be \"isotropic\" or \"mirror\"",
-                ))
-            }
-        };
-        let (n_theta, n_phi, n_h) = (int("n_theta")?, int("n_phi")?, int("n_h")?);
-        let theta_max = float("theta_max")?;
-        if n_theta < 2
-            || n_h < 3
-            || (symmetry == Symmetry::Mirror && n_phi < 2)
-            || (symmetry == Symmetry::Isotropic && n_phi != 1)
-        {
-            return Err(err("grid dimensions are inconsistent with the symmetry"));
-        }
-        if !(0.0..std::f64::consts::FRAC_PI_2).contains(&theta_max) {
-            return Err(err("theta_max out of range"));
-        }
-        // Two halves (light and view).
-        let expected = 2 * (n_theta * n_phi * n_h * n_h) as u64;
-        if expected != count {
-            return Err(err(&format!(
-                "{count} values, but the grid needs {expected}"
-            )));
-        }
-        let expected_cells = (n_theta * n_phi * (n_h - 1) * (n_h - 1)) as u64;
-        if expected_cells != cell_count {
-            return Err(err(&format!(
-                "{cell_count} cells, but the grid needs {expected_cells}"
-            )));
-        }
+        let toml_header: toml::Table = header.parse().map_err(|e| err(&format!("header: {e}")))?;
+        let header = check_header(&toml_header, count, cell_count).map_err(|m| err(&m))?;
+        let Header {
+            symmetry,
+            n_theta,
+            n_phi,
+            n_h,
+            theta_max,
+            wavelength_nm,
+        } = header;
         let cell_pdf: Vec<f32> = bytes[values_end + 8..payload_end]
             .chunks_exact(4)
             .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
             .collect();
         if cell_pdf.iter().any(|v| !v.is_finite() || *v < 0.0) {
             return Err(err("negative or non-finite sampling densities"));
+        }
+        if cell_pdf.iter().all(|&v| v == 0.0) {
+            return Err(err(
+                "every sampling density is zero (a built table has positive densities)",
+            ));
         }
         let values: Vec<f32> = bytes[after_header + 8..values_end]
             .chunks_exact(4)
@@ -220,12 +185,11 @@ impl Table {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(err("non-finite values"));
         }
-        let material = header
+        let material = toml_header
             .get("material")
             .and_then(|v| v.as_str())
             .unwrap_or("")
             .to_string();
-        let wavelength_nm = float("wavelength_nm")?;
         Ok(Table::assemble(
             symmetry,
             Axis {
@@ -249,15 +213,169 @@ impl Table {
     /// [`Error::Io`] if it cannot be read; [`Error::Parse`] as [`from_bytes`](Self::from_bytes).
     pub fn load(path: impl AsRef<Path>) -> Result<Table> {
         let path = path.as_ref();
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .and_then(|mut f| f.read_to_end(&mut bytes))
+        let origin = path.display().to_string();
+        let bytes = std::fs::File::open(path)
+            .and_then(|f| read_bounded(f, &origin))
             .map_err(|source| Error::Io {
                 path: path.to_path_buf(),
                 source,
             })?;
-        Table::from_bytes(&bytes, &path.display().to_string())
+        Table::from_bytes(&bytes?, &origin)
     }
+}
+
+/// The longest header accepted, in bytes: the material's TOML with a full-size WIF pattern
+/// written out as a matrix stays below it.
+const MAX_HEADER_BYTES: u64 = 64 << 20;
+
+/// Reads one table file from `r`, section by section, never more than its own counts announce
+/// (each bounded by [`MAX_HEADER_BYTES`] or `MAX_VALUES`), and at most one byte past its end:
+/// an endless stream (`/dev/zero`, a pipe) is refused at its first wrong field, not read to the
+/// end. The outer error is an I/O failure; the inner one a format error for
+/// [`Table::from_bytes`]'s messages, with the bytes read so far when the stream ends early.
+fn read_bounded(mut r: impl Read, origin: &str) -> std::io::Result<Result<Vec<u8>>> {
+    let mut bytes = Vec::new();
+    // Appends up to `n` more bytes; false when the stream ended first.
+    let mut more = |bytes: &mut Vec<u8>, n: u64| -> std::io::Result<bool> {
+        let want = bytes.len() + n as usize;
+        (&mut r).take(n).read_to_end(bytes)?;
+        Ok(bytes.len() == want)
+    };
+    let u64_at =
+        |bytes: &[u8], at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+    if !more(&mut bytes, 16)? || &bytes[..8] != MAGIC {
+        // Short or foreign: from_bytes names what is wrong.
+        return Ok(Ok(bytes));
+    }
+    let hlen = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as u64;
+    if hlen > MAX_HEADER_BYTES {
+        return Ok(Err(format_error(
+            origin,
+            format!("header of {hlen} bytes, more than the {MAX_HEADER_BYTES} accepted"),
+        )));
+    }
+    if !more(&mut bytes, hlen + 8)? {
+        return Ok(Ok(bytes));
+    }
+    let count = u64_at(&bytes, bytes.len() - 8);
+    if count > MAX_VALUES {
+        return Ok(Err(format_error(
+            origin,
+            format!("implausible value count {count}"),
+        )));
+    }
+    if !more(&mut bytes, 4 * count + 8)? {
+        return Ok(Ok(bytes));
+    }
+    let cells = u64_at(&bytes, bytes.len() - 8);
+    if cells > MAX_VALUES {
+        return Ok(Err(format_error(
+            origin,
+            format!("implausible cell count {cells}"),
+        )));
+    }
+    // The densities, the CRC, and one byte more to tell trailing bytes from the end.
+    more(&mut bytes, 4 * cells + 4 + 1)?;
+    Ok(Ok(bytes))
+}
+
+/// The checked header of a table file.
+#[derive(Debug)]
+struct Header {
+    symmetry: Symmetry,
+    n_theta: usize,
+    n_phi: usize,
+    n_h: usize,
+    theta_max: f64,
+    wavelength_nm: f64,
+}
+
+/// The wavelengths a table may hold, nm: those a fiber can be prepared at (`Fiber::new`).
+const WAVELENGTH_NM: (f64, f64) = (200.0, 2500.0);
+/// The smallest `theta_max`, degrees: that of `TableOptions::validate`.
+const MIN_THETA_MAX_DEG: f64 = 1.0;
+
+/// Checks a table's header against itself and against the stored value and cell counts; the
+/// message says which key is wrong, its value and what it must be.
+///
+/// A file whose checksum is right can still hold a header no build writes (edited, or from a
+/// buggy writer): every key is checked here, so that a loaded table evaluates finite numbers.
+fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Header, String> {
+    let int = |k: &str, lo: usize, hi: usize| -> Result<usize, String> {
+        match header.get(k) {
+            None => Err(format!("header key `{k}` is missing")),
+            Some(v) => match v.as_integer() {
+                Some(x) if (lo as i64..=hi as i64).contains(&x) => Ok(x as usize),
+                _ => Err(format!(
+                    "header key `{k}` = {v}: expected an integer in [{lo}, {hi}]"
+                )),
+            },
+        }
+    };
+    let float = |k: &str, lo: f64, hi: f64| -> Result<f64, String> {
+        match header.get(k) {
+            None => Err(format!("header key `{k}` is missing")),
+            Some(v) => match v.as_float() {
+                Some(x) if x.is_finite() && x >= lo && x <= hi => Ok(x),
+                _ => Err(format!(
+                    "header key `{k}` = {v}: expected a number in [{lo}, {hi}]"
+                )),
+            },
+        }
+    };
+    let symmetry = match header.get("symmetry").and_then(|v| v.as_str()) {
+        Some("isotropic") => Symmetry::Isotropic,
+        Some("mirror") => Symmetry::Mirror,
+        _ => return Err("header key `symmetry` must be \"isotropic\" or \"mirror\"".into()),
+    };
+    // The ranges `TableOptions::validate` admits (n_h up to 4097 for either symmetry).
+    let n_theta = int("n_theta", 2, 1024)?;
+    let n_phi = match symmetry {
+        Symmetry::Isotropic => int("n_phi", 1, 1)?,
+        Symmetry::Mirror => int("n_phi", 2, 1024)?,
+    };
+    let n_h = int("n_h", 3, 4097)?;
+    // Strictly below π/2: the grid's last node must stay above the horizon.
+    let theta_max = float(
+        "theta_max",
+        MIN_THETA_MAX_DEG.to_radians(),
+        std::f64::consts::FRAC_PI_2,
+    )?;
+    if theta_max >= std::f64::consts::FRAC_PI_2 {
+        return Err(format!(
+            "header key `theta_max` = {theta_max}: expected less than π/2"
+        ));
+    }
+    let wavelength_nm = float("wavelength_nm", WAVELENGTH_NM.0, WAVELENGTH_NM.1)?;
+    match header.get("material").map(|v| v.as_str()) {
+        None => return Err("header key `material` is missing".into()),
+        Some(None) => return Err("header key `material` is not a string".into()),
+        Some(Some(m)) if m.trim().is_empty() => {
+            return Err("header key `material` is empty: a table records its material".into())
+        }
+        Some(Some(_)) => {}
+    }
+    // The counts, in u64 (each factor is at most 4097, so no product overflows); the values
+    // fill two halves (light and view).
+    let incidences = (n_theta * n_phi) as u64;
+    let expected = 2 * incidences * (n_h * n_h) as u64;
+    if expected != count {
+        return Err(format!("{count} values, but the grid needs {expected}"));
+    }
+    let expected_cells = incidences * ((n_h - 1) * (n_h - 1)) as u64;
+    if expected_cells != cell_count {
+        return Err(format!(
+            "{cell_count} cells, but the grid needs {expected_cells}"
+        ));
+    }
+    Ok(Header {
+        symmetry,
+        n_theta,
+        n_phi,
+        n_h,
+        theta_max,
+        wavelength_nm,
+    })
 }
 
 /// A TOML basic string literal of `s`.

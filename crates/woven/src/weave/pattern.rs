@@ -11,6 +11,11 @@ use std::str::FromStr;
 /// for 2.5·10⁹ cells); real drafts, even whole-cloth WIF files, stay well below it.
 pub const MAX_THREADS: usize = 4096;
 
+/// The longest WIF file [`Pattern::from_wif_path`] reads, in bytes (16 MiB): a full
+/// [`MAX_THREADS`]-square draft with one shaft a thread is under 100 KiB a section; the limit
+/// stops an endless stream (`/dev/zero`, a pipe) from filling memory.
+pub const MAX_WIF_BYTES: u64 = 16 << 20;
+
 /// The names [`Pattern::from_name`] understands, for error messages.
 const VALID_NAMES: &str =
     "one of `plain`, `twill-N/M` (N, M ≥ 1), `satin-N` or `sateen-N` (N ≥ 5, N ≠ 6)";
@@ -262,9 +267,11 @@ impl Pattern {
     ///
     /// What is read:
     /// - sections `[WIF]` (required, marks the format), `[WEAVING]`, `[WARP]`, `[WEFT]`,
-    ///   `[THREADING]` (required), `[TIEUP]` and `[TREADLING]`, or `[LIFTPLAN]` when either of
-    ///   those is absent; other sections (`[CONTENTS]`, colours, text, …) are skipped;
-    /// - keys are case-insensitive; `;` starts a comment, to the end of the line;
+    ///   `[THREADING]` (required), `[TIEUP]` and `[TREADLING]` or else `[LIFTPLAN]` (a lift
+    ///   plan beside both is an error: one of them would go unread); other sections
+    ///   (`[CONTENTS]`, colours, text, …) are skipped;
+    /// - keys are case-insensitive; `;` starts a comment, to the end of the line; two keys of a
+    ///   section that name the same number (`1=` and `01=`) are an error;
     /// - `[THREADING] 1=3`: end 1 is on shaft 3 (a list `1=3,4` is allowed); an end with no entry
     ///   is on no shaft and is never lifted;
     /// - `[TIEUP] 1=1,2`: treadle 1 lifts shafts 1 and 2; `[TREADLING] 1=2` (or `1=2,3`): pick 1
@@ -279,9 +286,11 @@ impl Pattern {
     ///
     /// # Errors
     /// [`Error::Parse`] naming `origin`, and the section and line number where there is one, for
-    /// a missing section, a malformed line, a non-numeric value, a duplicate key or section, an
+    /// a missing section, a malformed line, a non-numeric value, a duplicate key or section
+    /// (also under two spellings of one number), a lift plan beside tie-up and treadling, an
     /// index of 0, a shaft, treadle, end or pick out of range, or more than [`MAX_THREADS`] ends
-    /// or picks.
+    /// or picks. Text before the first section header is not quoted in the message (the file may
+    /// be anything).
     ///
     /// # Examples
     /// ```
@@ -300,14 +309,12 @@ impl Pattern {
     /// A pattern from a WIF file; see [`Pattern::from_wif_str`] for what is read.
     ///
     /// # Errors
-    /// [`Error::Io`] when the file cannot be read (or is not UTF-8); otherwise the errors of
-    /// [`Pattern::from_wif_str`], naming the path.
+    /// [`Error::Io`] when the file cannot be read (or is not UTF-8); [`Error::Parse`] when it is
+    /// longer than [`MAX_WIF_BYTES`]; otherwise the errors of [`Pattern::from_wif_str`], naming
+    /// the path.
     pub fn from_wif_path(path: impl AsRef<Path>) -> Result<Pattern> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = crate::fsutil::read_text_capped(path, MAX_WIF_BYTES, "a WIF file")?;
         Pattern::from_wif_str(&text, &path.display().to_string())
     }
 

@@ -95,8 +95,9 @@ impl<'a> Wif<'a> {
             // A section header `[NAME]`.
             if let Some(rest) = content.strip_prefix('[') {
                 let Some(name) = rest.strip_suffix(']') else {
+                    // The line is not echoed: the file may not be a WIF at all.
                     return Err(wif.error(format!(
-                        "line {line}: malformed section header `{content}`: expected `[NAME]`"
+                        "line {line}: malformed section header: expected `[NAME]`"
                     )));
                 };
                 let name = name.trim().to_ascii_uppercase();
@@ -124,9 +125,11 @@ impl<'a> Wif<'a> {
             // A `key=value` line of a known section.
             let index = match current {
                 None => {
+                    // The line is not echoed: whatever file this is, its text stays private.
                     return Err(wif.error(format!(
-                        "line {line}: `{content}` before the first section header"
-                    )))
+                        "line {line}: text before the first section header: expected a weaving \
+                         information file (WIF), which starts with a section such as `[WIF]`"
+                    )));
                 }
                 Some(None) => continue,
                 Some(Some(index)) => index,
@@ -136,8 +139,9 @@ impl<'a> Wif<'a> {
                 Some((key, value)) if !key.trim().is_empty() => (normalise_key(key), value.trim()),
                 _ => {
                     return Err(wif.error(format!(
-                        "{}: malformed line `{content}`: expected `key=value`",
-                        at(line, section)
+                        "{}: malformed line `{}`: expected `key=value`",
+                        at(line, section),
+                        abbreviate(content)
                     )))
                 }
             };
@@ -200,6 +204,8 @@ impl<'a> Wif<'a> {
             }
         };
         let mut out = Vec::with_capacity(section.entries.len());
+        // The line of each index seen so far: `1=` and `01=` name the same end.
+        let mut seen: Vec<Option<(usize, &str)>> = Vec::new();
         for entry in &section.entries {
             let where_ = at(entry.line, section.name);
             let number = |text: &str, what: &str, max: usize, declared: bool| -> Result<usize> {
@@ -215,6 +221,17 @@ impl<'a> Wif<'a> {
                 Ok(n)
             };
             let index = number(&entry.key, index_what, max_index, index_declared)?;
+            if seen.len() <= index {
+                seen.resize(index + 1, None);
+            }
+            if let Some((first, key)) = seen[index] {
+                return Err(self.error(format!(
+                    "{where_}: key `{}` is {index_what} {index} again (first at line {first} as \
+                     `{key}`)",
+                    entry.key
+                )));
+            }
+            seen[index] = Some((entry.line, &entry.key));
             // Empty items (`1=` or `1=2,,3`) name nothing.
             let items = entry
                 .value
@@ -276,31 +293,45 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Pattern> {
     // Threading: end → shafts.
     let threading_lists = wif.index_lists(threading, end, shaft)?;
 
-    // Pick → lifted (or, with a sinking shed, lowered) shafts: from treadling and tie-up when
-    // both are present, else from the lift plan.
+    // Pick → lifted (or, with a sinking shed, lowered) shafts: from treadling and tie-up, or
+    // from the lift plan; a file with both would leave one of them unread.
     let lifts = match (wif.section("TIEUP"), wif.section("TREADLING")) {
         (Some(tieup), Some(treadling)) => {
-            let mut by_treadle: Vec<Vec<usize>> = Vec::new();
+            if let Some(liftplan) = wif.section("LIFTPLAN") {
+                return Err(wif.error(format!(
+                    "{}: a lift plan beside [TIEUP] and [TREADLING]: both say which shafts each \
+                     pick lifts; keep one of them",
+                    at(liftplan.line, "LIFTPLAN")
+                )));
+            }
+            let mut by_treadle: Vec<Shafts> = Vec::new();
             for (t, shafts) in wif.index_lists(tieup, treadle, shaft)? {
                 if by_treadle.len() <= t {
-                    by_treadle.resize(t + 1, Vec::new());
+                    by_treadle.resize(t + 1, Shafts::default());
                 }
-                by_treadle[t] = shafts;
+                by_treadle[t] = Shafts::from_list(&shafts);
             }
             wif.index_lists(treadling, pick, treadle)?
                 .into_iter()
                 .map(|(p, ts)| {
-                    // A treadle without a tie-up entry lifts nothing.
-                    let shafts = ts
-                        .iter()
-                        .flat_map(|&t| by_treadle.get(t).into_iter().flatten().copied())
-                        .collect();
+                    // A treadle without a tie-up entry lifts nothing; a treadle named twice lifts
+                    // its shafts once (a union of sets, so that no list grows with repeats).
+                    let mut shafts = Shafts::default();
+                    for t in ts {
+                        if let Some(tied) = by_treadle.get(t) {
+                            shafts.union_with(tied);
+                        }
+                    }
                     (p, shafts)
                 })
-                .collect()
+                .collect::<Vec<_>>()
         }
         (tieup, treadling) => match wif.section("LIFTPLAN") {
-            Some(liftplan) => wif.index_lists(liftplan, pick, shaft)?,
+            Some(liftplan) => wif
+                .index_lists(liftplan, pick, shaft)?
+                .into_iter()
+                .map(|(p, shafts)| (p, Shafts::from_list(&shafts)))
+                .collect(),
             None => {
                 return Err(wif.missing(match (tieup, treadling) {
                     (Some(_), None) => "[TREADLING] (needed with [TIEUP]), or [LIFTPLAN]",
@@ -329,31 +360,60 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Pattern> {
         })?;
 
     // Tables indexed from 1 (index 0 unused): the shafts of each end, the shafts marked on
-    // each pick.
-    let n_shafts = threading_lists
-        .iter()
-        .chain(&lifts)
-        .flat_map(|(_, s)| s.iter().copied())
-        .max()
-        .unwrap_or(0)
-        + 1;
-    let mut end_shafts = vec![Vec::new(); ends + 1];
+    // each pick, as bit sets (memory and time bounded by ends · picks · shafts / 64).
+    let mut end_shafts = vec![Shafts::default(); ends + 1];
     for (e, shafts) in threading_lists {
-        end_shafts[e] = shafts;
+        end_shafts[e] = Shafts::from_list(&shafts);
     }
-    let mut marked = vec![vec![false; n_shafts]; picks + 1];
+    let mut marked = vec![Shafts::default(); picks + 1];
     for (p, shafts) in lifts {
-        for s in shafts {
-            marked[p][s] = true;
-        }
+        marked[p] = shafts;
     }
 
     // A marked shaft is lifted on a rising shed (warp on top) and lowered on a sinking one
     // (weft on top); an end on no shaft is never marked.
     Ok(Pattern::from_fn(picks, ends, |r, c| {
-        let is_marked = end_shafts[c + 1].iter().any(|&s| marked[r + 1][s]);
+        let is_marked = end_shafts[c + 1].intersects(&marked[r + 1]);
         is_marked != rising
     }))
+}
+
+/// A set of shafts (numbers `1..=MAX_THREADS`) as bits.
+#[derive(Clone, Debug, Default)]
+struct Shafts(Vec<u64>);
+
+impl Shafts {
+    fn from_list(shafts: &[usize]) -> Shafts {
+        let mut set = Shafts::default();
+        for &s in shafts {
+            if set.0.len() <= s / 64 {
+                set.0.resize(s / 64 + 1, 0);
+            }
+            set.0[s / 64] |= 1 << (s % 64);
+        }
+        set
+    }
+
+    fn union_with(&mut self, other: &Shafts) {
+        if self.0.len() < other.0.len() {
+            self.0.resize(other.0.len(), 0);
+        }
+        for (a, b) in self.0.iter_mut().zip(&other.0) {
+            *a |= b;
+        }
+    }
+
+    fn intersects(&self, other: &Shafts) -> bool {
+        self.0.iter().zip(&other.0).any(|(a, b)| a & b != 0)
+    }
+}
+
+/// At most 40 characters of `s`, marked with `…` where cut.
+fn abbreviate(s: &str) -> String {
+    match s.char_indices().nth(40) {
+        Some((i, _)) => format!("{}…", &s[..i]),
+        None => s.to_string(),
+    }
 }
 
 #[cfg(test)]

@@ -8,5 +8,6 @@ mod fiber;
 mod golden;
 mod masking;
 mod material_files;
+mod robustness;
 mod table;
 mod weave;

@@ -555,13 +555,12 @@ fn wif_string_rules() {
     .unwrap();
     assert_eq!(p.to_string(), ".##.#\n#.###\n#####");
     // TREADLING with several treadles per pick lifts the union of their shafts; a treadle
-    // with no tie-up entry lifts nothing; TIEUP + TREADLING win over LIFTPLAN.
-    let p = Pattern::from_wif_str(
-        &format!("{base}[TIEUP]\n1=1\n2=\n[TREADLING]\n1=1,2\n2=2\n3=1\n[LIFTPLAN]\n1=2\n"),
-        "<s>",
-    )
-    .unwrap();
+    // with no tie-up entry lifts nothing; a LIFTPLAN beside them is an error (one would be
+    // ignored).
+    let tieup = format!("{base}[TIEUP]\n1=1\n2=\n[TREADLING]\n1=1,2\n2=2\n3=1\n");
+    let p = Pattern::from_wif_str(&tieup, "<s>").unwrap();
     assert_eq!(p.to_string(), ".##.\n####\n.##.");
+    assert!(Pattern::from_wif_str(&format!("{tieup}[LIFTPLAN]\n1=2\n"), "<s>").is_err());
     // Sinking shed: the marked shafts go down, the unthreaded end stays up (warp on top).
     let p = Pattern::from_wif_str(
         &format!("{base}[LIFTPLAN]\n1=1\n2=2\n").replace("Shafts=2", "Shafts=2\nRising Shed=False"),
