@@ -2,8 +2,8 @@
 //! that tests can check what each figure claims. Figures 8–10 (the cloth presets on the virtual
 //! goniometer) are in [`cloth`].
 //!
-//! Figures 3–5 of the paper (MODEL.md §5) show planar fiber surfaces (the rough limit, Eq. (16'),
-//! MODEL.md §1.3) with `σ_h/τ = 0.05` unless varied, as the reflected radiance against the view
+//! Figures 3–5 of the paper (docs/spec.md §5) show planar fiber surfaces (the rough limit, Eq. (16'),
+//! docs/spec.md §1.3) with `σ_h/τ = 0.05` unless varied, as the reflected radiance against the view
 //! direction in a vertical plane through the normal. The paper gives neither the refractive index
 //! nor the diffuse albedo: we take `η = 1.6` (polyester), `ρ0 = 0` and the `paper`
 //! normalization, and every figure says so.

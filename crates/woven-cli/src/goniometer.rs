@@ -1,4 +1,4 @@
-//! The paper's virtual goniometer (§4, Fig. 7; MODEL.md §4).
+//! The paper's virtual goniometer (§4, Fig. 7; docs/spec.md §4).
 //!
 //! Light and sensor are fixed 90° apart. The sample turns about its normal to the sample azimuth
 //! `A` and tilts by `t` in the plane of light and sensor, so that in the cloth's frame

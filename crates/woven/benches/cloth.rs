@@ -1,4 +1,4 @@
-//! Criterion benchmarks of the cloth BRDF (MODEL.md §2): one exact evaluation per preset, with the
+//! Criterion benchmarks of the cloth BRDF (docs/spec.md §2): one exact evaluation per preset, with the
 // criterion_group! and criterion_main! generate undocumented items.
 #![allow(missing_docs)]
 //! flat fiber of the same material as the baseline measured in the same run.

@@ -1,4 +1,4 @@
-//! Criterion benchmarks of the fiber BRDF (MODEL.md §1): one evaluation, and the β table build.
+//! Criterion benchmarks of the fiber BRDF (docs/spec.md §1): one evaluation, and the β table build.
 // criterion_group! and criterion_main! generate undocumented items.
 #![allow(missing_docs)]
 

@@ -1,5 +1,5 @@
 //! Directional albedo of woven materials: `∫ f(s, v) cos θ_r dω_r` over the hemisphere
-//! (MODEL.md §6.2).
+//! (docs/spec.md §6.2).
 //!
 //! The cloth BRDF is linear in its parts (Eqs. (18)–(23)), so the albedo is the same mix of the
 //! albedos of single fiber orientations. For fibers along `e_f`, the reflected light gathers on

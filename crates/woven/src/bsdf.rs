@@ -1,6 +1,6 @@
 //! The renderer-facing interface: evaluation, importance sampling and densities.
 //!
-//! Directions live in the cloth's local frame (MODEL.md §0; `docs/conventions.md`): `z` is the
+//! Directions live in the cloth's local frame (docs/spec.md §0; `docs/conventions.md`): `z` is the
 //! macro normal, the weft runs along `x`. `s` points toward the light (a renderer's `wi`), `v`
 //! toward the viewer (`wo`), both away from the surface. `eval` is the BRDF in sr⁻¹ without the
 //! cosine; `pdf` is a density per unit solid angle.

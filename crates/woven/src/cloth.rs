@@ -1,4 +1,4 @@
-//! The cloth BRDF: fiber → yarn → weave (paper Eq. (23); MODEL.md §2.7).
+//! The cloth BRDF: fiber → yarn → weave (paper Eq. (23); docs/spec.md §2.7).
 
 use crate::fiber::Fiber;
 use crate::math::Vec3;

@@ -1,26 +1,66 @@
 //! # woven — the Yang–Ikeuchi woven-cloth reflectance model
 //!
+//! woven evaluates the physically based cloth BRDF of Yang & Ikeuchi, *A Rendering Method for
+//! Woven Clothes Reflections*: a fiber-surface BRDF from rough-surface scattering, yarns as
+//! arc-topped prisms with exact masking and shadowing, distributions of lateral slopes and fiber
+//! twist, and a weave mix. It tabulates the model for renderers, with importance sampling.
+//!
+//! The workflow is **Material → Model → Table**: a [`Material`](material::Material) describes a
+//! cloth (a TOML file or a built-in preset), [`Material::build`](material::Material::build)
+//! prepares it at one wavelength as a [`Model`] that evaluates the exact BRDF, and a
+//! [`Table`](table::Table) stores that model on a grid for fast evaluation and sampling through the
+//! [`Bsdf`](bsdf::Bsdf) trait.
+//!
 //! ```
-//! use woven::{fiber::{Fiber, FiberParams}, Vec3};
-//! // A polyester-like fiber surface: η = 1.6, σ_h/τ = 0.05, a little diffuse.
-//! let fiber = Fiber::new(&FiberParams::rough(1.6, 0.05, 0.1), 550.0)?;
-//! let s = Vec3::from_spherical(45f64.to_radians(), 0.0);
-//! // The mirror direction carries the specular peak, ten times the retro-reflection direction;
-//! // the directional albedo stays ≤ 1.
-//! let mirror = Vec3::from_spherical(45f64.to_radians(), std::f64::consts::PI);
-//! assert!(fiber.eval(s, mirror) > 10.0 * fiber.eval(s, s));
-//! assert!(fiber.albedo(s.z) <= 1.0);
+//! use woven::bsdf::Bsdf;
+//! use woven::material::Material;
+//! use woven::table::{Table, TableOptions};
+//! use woven::Vec3;
+//!
+//! // Material: the polyester sateen of the paper's Fig. 8 (or Material::from_path("cloth.toml")).
+//! let material = Material::preset("polyester-sateen")?;
+//!
+//! // Model: the exact BRDF at 550 nm. Directions in the cloth's frame, pointing away from the
+//! // surface: s toward the light, v toward the viewer; f in sr⁻¹, without the cosine.
+//! let model = material.build(550.0)?;
+//! let s = Vec3::from_spherical(0.6, 0.0);
+//! let v = Vec3::from_spherical(0.5, 3.0);
+//! let exact = model.eval(s, v);
+//! assert!(exact > 0.0 && model.albedo(0.6, 0.0) <= 1.0);
+//!
+//! // Table: a (deliberately coarse) tabulation for a renderer; `woven tabulate` and
+//! // TableOptions::for_model give the accurate default grid.
+//! let options = TableOptions { n_theta: 6, n_phi: 4, n_h: 21, ..TableOptions::default() };
+//! let table = Table::build(&model, &material.to_toml_string(), &options, &|_, _| {})?;
+//! assert!(table.eval(s, v) > 0.0);
+//! if let Some(sample) = table.sample(s, 0.3, 0.7) {
+//!     // v drawn ∝ f cos θr; the density `pdf` reports is the one `sample` drew with.
+//!     assert!(sample.pdf > 0.0 && (table.pdf(s, sample.v) - sample.pdf).abs() <= 1e-6 * sample.pdf);
+//! }
 //! # Ok::<(), woven::Error>(())
 //! ```
 //!
-//! The crate follows `MODEL.md` (the precise specification of the paper): frames and units are
-//! those of `docs/conventions.md` — `z` is the macro normal, the weft runs along `x`, the warp
-//! along `y`; `s` (a renderer's `wi`) points toward the light and `v` (`wo`) toward the viewer,
-//! both away from the surface; angles are radians; BRDFs are in sr⁻¹ without the cosine.
+//! The crate implements the project's specification, `docs/spec.md` in the repository: every
+//! equation with the paper's numbers and every correction of the printed paper; `docs/model.md`
+//! maps each equation to the item that computes it. Frames and units are those of
+//! `docs/conventions.md`: `z` is the macro normal, the weft runs along `x`, the warp along `y`;
+//! `s` (a renderer's `wi`) points toward the light and `v` (`wo`) toward the viewer, both away
+//! from the surface; angles are radians; wavelengths nanometres; BRDFs are in sr⁻¹ without the
+//! cosine. Runnable examples are in `crates/woven/examples/`.
 //!
-//! - [`fiber`]: the fiber-surface BRDF of the paper's §2 (MODEL.md §1).
-//! - [`material`]: material descriptions and their TOML files.
-//! - [`math`]: vectors, special functions, quadrature.
+//! ## Modules
+//!
+//! - [`material`]: material descriptions, their TOML files and the built-in presets.
+//! - [`Model`]: a material prepared at one wavelength — the exact BRDF and its albedo.
+//! - [`fiber`]: the fiber-surface BRDF of the paper's §2 (docs/spec.md §1).
+//! - [`yarn`]: the yarn's profile, exact masking, slope and twist averages (docs/spec.md §2.1–§2.6).
+//! - [`weave`]: weave patterns (named, matrices, WIF drafts) and their weft fraction.
+//! - [`cloth`]: fiber → yarn → weave, the cloth BRDF (docs/spec.md §2.7).
+//! - [`bsdf`]: the renderer-facing trait: evaluation, importance sampling, densities.
+//! - [`table`]: tabulated BRDFs for renderers, their `.wtab` file format and accuracy reports.
+//! - [`export`]: export to other programs' formats (MERL).
+//! - [`math`]: vectors, special functions, quadrature and interpolation.
+//! - [`error`]: the one error type, [`Error`].
 
 mod albedo;
 pub mod bsdf;
@@ -41,3 +81,44 @@ pub mod yarn;
 pub use error::{Error, Result};
 pub use math::Vec3;
 pub use model::Model;
+
+/// The README shows the examples whole: every `examples/*.rs` must appear in it verbatim.
+#[cfg(test)]
+mod readme {
+    #[test]
+    fn readme_shows_every_example_verbatim() {
+        let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let readme = std::fs::read_to_string(crate_dir.join("../../README.md")).unwrap();
+        let mut names = Vec::new();
+        for entry in std::fs::read_dir(crate_dir.join("examples")).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                assert!(
+                    readme.contains(&format!("```rust\n{text}```")),
+                    "README.md does not show {} verbatim in a ```rust block",
+                    path.display()
+                );
+                names.push(path);
+            }
+        }
+        assert!(names.len() >= 2, "expected the examples, found {names:?}");
+    }
+
+    /// The README's material file (its ```toml block) parses and builds.
+    #[cfg(feature = "serde")]
+    #[test]
+    fn readme_material_file_parses() {
+        let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let readme = std::fs::read_to_string(crate_dir.join("../../README.md")).unwrap();
+        let start = readme
+            .find("```toml\n")
+            .expect("a ```toml block in README.md")
+            + 8;
+        let len = readme[start..].find("```").unwrap();
+        let material =
+            crate::material::Material::from_toml_str(&readme[start..start + len], "README.md")
+                .unwrap_or_else(|e| panic!("README.md's material file: {e}"));
+        material.build(550.0).unwrap();
+    }
+}

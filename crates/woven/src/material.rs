@@ -1,33 +1,58 @@
 //! Material descriptions and their TOML files (the project's material-file contract).
 //!
-//! ```toml
-//! name = "my-fabric"            # optional
+//! A material is a `[fiber]` table, optionally arranged in yarns (`[yarn]`) and a weave
+//! (`[weave]`). Every key, with its meaning and valid range (this example parses, and is tested):
+//!
+//! ```
+//! # use woven::material::Material;
+//! let toml = r#"
+//! name = "my-fabric"             # optional
+//!
 //! [fiber]
-//! model = "rough"               # "rough" (MODEL.md §1.3, default) | "htsg" (§1.4)
-//! eta = 1.6                     # or: eta = { cauchy_a = 1.55, cauchy_b_nm2 = 4000.0 }
-//! roughness = 0.05              # σ_h/τ, for "rough"
-//! sigma_h_um = 0.2              # for "htsg" (instead of roughness)
-//! tau_um = 2.0                  # for "htsg"
-//! diffuse = 0.1                 # ρ0, in [0, 1)
-//! normalization = "paper"       # "paper" (default) | "none"
+//! model = "rough"                # "rough" (docs/spec.md §1.3, default) | "htsg" (§1.4)
+//! eta = 1.6                      # η; or eta = { cauchy_a = 1.55, cauchy_b_nm2 = 4000.0 }
+//! roughness = 0.05               # σ_h/τ, for "rough"; "htsg" takes sigma_h_um and tau_um (µm)
+//! diffuse = 0.1                  # ρ0, in [0, 1)
+//! normalization = "paper"        # "paper" (β of Eq. (15), default) | "none" (reciprocal)
 //!
-//! [yarn]                        # absent: a flat fiber surface
-//! lateral_length = 20.0         # L (the arc radius is 1)
-//! slope_mean = 0.0              # μ, radians
-//! slope_std = 1.2               # σ, radians; 0 = the single profile θ_a = μ
-//! interreflection = 0.2         # ħ in [0, 1]
-//! interreflection_albedo = 0.5  # ρ in [0, 1]
-//! twist_std = 0.0               # σ_t, radians; 0 = fibers along the yarn axis
-//! isotropic = false             # true: Eq. (22) (twist_std is then an error)
+//! [yarn]                         # absent: a flat fiber surface
+//! lateral_length = 20.0          # L (the arc radius is 1)
+//! slope_mean = 0.0               # μ, radians
+//! slope_std = 1.2                # σ, radians; 0 = the single profile θ_a = μ
+//! interreflection = 0.2          # ħ in [0, 1]
+//! interreflection_albedo = 0.5   # ρ in [0, 1]
+//! twist_std = 0.0                # σ_t, radians; 0 = fibers along the yarn axis
+//! isotropic = false              # true: Eq. (22) (twist_std is then an error)
 //!
-//! [weave]                       # absent: γ = 1, one yarn orientation along x (φ = 0)
-//! weft_fraction = 0.5           # γ, or instead:
-//! pattern = "satin-5"           # "plain" | "twill-2/1" | "satin-5" | [[1,0],[0,1]] | { wif = "file.wif" }
+//! [weave]                        # absent: γ = 1, one yarn orientation along x (φ = 0)
+//! weft_fraction = 0.5            # γ; or pattern = "plain" (below)
+//! "#;
+//! let material = Material::from_toml_str(toml, "my-fabric.toml")?;
+//! assert_eq!(material.weft_fraction(), 0.5);
+//! let model = material.build(550.0)?; // ready to evaluate at 550 nm
+//! # let _ = model;
+//!
+//! // The full physical-optics fiber takes absolute lengths instead of the ratio:
+//! let htsg = "[fiber]\nmodel = \"htsg\"\neta = 1.6\nsigma_h_um = 0.2\ntau_um = 2.0\n";
+//! assert!(Material::from_toml_str(htsg, "htsg.toml").is_ok());
+//! // A pattern gives γ instead of weft_fraction: "plain", "twill-2/1", "satin-5", "sateen-5",
+//! // a 0/1 matrix (1 where the weft floats on top), or a WIF draft { wif = "draft.wif" }.
+//! let twill = "[fiber]\neta = 1.6\nroughness = 0.2\n[yarn]\nlateral_length = 4.0\nslope_mean = 0.4\n\
+//!              [weave]\npattern = \"twill-2/1\"\n";
+//! assert!((Material::from_toml_str(twill, "twill.toml")?.weft_fraction() - 1.0 / 3.0).abs() < 1e-12);
+//! let matrix = "[fiber]\neta = 1.6\nroughness = 0.2\n[yarn]\nlateral_length = 4.0\nslope_mean = 0.4\n\
+//!               [weave]\npattern = [[1, 0], [0, 1]]\n";
+//! assert_eq!(Material::from_toml_str(matrix, "matrix.toml")?.weft_fraction(), 0.5);
+//! // … and the roughness twice is an error that names the key:
+//! let both = "[fiber]\nmodel = \"htsg\"\neta = 1.6\nroughness = 0.1\nsigma_h_um = 0.2\ntau_um = 2.0\n";
+//! assert!(Material::from_toml_str(both, "both.toml").is_err());
+//! # Ok::<(), woven::Error>(())
 //! ```
 //!
 //! All angles in files are radians. Unknown keys, missing required keys, out-of-range values and
 //! a key that does not belong to the chosen model are errors naming the key, the value and the
-//! valid range.
+//! valid range. [`Material::preset`] gives the built-in presets (`polyester-sateen`,
+//! `belt-cloth`, `silk`), which are files of this form.
 
 use crate::cloth::Structure;
 use crate::error::check_range;
@@ -145,7 +170,7 @@ impl Material {
         Ok(crate::Model::new(structure))
     }
 
-    /// The names of the built-in presets (MODEL.md §5), usable wherever a material file is.
+    /// The names of the built-in presets (docs/spec.md §5), usable wherever a material file is.
     pub fn preset_names() -> &'static [&'static str] {
         &["polyester-sateen", "belt-cloth", "silk"]
     }

@@ -18,7 +18,7 @@ impl Model {
     }
 
     /// The BRDF (sr⁻¹, no cosine) for light from `s` seen from `v`, in the cloth's local frame
-    /// (MODEL.md §0); 0 when either is below the surface.
+    /// (docs/spec.md §0); 0 when either is below the surface.
     #[inline]
     pub fn eval(&self, s: Vec3, v: Vec3) -> f64 {
         self.structure.eval(s, v)

@@ -2,11 +2,13 @@
 
 use crate::args::{parse_degrees, parse_finite, MaterialArgs};
 use crate::io;
+use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
 use rayon::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
+use std::time::Duration;
 
 /// Arguments of `woven albedo`.
 #[derive(Args, Debug)]
@@ -17,7 +19,8 @@ hemisphere — the fraction of the light arriving from polar angle θi that the 
 for a list of incidence angles.
 
 Prints CSV with the header `theta_i_deg,albedo` (standard output unless --output is given). \
-In the `paper` normalization the albedo never exceeds 1.",
+In the `paper` normalization the albedo never exceeds 1. Twisted and isotropic yarns take a \
+second or more per angle; a progress bar then shows on standard error when it is a terminal.",
     after_help = "Examples:
   woven albedo --material polyester.toml
   woven albedo -m polyester.toml --theta-deg 0:89:1 --output albedo.csv
@@ -61,12 +64,35 @@ fn parse_theta_list(value: &str) -> Result<ThetaList, String> {
 pub fn run(args: &AlbedoArgs) -> Result<()> {
     let model = args.material.build()?;
     let phi_i = args.phi_deg.to_radians();
-    let albedos: Vec<f64> = args
-        .theta_deg
-        .0
-        .par_iter()
-        .map(|theta_deg| model.albedo(theta_deg.to_radians(), phi_i))
-        .collect();
+    // One tick per finished angle: a twisted or isotropic yarn takes a second or more each. The
+    // calling thread only watches the clock, so that the bar (with its elapsed time) appears once
+    // the job turns out to be long, even before the first angle is done.
+    let bar = Progress::new(Some(args.theta_deg.0.len() as u64), "angles", true);
+    let watcher = std::thread::current();
+    let albedos: Vec<f64> = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| {
+            let albedos = args
+                .theta_deg
+                .0
+                .par_iter()
+                .map(|theta_deg| {
+                    let albedo = model.albedo(theta_deg.to_radians(), phi_i);
+                    bar.inc(1);
+                    albedo
+                })
+                .collect::<Vec<f64>>();
+            watcher.unpark();
+            albedos
+        });
+        while !worker.is_finished() {
+            std::thread::park_timeout(Duration::from_millis(100));
+            bar.inc(0);
+        }
+        worker
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    });
+    bar.finish();
     io::write_output(args.output.as_deref(), |out| {
         write_table(out, &args.theta_deg.0, &albedos)
     })

@@ -1,6 +1,6 @@
 //! Bare `woven`, no command: the main job on the built-in default material.
 //!
-//! The paper's virtual goniometer (§4, Fig. 8; MODEL.md §4) for the `polyester-sateen` preset:
+//! The paper's virtual goniometer (§4, Fig. 8; docs/spec.md §4) for the `polyester-sateen` preset:
 //! the readings as CSV (what `woven gonio --material polyester-sateen` prints) and Figure 8 as
 //! SVG and PNG (what `woven plot fig8` draws), all under [`OUT_DIR`] in the current directory,
 //! then a short summary for people: what was computed, where the files are, a few readings, and

@@ -17,12 +17,15 @@ use woven::material::Material;
 use woven::table::{Symmetry, Table, TableOptions};
 
 /// The long help of `woven export`.
-const LONG_ABOUT: &str = "Write a material's BRDF in a file format renderers read.
+const LONG_ABOUT: &str = "Write a material's BRDF in a file format renderers read (--format; \
+merl, the default, is the only one for now).
 
 merl: the binary layout of the MERL BRDF database (90 θh × 90 θd × 180 φd bins of f64 in three \
 colour channels, 34,992,012 bytes), which Mitsuba, pbrt and most BRDF tools load. The layout \
-has no half-vector azimuth, so it holds isotropic BRDFs only: flat fiber surfaces and yarns \
-with `isotropic = true` (the silk preset). Any other material is refused with the reason. The \
+has no half-vector azimuth, so it holds isotropic BRDFs only, the same at every azimuth: flat \
+fiber surfaces and yarns with `isotropic = true` (the silk preset). Yarns whose fibers run along \
+the weft and the warp (twisted or not) are anisotropic and are refused: tabulate them with \
+`woven tabulate` instead, which keeps the azimuth. The \
 BRDF is grey (the same in all three channels), sampled once at each bin's centre; bins whose \
 centre lies below the horizon hold 0. The layout assumes reciprocity (a reader folds φd ≥ 180° \
 onto φd − 180°), which the `paper` normalization holds only up to its factor β(θi).
@@ -41,18 +44,18 @@ written atomically.";
     about = "Export an isotropic material's BRDF as a MERL binary file",
     long_about = LONG_ABOUT,
     after_help = "Examples:
-  woven export --material my-flat-fiber.toml --format merl -o fiber.binary
-  woven export --material silk --format merl -o silk.binary
+  woven export --material my-flat-fiber.toml -o fiber.binary
+  woven export --material silk -o silk.binary
   woven tabulate --material silk -o silk.wtab --n-h-isotropic 241
-  woven export --table silk.wtab --format merl -o silk.binary"
+  woven export --table silk.wtab -o silk.binary"
 )]
 pub struct ExportArgs {
     #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
           help = material_help(), required_unless_present = "table")]
     pub material: Option<MaterialSource>,
 
-    /// The file format.
-    #[arg(long, value_enum)]
+    /// The file format (for now only `merl`, the default).
+    #[arg(long, value_enum, default_value_t = ExportFormat::Merl)]
     pub format: ExportFormat,
 
     /// The file to write, atomically.

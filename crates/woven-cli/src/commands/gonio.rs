@@ -1,4 +1,4 @@
-//! `woven gonio`: the paper's virtual goniometer (MODEL.md §4) as a CSV table.
+//! `woven gonio`: the paper's virtual goniometer (docs/spec.md §4) as a CSV table.
 
 use crate::args::{parse_degrees_in, Interval, MaterialArgs};
 use crate::goniometer::{self, Reading};

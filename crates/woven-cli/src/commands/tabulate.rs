@@ -257,22 +257,25 @@ fn summary(
 ) -> String {
     let table = &built.table;
     let (n_theta, n_phi, n_h) = table.dims();
-    let values = (n_theta * n_phi * n_h * n_h) as u64;
+    let values = table.values().len() as u64;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let symmetry = match table.symmetry() {
         Symmetry::Isotropic => format!(
-            "isotropic (the BRDF depends on φr − φi only), so one incidence azimuth: \
-             {n_theta} θi × {n_h}² half-vector nodes"
+            "isotropic (the BRDF depends on φr − φi only), so one azimuth: two halves (indexed \
+             by the light and by the viewer, each pair read from its more grazing direction's) \
+             of {n_theta} polar × {n_h}² half-vector nodes"
         ),
         Symmetry::Mirror => format!(
-            "mirror (x → −x and y → −y), so incidence azimuths over [0°, 90°]: \
-             {n_theta} θi × {n_phi} φi × {n_h}² half-vector nodes"
+            "mirror (x → −x and y → −y), so azimuths over [0°, 90°]: two halves (indexed by \
+             the light and by the viewer, each pair read from its more grazing direction's) of \
+             {n_theta} polar × {n_phi} azimuth × {n_h}² half-vector nodes"
         ),
     };
     let method = match &material.yarn {
         Some(y) if y.isotropic || y.twist_std > 0.0 => format!(
-            " The {} yarns were tabulated with their fibers along x first ({n_theta} θi × {} φi \
-             × {}² nodes, exact), then averaged over {} fiber azimuths.",
+            " The {} yarns were tabulated with their fibers along x first (two halves of \
+             {n_theta} polar × {} azimuth × {}² nodes, exact), then averaged over {} fiber \
+             azimuths.",
             if y.isotropic { "isotropic" } else { "twisted" },
             F0_PHI_NODES,
             options.n_h,
@@ -282,8 +285,7 @@ fn summary(
     };
     format!(
         "Tabulated `{name}` at {} nm into {} ({}) in {} on {threads} thread{}. Symmetry: \
-         {symmetry} = {} values (f32).{method} Evaluate it with `woven eval --table {}`; \
-         --report checks it against the exact model.",
+         {symmetry} = {} values (f32).{method} Evaluate it with `woven eval --table {}`.",
         short(table.wavelength_nm()),
         path.display(),
         megabytes(bytes),

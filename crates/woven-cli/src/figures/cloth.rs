@@ -1,4 +1,4 @@
-//! Figures 8–10: the paper's cloth samples on the virtual goniometer (MODEL.md §4–§5).
+//! Figures 8–10: the paper's cloth samples on the virtual goniometer (docs/spec.md §4–§5).
 //!
 //! Each figure draws the radiance for unit irradiance, `f(s, v) cos θi` (sr⁻¹), against the
 //! sample tilt `t` for three sample azimuths: the weft in the plane of light and sensor (`A = 0`),

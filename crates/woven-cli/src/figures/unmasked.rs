@@ -2,7 +2,7 @@
 //! switched off, so that a figure (and its tests) can measure how much masking the model applies.
 //!
 //! The library computes `f_θ = ∫ P(θa) f_p(θa) dθa` with the exact lit-and-visible indicator `V`
-//! of Eq. (17) (MODEL.md §2.2–2.4). Here `V` keeps only the local conditions `s·a > 0`, `v·a > 0`
+//! of Eq. (17) (docs/spec.md §2.2–2.4). Here `V` keeps only the local conditions `s·a > 0`, `v·a > 0`
 //! (a facet facing away from the light or the viewer is dark either way); no facet hides
 //! another. The integrals are brute-force midpoint rules built from the library's public pieces
 //! (the fiber BRDF at a facet normal, the slope density), independent of the library's own
@@ -63,7 +63,7 @@ pub fn slope_averaged_unmasked(
         running[k] + (running[k + 1] - running[k]) * (x - k as f64)
     };
 
-    // One profile (MODEL.md §2.3 with V = 1 on facing facets): the arc [−θa, θa] and two
+    // One profile (docs/spec.md §2.3 with V = 1 on facing facets): the arc [−θa, θa] and two
     // laterals of length L at normals ±θa, over the period P, per unit projected area.
     let length = yarn.lateral_length;
     let profile = |theta_a: f64| -> f64 {

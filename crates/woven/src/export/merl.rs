@@ -118,7 +118,6 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt;
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 /// Number of `θ_h` bins.
 pub const THETA_H_RES: usize = 90;
@@ -346,24 +345,27 @@ pub fn check_isotropic(material: &Material) -> Result<()> {
         Some(name) => format!("material {name:?}"),
         None => "the material".to_string(),
     };
-    let yarns = if yarn.twist_std > 0.0 {
+    let why = if yarn.twist_std > 0.0 {
         format!(
-            "has twisted yarns (twist_std = {} rad), whose fibers spread about yarn axes that still \
-             run along the weft and the warp",
+            "its fibers spread only twist_std = {} rad about yarn axes that run along the weft and \
+             the warp",
             yarn.twist_std
         )
     } else {
-        "has single-orientation yarns, whose fibers run along the weft and the warp".to_string()
+        "its fibers run along its yarns, that is along the weft and the warp".to_string()
     };
     Err(Error::invalid(
         "yarn.isotropic",
         false,
         format!(
-            "an isotropic material for MERL export: {which} {yarns}, so its BRDF depends on the \
-             azimuth φ_h of the half vector relative to the weft, and the MERL layout's three \
-             coordinates (θ_h, θ_d, φ_d) assume a BRDF independent of φ_h; export a table \
-             instead (it keeps the azimuth), or use a material with `isotropic = true` in \
-             [yarn] or a flat fiber (no [yarn] table)"
+            "an isotropic material for MERL export: a MERL file has no half-vector azimuth (its \
+             bins are θ_h, θ_d, φ_d), so only isotropic BRDFs, the same at every azimuth, fit in \
+             it; {which} is anisotropic because {why}, so its highlights move with the azimuth φ_h \
+             of the half vector relative to the weft; instead, build a table with `woven \
+             tabulate` (woven::table::Table in code: it keeps the azimuth, and renderers can \
+             sample it), or make the yarns isotropic with `isotropic = true` in [yarn] (fibers in \
+             every azimuth, as in the silk preset); a flat fiber surface, without [yarn], is \
+             isotropic too"
         ),
     ))
 }
@@ -398,33 +400,31 @@ impl MerlBrdf {
         Self::from_values(&mono)
     }
 
-    /// As [`from_fn`](Self::from_fn), on `threads` scoped threads (0: one per available core).
+    /// As [`from_fn`](Self::from_fn), on `threads` worker threads (0: one per available core).
     ///
     /// # Errors
-    /// As [`from_fn`](Self::from_fn).
+    /// As [`from_fn`](Self::from_fn), or [`Error::InvalidParameter`] if no thread pool of that
+    /// size can be made.
     ///
     /// # Panics
     /// If `f` panics.
     pub fn from_fn_threaded(f: impl Fn(Vec3, Vec3) -> f64 + Sync, threads: usize) -> Result<Self> {
-        let threads = match threads {
-            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-            n => n,
-        };
+        use rayon::prelude::*;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| Error::invalid("threads", threads, format!("a usable count ({e})")))?;
         let mut mono = vec![BELOW_HORIZON_VALUE; MERL_BINS];
-        // θ_h slices, handed out one at a time: their costs differ (more bins lie below the
-        // horizon at large θ_h), so a fixed split would leave threads idle.
-        let slices = Mutex::new(mono.chunks_mut(SLICE).enumerate());
-        std::thread::scope(|scope| {
-            for _ in 0..threads.min(THETA_H_RES) {
-                scope.spawn(|| loop {
-                    // A poisoned lock means another thread panicked; the scope re-raises that.
-                    let next = slices.lock().unwrap_or_else(|e| e.into_inner()).next();
-                    let Some((k, slice)) = next else { break };
+        // θ_h slices, one task each: their costs differ (more bins lie below the horizon at
+        // large θ_h), so rayon balances them.
+        pool.install(|| {
+            mono.par_chunks_mut(SLICE)
+                .enumerate()
+                .for_each(|(k, slice)| {
                     for (j, out) in slice.iter_mut().enumerate() {
                         *out = eval_bin(k * SLICE + j, &f);
                     }
-                });
-            }
+                })
         });
         Self::from_values(&mono)
     }

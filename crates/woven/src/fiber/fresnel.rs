@@ -1,4 +1,4 @@
-//! Unpolarized dielectric Fresnel reflectance and the refractive index (MODEL.md §1.1, §3).
+//! Unpolarized dielectric Fresnel reflectance and the refractive index (docs/spec.md §1.1, §3).
 
 use crate::error::{check_range, Error, Result};
 

@@ -1,5 +1,5 @@
 //! The full physical-optics fiber model: He et al.'s directional-diffuse series (paper Eqs. (9),
-//! (11)–(13); MODEL.md §1.4).
+//! (11)–(13); docs/spec.md §1.4).
 
 use crate::math::special::ln_gamma;
 

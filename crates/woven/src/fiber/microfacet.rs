@@ -1,4 +1,4 @@
-//! The Beckmann distribution and the corrected Smith shadowing term (paper Eq. (10); MODEL.md §1.1–1.2).
+//! The Beckmann distribution and the corrected Smith shadowing term (paper Eq. (10); docs/spec.md §1.1–1.2).
 
 use crate::math::special::{erfc, FRAC_1_SQRT_PI};
 
@@ -23,7 +23,7 @@ pub fn beckmann_d(cos_theta_h: f64, alpha: f64) -> f64 {
 
 /// Smith's `Λ(a) = ½ (exp(−a²)/(a√π) − erfc(a))` for a Gaussian (Beckmann) surface, `a > 0`.
 ///
-/// Implements the corrected `Λ` of Eq. (10): the transcription drops `exp(−a²)` (MODEL.md §1.2).
+/// Implements the corrected `Λ` of Eq. (10): the transcription drops `exp(−a²)` (docs/spec.md §1.2).
 #[inline]
 pub fn smith_lambda(a: f64) -> f64 {
     // Beyond a = 26 both terms underflow far below any use (exp(−676) ≈ 1e−294).
@@ -35,7 +35,7 @@ pub fn smith_lambda(a: f64) -> f64 {
 
 /// The per-direction shadowing factor `S1(θ) = (1 − ½ erfc(a)) / (1 + Λ(a))`, `a = cot θ / α`.
 ///
-/// Implements Eq. (10) as corrected by MODEL.md §1.2 (the paper's extra `(1 − ½ erfc a)`
+/// Implements Eq. (10) as corrected by docs/spec.md §1.2 (the paper's extra `(1 − ½ erfc a)`
 /// factor is kept). Takes `cos θ ∈ [0, 1]`; `S1 = 1` at normal incidence and 0 at grazing, with
 /// no NaN or infinity at either end.
 ///

@@ -1,8 +1,8 @@
-//! The fiber-surface BRDF of the paper's §2 (MODEL.md §1).
+//! The fiber-surface BRDF of the paper's §2 (docs/spec.md §1).
 //!
 //! | parameter | meaning | unit | default | valid range |
 //! |---|---|---|---|---|
-//! | `model` | `rough` (Eq. (16'), MODEL.md §1.3) or `htsg` (Eqs. (9)–(13), §1.4) | — | `rough` | — |
+//! | `model` | `rough` (Eq. (16'), docs/spec.md §1.3) or `htsg` (Eqs. (9)–(13), §1.4) | — | `rough` | — |
 //! | `eta` | refractive index `η`, constant or Cauchy `A + B/λ²` | — | — | `[1, 4]` over 380–780 nm |
 //! | `roughness` | `σ_h/τ` (rough model); Beckmann `α = 2σ_h/τ` | — | — | `[0.005, 2]` |
 //! | `sigma_h_um` | rms height `σ_h` (htsg) | µm | — | `(0, 10]` |
@@ -61,13 +61,13 @@ impl FiberModel {
         }
     }
 
-    /// Beckmann slope parameter `α = 2 σ_h / τ` (MODEL.md §1.1).
+    /// Beckmann slope parameter `α = 2 σ_h / τ` (docs/spec.md §1.1).
     pub fn alpha(&self) -> f64 {
         2.0 * self.roughness()
     }
 }
 
-/// How the single-scattering lobe is scaled (MODEL.md §1.5).
+/// How the single-scattering lobe is scaled (docs/spec.md §1.5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
@@ -219,7 +219,7 @@ impl Fiber {
     }
 
     /// The same fiber with Fresnel reflectance replaced by 1 — the "white furnace" used to check
-    /// that the `paper` normalization conserves energy exactly (MODEL.md §6.2).
+    /// that the `paper` normalization conserves energy exactly (docs/spec.md §6.2).
     pub fn with_unit_fresnel(mut self) -> Self {
         self.unit_fresnel = true;
         self
@@ -267,13 +267,13 @@ impl Fiber {
     /// from a fiber surface whose normal is `z`. 0 below the horizon. The specular spike of the
     /// full model is not included (see [`specular_reflectance`](Self::specular_reflectance)).
     ///
-    /// Implements Eq. (16) as (16') of MODEL.md §1.3, or Eqs. (9), (13), (14) (§1.4).
+    /// Implements Eq. (16) as (16') of docs/spec.md §1.3, or Eqs. (9), (13), (14) (§1.4).
     #[inline]
     pub fn eval(&self, s: Vec3, v: Vec3) -> f64 {
         self.eval_with_normal(s, v, Vec3::Z)
     }
 
-    /// The BRDF at a surface point whose unit normal is `a` (MODEL.md §2.3): the fiber is isotropic,
+    /// The BRDF at a surface point whose unit normal is `a` (docs/spec.md §2.3): the fiber is isotropic,
     /// so only `a` matters. `β` is taken at the local incidence `s·a`.
     #[inline]
     pub fn eval_with_normal(&self, s: Vec3, v: Vec3, a: Vec3) -> f64 {
@@ -326,7 +326,7 @@ impl Fiber {
     }
 
     /// The reflectance of the full model's mirror spike, `R_sp(θ_i) = β F(θ_i) e^{−g(θ_i,θ_i)} S1(θ_i)²`
-    /// (Eq. (12); MODEL.md §1.4). 0 for the rough model. A Dirac lobe: never part of [`eval`](Self::eval).
+    /// (Eq. (12); docs/spec.md §1.4). 0 for the rough model. A Dirac lobe: never part of [`eval`](Self::eval).
     pub fn specular_reflectance(&self, cos_theta_i: f64) -> f64 {
         if cos_theta_i <= 0.0 {
             return 0.0;

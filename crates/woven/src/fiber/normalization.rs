@@ -1,4 +1,4 @@
-//! The normalization `β(θ_i)` of Eq. (15), made precise by MODEL.md §1.5, tabulated once per fiber.
+//! The normalization `β(θ_i)` of Eq. (15), made precise by docs/spec.md §1.5, tabulated once per fiber.
 
 use super::{smith_s1, Fiber, FiberModel};
 use crate::math::hemisphere::reflected_hemisphere_integral;
@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 /// fiber by a factor of ~90 below `cos θ_i = 0.03`.
 pub const BETA_NODES: usize = 384;
 
-/// `ln β(cos θ_i)` sampled at [`BETA_NODES`] nodes uniform in `(cos θ_i)^{1/3}` and interpolated
+/// `ln β(cos θ_i)` sampled at `BETA_NODES` (384) nodes uniform in `(cos θ_i)^{1/3}` and interpolated
 /// by a monotone cubic. Interpolation error ≤ 1e-4 relative over `(0, 1]` for every supported
 /// roughness (tested against direct evaluation between the nodes).
 #[derive(Clone, Debug)]
@@ -64,7 +64,7 @@ impl BetaTable {
     }
 }
 
-/// `β(θ_i) = (1 − ρ0) / (∫ Ω₁ cos θ_r dω_r [+ e^{−g} S1²])`, computed directly (MODEL.md §1.5).
+/// `β(θ_i) = (1 − ρ0) / (∫ Ω₁ cos θ_r dω_r [+ e^{−g} S1²])`, computed directly (docs/spec.md §1.5).
 ///
 /// `Ω₁` is the fiber's lobe with `β = 1`, `F = 1`, `ρ0 = 0`. At `cos θ_i = 0` the limit is taken
 /// at `cos θ_i = 1e-7` (β is finite there: `S1(θ_i)/cos θ_i → √π/α`).

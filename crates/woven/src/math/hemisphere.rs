@@ -1,4 +1,4 @@
-//! Integrals over the reflected hemisphere in half-vector coordinates (MODEL.md §1.5).
+//! Integrals over the reflected hemisphere in half-vector coordinates (docs/spec.md §1.5).
 //!
 //! For a lobe of width `α` around the mirror direction, integrating over `v` directly misses the
 //! peak when `α` is small. With the half vector `h` of `s` and `v`, `dω_r = 4 (s·h) dω_h`, and the

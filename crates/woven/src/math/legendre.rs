@@ -1,7 +1,7 @@
 //! Piecewise Legendre interpolants: a function sampled at Gauss–Legendre nodes on panels, with
 //! exact integrals of the interpolant between any two points.
 //!
-//! The cross-section integrals of the yarn (MODEL.md §2.3–§2.4) integrate one function of the
+//! The cross-section integrals of the yarn (docs/spec.md §2.3–§2.4) integrate one function of the
 //! facet angle — the fiber BRDF at normal `a(θ)` times the two cosines — over many different
 //! intervals (one per slope `θ_a`, cut by masking). Sampling it once on lobe-resolving panels and
 //! integrating the interpolant over each interval turns a nested integral into one sampling pass.

@@ -1,6 +1,6 @@
 //! Quadrature rules: Gauss–Legendre of any order and adaptive Gauss–Kronrod (7–15).
 //!
-//! The model's averages (MODEL.md §1.5, §2.3–§2.6) all reduce to one-dimensional integrals of
+//! The model's averages (docs/spec.md §1.5, §2.3–§2.6) all reduce to one-dimensional integrals of
 //! smooth pieces with known breaks; these two rules, applied per piece, carry them.
 
 /// Sorts `breaks`, drops duplicates and points outside `[lo, hi]`, adds the ends, and splits any

@@ -1,9 +1,9 @@
-//! A minimal 3-vector for directions in the local shading frame (MODEL.md §0).
+//! A minimal 3-vector for directions in the local shading frame (docs/spec.md §0).
 
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// A 3-vector of `f64`. Directions in the cloth's local frame: `z` is the macro normal, the
-/// weft runs along `x` and the warp along `y` (MODEL.md §0).
+/// weft runs along `x` and the warp along `y` (docs/spec.md §0).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Vec3 {
     /// Component along the weft.

@@ -1,7 +1,7 @@
 //! Building a [`Table`]: exact evaluation at the nodes each half reads, and the twist average of
 //! twisted and isotropic yarns applied to an intermediate table.
 
-use super::eval::{locate_axis, locate_half_vector, Incidence};
+use super::eval::{locate_axis, Incidence, Query};
 use super::grid::{h_of_slopes, v_of_slopes, Axis};
 use super::{
     value_count, Half, Symmetry, Table, TableOptions, F0_PHI_NODES, HORIZON_LIFT_DEG, MAX_VALUES,
@@ -151,7 +151,11 @@ struct Azimuth {
 impl Azimuth {
     fn new(f0: &Table, half: Half, axis: Vec3, phi_a: f64, weight: f64) -> Azimuth {
         let (sin, cos) = phi_a.sin_cos();
-        let r = Vec3::new(cos * axis.x + sin * axis.y, -sin * axis.x + cos * axis.y, axis.z);
+        let r = Vec3::new(
+            cos * axis.x + sin * axis.y,
+            -sin * axis.x + cos * axis.y,
+            axis.z,
+        );
         let (flip_x, flip_y) = (r.x < 0.0, r.y < 0.0);
         let axis = Vec3::new(r.x.abs(), r.y.abs(), r.z);
         Azimuth {
@@ -182,8 +186,7 @@ impl Azimuth {
         );
         let (s, v) = self.half.join(self.axis, o);
         if Half::of(s, v) == self.half {
-            let (ty, tx) = locate_half_vector(&f0.t, self.axis, o);
-            self.weight * f0.eval_at(self.half, self.located, ty, tx)
+            self.weight * f0.eval_at(self.half, self.located, Query::new(self.axis, o))
         } else {
             self.weight * f0.eval(s, v)
         }
@@ -231,14 +234,11 @@ fn azimuth_weights(n: usize, isotropic: bool, twist_std: f64, gamma: f64) -> Vec
 
 /// The other direction of a node whose derived direction lies below the horizon: lifted
 /// [`HORIZON_LIFT_DEG`] above it in the same azimuth (the BRDF is continuous up to the horizon: the
-/// Smith term cancels `1/cos θ`), or `None` where the half vector faces away from the axis.
+/// Smith term cancels `1/cos θ`); where the half vector faces away from the axis, the reflection
+/// `2 (a·h) h − a` still gives an azimuth to lift. `None` only straight below.
 fn lifted(a: Vec3, px: f64, py: f64) -> Option<Vec3> {
     let h = h_of_slopes(px, py);
-    let ah = a.dot(h);
-    if ah <= 0.0 {
-        return None;
-    }
-    let o = h * (2.0 * ah) - a;
+    let o = h * (2.0 * a.dot(h)) - a;
     let min_z = HORIZON_LIFT_DEG.to_radians().sin();
     let r_xy = (o.x * o.x + o.y * o.y).sqrt();
     if r_xy <= 0.0 {
@@ -278,7 +278,11 @@ fn needed_nodes(theta: Axis, phi: Axis, t: Axis, it: usize, ip: usize) -> Vec<bo
     let step: Vec<f64> = (0..n)
         .map(|k| {
             let lo = if k > 0 { angle(k) - angle(k - 1) } else { 0.0 };
-            let hi = if k + 1 < n { angle(k + 1) - angle(k) } else { 0.0 };
+            let hi = if k + 1 < n {
+                angle(k + 1) - angle(k)
+            } else {
+                0.0
+            };
             lo.abs().max(hi.abs())
         })
         .collect();
@@ -348,3 +352,67 @@ fn fill<R: Fn(Vec3) -> f64>(
     values
 }
 
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::table::report::SplitMix;
+
+    /// A constant BRDF tabulates to itself at every pair, grazing ones included, on grids of both
+    /// symmetries: interpolation only ever reads nodes that [`needed_nodes`] had evaluated (an
+    /// unevaluated node holds 0 and would pull the value below 1).
+    #[test]
+    fn queries_read_only_evaluated_nodes() {
+        let mut rng = SplitMix(5);
+        for (n_theta, n_phi, n_t, symmetry) in [
+            (30, 19, 81, Symmetry::Mirror),
+            (8, 4, 17, Symmetry::Mirror),
+            (30, 1, 161, Symmetry::Isotropic),
+            (12, 13, 41, Symmetry::Mirror),
+        ] {
+            let theta = Axis {
+                lo: 0.0,
+                hi: 89.9f64.to_radians(),
+                n: n_theta,
+                grading: THETA_GRADING,
+            };
+            let phi = Axis::uniform(0.0, FRAC_PI_2, n_phi);
+            let t = Axis::uniform(-1.0, 1.0, n_t);
+            let values = fill(theta, phi, t, &|_, _| {}, |_, _| |_| 1.0);
+            let evaluated = values.iter().filter(|&&v| v == 1.0).count();
+            assert!(
+                evaluated < values.len(),
+                "nothing pruned ({n_theta}, {n_phi}, {n_t})"
+            );
+            let table = Table::assemble(
+                symmetry,
+                theta,
+                phi,
+                t,
+                values,
+                String::new(),
+                550.0,
+                Some(Vec::new()),
+            );
+            for k in 0..100_000 {
+                // Half the draws within 10° of the horizon, a quarter within 1°.
+                let lim = [1.0, 0.17, 1.0, 0.017][k % 4];
+                let mut pick = || {
+                    let z = lim * rng.uniform().max(1e-9);
+                    let ph = 2.0 * std::f64::consts::PI * rng.uniform();
+                    let r = (1.0 - z * z).sqrt();
+                    Vec3::new(r * ph.cos(), r * ph.sin(), z)
+                };
+                let (s, v) = (pick(), pick());
+                let f = table.eval(s, v);
+                assert!(
+                    (f - 1.0).abs() < 1e-9,
+                    "grid ({n_theta}, {n_phi}, {n_t}): s {s:?} v {v:?} gives {f}"
+                );
+            }
+            println!(
+                "grid ({n_theta}, {n_phi}, {n_t}): {:.1} % of nodes evaluated",
+                100.0 * evaluated as f64 / table.values.len() as f64
+            );
+        }
+    }
+}

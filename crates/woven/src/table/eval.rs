@@ -9,9 +9,6 @@ use crate::math::Vec3;
 /// A located axis direction: `(iθ, wθ, iφ, wφ)`, each node index with the weight of the next node.
 pub(crate) type Incidence = (usize, f64, usize, f64);
 
-/// A located coordinate on one axis: `(k, w)`.
-pub(crate) type AxisPos = (usize, f64);
-
 /// The symmetry fold that brings an axis direction into the table's domain, to apply to both
 /// directions of a pair and to undo on a sampled one.
 #[derive(Clone, Copy, Debug)]
@@ -87,57 +84,63 @@ impl Table {
     #[inline]
     pub(crate) fn eval_half(&self, half: Half, axis: Vec3, other: Vec3) -> f64 {
         let located = locate_axis(&self.theta, &self.phi, axis);
-        let (y, x) = locate_half_vector(&self.t, axis, other);
-        self.eval_at(half, located, y, x)
+        self.eval_at(half, located, Query::new(axis, other))
     }
 
-    /// The interpolated BRDF of `half` at located coordinates `(iθ, wθ, iφ, wφ)`, `(i_y, w_y)`,
-    /// `(i_x, w_x)`: the node values `f_k` averaged with the quadrilinear weights `w_k` times the
+    /// The interpolated BRDF of `half` at a located axis direction `(iθ, wθ, iφ, wφ)` for the
+    /// query `q`: the node values `f_k` averaged with the quadrilinear weights `w_k` times the
     /// nodes' cosine factors `c_k = cos θ_axis,k · max(cos θ_other,k, ε)`,
     /// `Σ w_k c_k f_k / Σ w_k c_k` (`ε` = [`HORIZON_WEIGHT`]).
+    ///
+    /// At each azimuth node the pair is first turned rigidly about `z` onto the node's azimuth
+    /// (its half vector with it), so interpolating in azimuth never moves either direction's
+    /// polar angle — at a fixed half vector, a grazing pair would swing across the horizon.
     ///
     /// Where `f` behaves like `1/(cos θ_i cos θ_r)` (near a highlight) this is the interpolation
     /// of the smooth `f cos θ_i cos θ_r` over the interpolated cosines; near the horizon it is a
     /// convex combination of node values, so it never exceeds the largest of them.
     #[inline]
-    pub(crate) fn eval_at(
-        &self,
-        half: Half,
-        (it, wt, ip, wp): Incidence,
-        (iy, wy): AxisPos,
-        (ix, wx): AxisPos,
-    ) -> f64 {
-        let dp = usize::from(self.phi.n > 1);
+    pub(crate) fn eval_at(&self, half: Half, (it, wt, ip, wp): Incidence, q: Query) -> f64 {
         let n = self.t.n;
-        let (px0, px1) = (self.slopes[ix], self.slopes[ix + 1]);
-        let (py0, py1) = (self.slopes[iy], self.slopes[iy + 1]);
-        // The half-vector corners: slopes, bilinear weight and 1/(1 + |p|²), for the derived
-        // direction's cos θ = 2 (a·h) h_z − a_z = 2 (a_x p_x + a_y p_y + a_z)/(1 + |p|²) − a_z.
-        let corners = [
-            (px0, py0, (1.0 - wy) * (1.0 - wx)),
-            (px1, py0, (1.0 - wy) * wx),
-            (px0, py1, wy * (1.0 - wx)),
-            (px1, py1, wy * wx),
-        ]
-        .map(|(px, py, w)| (px, py, w, 1.0 / (1.0 + px * px + py * py)));
         let (mut num, mut den) = (0.0, 0.0);
-        for (a, fa) in [(0, 1.0 - wt), (1, wt)] {
-            for (b, fb) in [(0, 1.0 - wp), (dp, wp)] {
+        let phi_nodes: &[(usize, f64)] = if self.phi.n > 1 {
+            &[(0, 1.0 - wp), (1, wp)]
+        } else {
+            &[(0, 1.0)]
+        };
+        for &(b, fb) in phi_nodes {
+            // The pair turned (by `q.turn` of the way) onto azimuth node ip + b.
+            let (c, sn) = if self.phi.n > 1 && q.turn > 0.0 {
+                let (cb, sb) = self.phi_cs[ip + b];
+                let (c, sn) = (cb * q.cos + sb * q.sin, sb * q.cos - cb * q.sin);
+                if q.turn >= 1.0 {
+                    (c, sn)
+                } else {
+                    let (s2, c2) = (q.turn * sn.atan2(c)).sin_cos();
+                    (c2, s2)
+                }
+            } else {
+                (1.0, 0.0)
+            };
+            let h = Vec3::new(c * q.h.x - sn * q.h.y, sn * q.h.x + c * q.h.y, q.h.z);
+            let (iy, wy) = self.t.locate(t_of_slope(h.y / h.z));
+            let (ix, wx) = self.t.locate(t_of_slope(h.x / h.z));
+            for (a, fa) in [(0, 1.0 - wt), (1, wt)] {
                 let node = (it + a) * self.phi.n + ip + b;
                 let d = self.axis_dirs[node];
                 let base = self.index(half, it + a, ip + b, iy, ix);
-                let vals = [
-                    self.values[base],
-                    self.values[base + 1],
-                    self.values[base + n],
-                    self.values[base + n + 1],
-                ];
                 let wa = fa * fb * d.z;
-                for ((px, py, w, q), f) in corners.into_iter().zip(vals) {
-                    let cos_other = 2.0 * (d.x * px + d.y * py + d.z) * q - d.z;
-                    let wc = wa * w * cos_other.max(HORIZON_WEIGHT);
-                    num += wc * f as f64;
-                    den += wc;
+                for (dy, fy) in [(0, 1.0 - wy), (1, wy)] {
+                    let py = self.slopes[iy + dy];
+                    for (dx, fx) in [(0, 1.0 - wx), (1, wx)] {
+                        let px = self.slopes[ix + dx];
+                        // The derived direction's cos θ = 2 (d·h) h_z − d_z at the node.
+                        let cos_other =
+                            2.0 * (d.x * px + d.y * py + d.z) / (1.0 + px * px + py * py) - d.z;
+                        let wc = wa * fy * fx * cos_other.max(HORIZON_WEIGHT);
+                        num += wc * self.values[base + dy * n + dx] as f64;
+                        den += wc;
+                    }
                 }
             }
         }
@@ -164,22 +167,52 @@ impl Table {
     }
 }
 
+/// A folded query as [`Table::eval_at`] reads it: the (unnormalized) half vector and the axis
+/// direction's azimuth.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Query {
+    h: Vec3,
+    cos: f64,
+    sin: f64,
+    /// How far the pair is turned onto each azimuth node: 0 (fixed half vector) while the other
+    /// direction is clear of the horizon, 1 (a rigid turn) next to it.
+    turn: f64,
+}
+
+impl Query {
+    #[inline]
+    pub(crate) fn new(axis: Vec3, other: Vec3) -> Query {
+        let r = (axis.x * axis.x + axis.y * axis.y).sqrt();
+        let (cos, sin) = if r > 0.0 {
+            (axis.x / r, axis.y / r)
+        } else {
+            (1.0, 0.0)
+        };
+        let (lo, hi) = (
+            TURN_FROM_DEG.to_radians().cos(),
+            TURN_FULL_DEG.to_radians().cos(),
+        );
+        let x = ((lo - other.z) / (lo - hi)).clamp(0.0, 1.0);
+        Query {
+            h: axis + other,
+            cos,
+            sin,
+            turn: x * x * (3.0 - 2.0 * x),
+        }
+    }
+}
+
+/// The other direction's polar angle from which azimuth interpolation starts turning the pair.
+const TURN_FROM_DEG: f64 = 75.0;
+/// The other direction's polar angle from which the pair is turned rigidly.
+const TURN_FULL_DEG: f64 = 88.0;
+
 /// The located axis direction `d` (folded).
 #[inline]
 pub(crate) fn locate_axis(theta: &Axis, phi: &Axis, d: Vec3) -> Incidence {
     let (it, wt) = theta.locate(d.z.clamp(-1.0, 1.0).acos());
     let (ip, wp) = phi.locate(d.y.atan2(d.x));
     (it, wt, ip, wp)
-}
-
-/// The located half-vector slopes `(t_y, t_x)` of a pair.
-#[inline]
-pub(crate) fn locate_half_vector(t: &Axis, a: Vec3, b: Vec3) -> (AxisPos, AxisPos) {
-    let h = a + b;
-    (
-        t.locate(t_of_slope(h.y / h.z)),
-        t.locate(t_of_slope(h.x / h.z)),
-    )
 }
 
 impl Bsdf for Table {

@@ -73,7 +73,7 @@ pub fn jacobian(s: Vec3, tx: f64, ty: f64) -> Option<(Vec3, f64)> {
 
 /// An axis of `n ≥ 1` nodes on `[lo, hi]`, at `lo + (hi − lo) g(k/(n−1))` with the grading
 /// `g(u) = u (1 + a (1 − u))`: uniform for `a = 0`; for `a > 0` spacing shrinks toward `hi` by
-/// the factor `(1 − a)/(1 + a)` (the `θ_i` axis uses `a = 0.6`: masking and Fresnel change fastest
+/// the factor `(1 − a)/(1 + a)` (the polar axis uses `a = 1`, [`super::THETA_GRADING`]: masking and Fresnel change fastest
 /// at grazing incidence).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Axis {

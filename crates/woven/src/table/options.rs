@@ -27,7 +27,7 @@ pub struct TableOptions {
 impl Default for TableOptions {
     fn default() -> Self {
         TableOptions {
-            n_theta: 30,
+            n_theta: 40,
             theta_max_deg: 89.9,
             n_phi: 19,
             n_h: 81,

@@ -74,7 +74,10 @@ impl AccuracyReport {
 
     /// The largest [`BandAccuracy::max_peak_rel`] over all bands.
     pub fn max_peak_rel(&self) -> f64 {
-        self.bands.iter().map(|b| b.max_peak_rel).fold(0.0, f64::max)
+        self.bands
+            .iter()
+            .map(|b| b.max_peak_rel)
+            .fold(0.0, f64::max)
     }
 
     /// Direction pairs in total.

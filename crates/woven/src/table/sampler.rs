@@ -16,8 +16,8 @@
 //! (`sample` returns `None`); that lost mass, significant only at grazing incidence, is the gap
 //! between `∫ pdf dω` and 1.
 
+use super::eval::{locate_axis, Incidence, Query};
 use super::grid::{jacobian, t_of_slope};
-use super::eval::{locate_axis, Incidence};
 use super::{Half, Table};
 use crate::math::Vec3;
 
@@ -202,7 +202,7 @@ impl Sampler {
         // The node's density in this cell over the map's Jacobian.
         let pdf = self.density(node, iy, ix, dt) / j;
         let f = if Half::of(s, v) == Half::Light {
-            table.eval_at(Half::Light, located, (iy, fy), (ix, fx))
+            table.eval_at(Half::Light, located, Query::new(s, v))
         } else {
             table.eval_folded(s, v)
         };

@@ -1,4 +1,4 @@
-//! Weave patterns and their weft fraction `γ` (paper Eq. (23); MODEL.md §2.7).
+//! Weave patterns and their weft fraction `γ` (paper Eq. (23); docs/spec.md §2.7).
 //!
 //! ```
 //! use woven::weave::Pattern;
@@ -12,11 +12,11 @@
 //! `f_cloth = γ f_yarn(φ = 0) + (1 − γ) f_yarn(φ = π/2)`. A [`Pattern`] is the binary weave matrix
 //! that fixes `γ` (its mean) and tells a renderer which yarn lies on top at a texture coordinate.
 //!
-//! Layout of the matrix (MODEL.md §0: weft along `x`, warp along `y`):
+//! Layout of the matrix (docs/spec.md §0: weft along `x`, warp along `y`):
 //! - a **row** is one weft pick; successive rows advance along the warp direction `y`;
 //! - a **column** is one warp end; successive columns advance along the weft direction `x`;
 //! - a cell is `true` (`1`, `#`) where the **weft** floats on top and `false` (`0`, `.`) where
-//!   the warp does (MODEL.md §2.7: "1 where weft floats on top").
+//!   the warp does (docs/spec.md §2.7: "1 where weft floats on top").
 //!
 //! The matrix is one repeat of a periodic tiling: every index wraps around.
 //!

@@ -1,4 +1,4 @@
-//! The binary weave matrix, its named constructors and its weft fraction (Eq. (23); MODEL.md §2.7).
+//! The binary weave matrix, its named constructors and its weft fraction (Eq. (23); docs/spec.md §2.7).
 
 use crate::error::{Error, Result};
 use std::fmt;
@@ -25,7 +25,7 @@ const VALID_NAMES: &str =
 /// Rows are weft picks (successive rows advance along the warp direction `y`); columns are warp
 /// ends (successive columns advance along the weft direction `x`); see the [module
 /// docs](crate::weave) for the layout and the parameter table. The mean of the matrix is the
-/// visible weft fraction `γ` of Eq. (23) (MODEL.md §2.7).
+/// visible weft fraction `γ` of Eq. (23) (docs/spec.md §2.7).
 ///
 /// Every index wraps around: the pattern tiles the plane. Two patterns compare equal with `==`
 /// only when their matrices are identical; [`Pattern::is_shift_of`] compares the cloth they
@@ -357,7 +357,7 @@ impl Pattern {
 
     /// The visible weft fraction `γ` of Eq. (23): the mean of the matrix, in `[0, 1]`.
     ///
-    /// Implements the weft fraction of Eq. (23) of the paper; MODEL.md §2.7.
+    /// Implements the weft fraction of Eq. (23) of the paper; docs/spec.md §2.7.
     pub fn weft_fraction(&self) -> f64 {
         let weft = self.cells.iter().filter(|&&w| w).count();
         weft as f64 / self.cells.len() as f64

@@ -1,5 +1,5 @@
-//! The profile BRDF (paper Eq. (17); MODEL.md §2.3) and its average over lateral slopes
-//! (Eqs. (18)–(19); MODEL.md §2.4) for one fiber orientation and one pair of directions.
+//! The profile BRDF (paper Eq. (17); docs/spec.md §2.3) and its average over lateral slopes
+//! (Eqs. (18)–(19); docs/spec.md §2.4) for one fiber orientation and one pair of directions.
 //!
 //! Every facet of a cross-section — a point of the arc at angle `θ`, or a lateral of slope `±θ_a`
 //! — has the normal `a(θ) = sin θ e_u + cos θ z`, and the fiber BRDF there weighted by both
@@ -24,7 +24,7 @@ pub struct CrossSection<'a> {
     s: Vec3,
     v: Vec3,
     e_u: Vec3,
-    /// Projected angles `ψ = atan2(d·e_u, d·z)` (MODEL.md §2.2).
+    /// Projected angles `ψ = atan2(d·e_u, d·z)` (docs/spec.md §2.2).
     psi_s: f64,
     psi_v: f64,
     /// Highlight angle `θ*` and its width in `θ`.
@@ -49,7 +49,7 @@ pub const COARSE_PANELS: f64 = 2.5;
 impl<'a> CrossSection<'a> {
     /// Prepares the cross-section of fibers along `e_f = (cos φ_a, sin φ_a, 0)` for light from `s`
     /// and a viewer at `v` (both with positive `z`), sampling the facet lobe on panels
-    /// `panel_widths` highlight widths wide ([`FINE_PANELS`] or [`COARSE_PANELS`]).
+    /// `panel_widths` highlight widths wide (`FINE_PANELS` or `COARSE_PANELS`).
     pub fn new(fiber: &'a Fiber, s: Vec3, v: Vec3, phi_a: f64, panel_widths: f64) -> Self {
         let (sp, cp) = phi_a.sin_cos();
         let e_u = Vec3::new(-sp, cp, 0.0);
@@ -126,7 +126,7 @@ impl<'a> CrossSection<'a> {
         self.edges = edges;
     }
 
-    /// The macro BRDF `f_p` of one profile (Eq. (17) with exact masking; MODEL.md §2.3).
+    /// The macro BRDF `f_p` of one profile (Eq. (17) with exact masking; docs/spec.md §2.3).
     ///
     /// `f_p = [∫_arc g dθ + g(θ_a) ℓ_right + g(−θ_a) ℓ_left] / (P s_z v_z)` over the lit-and-visible
     /// sets, `ℓ` their lengths. A profile of zero period (`θ_a = 0`, `L = 0`) is its flat limit,
@@ -187,10 +187,10 @@ impl<'a> CrossSection<'a> {
         sum
     }
 
-    /// The slope-averaged BRDF `f_θ = ∫ P(θ_a) f_p(θ_a) dθ_a` (Eq. (18); MODEL.md §2.4) for
+    /// The slope-averaged BRDF `f_θ = ∫ P(θ_a) f_p(θ_a) dθ_a` (Eq. (18); docs/spec.md §2.4) for
     /// laterals of length `lateral_length`, with `nodes` Gauss–Legendre nodes per panel.
     ///
-    /// The panels split the integral where the integrand breaks or peaks (MODEL.md §2.4): at the
+    /// The panels split the integral where the integrand breaks or peaks (docs/spec.md §2.4): at the
     /// masking onsets `θ_a = π/2 − |ψ_s|`, `π/2 − |ψ_v|`, around the lateral highlight
     /// `θ_a = |θ*|` (width `≈ αρ`), and around the mean slope when the distribution is narrow.
     /// The lateral facets read `g` from the interpolant, so a node costs no fiber evaluation.

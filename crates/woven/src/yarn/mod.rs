@@ -1,5 +1,5 @@
 //! The yarn: arc-topped prism cross-sections, their exact masking, and the distributions of
-//! slopes and twist (paper §3; MODEL.md §2.1–§2.6).
+//! slopes and twist (paper §3; docs/spec.md §2.1–§2.6).
 //!
 //! | parameter | symbol | meaning | unit | default | valid range |
 //! |---|---|---|---|---|---|
@@ -89,14 +89,14 @@ impl YarnParams {
             return Err(Error::invalid(
                 "yarn.slope_mean",
                 self.slope_mean,
-                "a slope below π/2 when lateral_length > 0 (vertical laterals are slits of zero width; MODEL.md §2.1)",
+                "a slope below π/2 when lateral_length > 0 (vertical laterals are slits of zero width; docs/spec.md §2.1)",
             ));
         }
         Ok(())
     }
 }
 
-/// Quadrature orders of the yarn averages (MODEL.md §2.4, §2.6): Gauss–Legendre nodes per panel
+/// Quadrature orders of the yarn averages (docs/spec.md §2.4, §2.6): Gauss–Legendre nodes per panel
 /// of the slope integral and of the fiber-azimuth integral. The defaults converge every average
 /// to ≤ 1e-4 relative (tested by doubling them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -200,7 +200,7 @@ impl Yarn {
         !self.params.isotropic && self.params.twist_std == 0.0
     }
 
-    /// The profile BRDF `f_p` (Eq. (17), exact masking; MODEL.md §2.3) of the single profile of
+    /// The profile BRDF `f_p` (Eq. (17), exact masking; docs/spec.md §2.3) of the single profile of
     /// slope `theta_a` with this yarn's lateral length, fibers at azimuth `phi_a`.
     pub fn profile_brdf(&self, s: Vec3, v: Vec3, phi_a: f64, theta_a: f64) -> f64 {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
@@ -232,7 +232,7 @@ impl Yarn {
         )
     }
 
-    /// `f_ir` (Eq. (20); MODEL.md §2.5) for fibers at azimuth `phi_a`:
+    /// `f_ir` (Eq. (20); docs/spec.md §2.5) for fibers at azimuth `phi_a`:
     /// `(1 − ħ) f_θ + ħ ρ / π`.
     pub fn eval_oriented(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
@@ -243,7 +243,7 @@ impl Yarn {
             + p.interreflection * p.interreflection_albedo * FRAC_1_PI
     }
 
-    /// The yarn BRDF for a yarn whose axis has azimuth `phi_y` (Eqs. (20)–(22); MODEL.md §2.6):
+    /// The yarn BRDF for a yarn whose axis has azimuth `phi_y` (Eqs. (20)–(22); docs/spec.md §2.6):
     /// one orientation, the twist average, or the isotropic average.
     pub fn eval(&self, s: Vec3, v: Vec3, phi_y: f64) -> f64 {
         self.eval_mix(s, v, &[(phi_y, 1.0)])
@@ -286,7 +286,7 @@ impl Yarn {
     }
 
     /// `∫_0^π w(φ_a) f_θ(φ_a) dφ_a`, on panels split where `f_θ` kinks or peaks in `φ_a`
-    /// (MODEL.md §2.4): where `ψ_s = 0`, `ψ_v = 0`, `ψ_s = ±ψ_v`, around the orientation whose
+    /// (docs/spec.md §2.4): where `ψ_s = 0`, `ψ_v = 0`, `ψ_s = ±ψ_v`, around the orientation whose
     /// cross-section contains the half vector (the highlight, of width `≈ α/|ĥ_xy|`), and around
     /// the twist centres when the twist is narrow.
     fn azimuth_integral(

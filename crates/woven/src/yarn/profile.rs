@@ -1,4 +1,4 @@
-//! The arc-topped prism profile and its exact lit-and-visible intervals (MODEL.md §2.1–§2.2).
+//! The arc-topped prism profile and its exact lit-and-visible intervals (docs/spec.md §2.1–§2.2).
 //!
 //! A yarn surface is an infinite row of parallel prisms; its cross-section, in coordinates
 //! `(u, w)` (`u` across the fibers, `w` along the macro normal `z`), is one period made of an arc
@@ -20,7 +20,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use crate::error::{check_range, Error, Result};
 
-/// An arc-topped prism cross-section (MODEL.md §2.1) with unit arc radius.
+/// An arc-topped prism cross-section (docs/spec.md §2.1) with unit arc radius.
 ///
 /// One period has its apex at the origin: the arc `(sin θ, cos θ − 1)`, `θ ∈ [−θ_a, θ_a]`, and two
 /// laterals of length `L` tangent to it at its ends; copies sit at `u + kP` for every integer `k`.
@@ -136,7 +136,7 @@ impl Profile {
     ///
     /// `theta_a` (radians) in `[0, π/2]`; `lateral_length` (`L`, arc radii) in `[0, 1e6]`.
     /// `θ_a = π/2` (to within 1e-12) requires `L = 0` (touching cylinders): with `L > 0` the
-    /// laterals would be vertical slits of zero width (MODEL.md §2.1). `θ_a = 0, L = 0` is accepted
+    /// laterals would be vertical slits of zero width (docs/spec.md §2.1). `θ_a = 0, L = 0` is accepted
     /// (it is the flat limit) but has period 0; callers dividing by [`Profile::period`] must take
     /// that limit themselves.
     ///
@@ -192,7 +192,7 @@ impl Profile {
 
     /// The masking onset `π/2 − θ_a` (radians): for `|ψ|` up to it every facing point is lit;
     /// beyond it the neighbouring prism casts a shadow. A break point for integrals over `θ_a` or
-    /// `ψ` (MODEL.md §2.4).
+    /// `ψ` (docs/spec.md §2.4).
     pub fn masking_onset(&self) -> f64 {
         FRAC_PI_2 - self.theta_a
     }
@@ -237,10 +237,10 @@ impl Profile {
     /// The part of each piece lit from projected angle `psi` (radians) — equally, the part visible
     /// from it.
     ///
-    /// Implements the paper's `η_n`, `θ_n` after Eq. (17), exactly; MODEL.md §2.2, docs/masking.md.
+    /// Implements the paper's `η_n`, `θ_n` after Eq. (17), exactly; docs/spec.md §2.2, docs/masking.md.
     ///
     /// A point is lit iff its normal `a` has `a·(sin ψ, cos ψ) > 0` and the ray from it toward
-    /// `(sin ψ, cos ψ)` meets no other part of the periodic profile (MODEL.md §2.2). `ψ` is the
+    /// `(sin ψ, cos ψ)` meets no other part of the periodic profile (docs/spec.md §2.2). `ψ` is the
     /// direction's projected angle `atan2(d·e_u, d·z)` in `(−π/2, π/2)`; positive `ψ` comes from
     /// `+u`. The sets are exact (closed form, derived in `docs/masking.md`); each is one interval.
     /// This computes the quantity the paper's `η_n`, `θ_n` after Eq. (17) describe (their

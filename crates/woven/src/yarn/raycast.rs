@@ -1,5 +1,5 @@
 //! Brute-force 2D ray casting of the periodic profile: the reference implementation that the
-//! closed-form intervals of [`Profile::lit`] are tested against (MODEL.md §2.2 and §6, item 5).
+//! closed-form intervals of [`Profile::lit`] are tested against (docs/spec.md §2.2 and §6, item 5).
 //!
 //! Nothing here uses the closed form or the argument behind it (which neighbour casts the
 //! shadow, which point is the silhouette): [`is_lit`] intersects the ray with the arcs and
@@ -14,7 +14,7 @@ use super::profile::{Piece, PieceIntervals, Profile};
 /// from projected angle `psi` (radians), by ray casting.
 ///
 /// Lit means: `normal · (sin ψ, cos ψ) > 0`, and the ray `point + s (sin ψ, cos ψ)`, `s > 0`, meets
-/// no arc and no lateral of any period of the profile (MODEL.md §2.2). `point` must lie on the
+/// no arc and no lateral of any period of the profile (docs/spec.md §2.2). `point` must lie on the
 /// profile (any period, to within ~1e-13 relative, i.e. as computed by [`Profile::point`]): the
 /// curve it lies on is excluded from the intersection tests at `s = 0`, so rounding in `point`
 /// cannot make it shadow itself. Returns `false` for `|ψ| ≥ π/2` or NaN.

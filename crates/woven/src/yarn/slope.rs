@@ -1,4 +1,4 @@
-//! The distribution of lateral slopes `P(θ_a)` (paper Eq. (19); MODEL.md §2.4).
+//! The distribution of lateral slopes `P(θ_a)` (paper Eq. (19); docs/spec.md §2.4).
 
 use crate::math::quadrature::adaptive;
 use std::f64::consts::FRAC_PI_2;

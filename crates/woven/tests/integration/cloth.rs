@@ -1,5 +1,5 @@
-//! The yarn and cloth BRDFs (paper Eqs. (17)–(23); MODEL.md §2) against their defining
-//! properties (MODEL.md §6): the profile BRDF against brute-force ray casting, its limits (flat,
+//! The yarn and cloth BRDFs (paper Eqs. (17)–(23); docs/spec.md §2) against their defining
+//! properties (docs/spec.md §6): the profile BRDF against brute-force ray casting, its limits (flat,
 //! unmasked Lambertian closed form, V-groove), reciprocity in `none` mode, mirror and rotation
 //! symmetries, albedo ≤ 1, convergence of the default quadrature, non-negativity, and the presets.
 //!
@@ -96,13 +96,13 @@ fn woven(yarn: Yarn, gamma: f64) -> Model {
     })
 }
 
-/// `e_u = (−sin φ_a, cos φ_a, 0)`, across fibers of azimuth `phi_a` (MODEL.md §2.1).
+/// `e_u = (−sin φ_a, cos φ_a, 0)`, across fibers of azimuth `phi_a` (docs/spec.md §2.1).
 fn across(phi_a: f64) -> Vec3 {
     let (sp, cp) = phi_a.sin_cos();
     Vec3::new(-sp, cp, 0.0)
 }
 
-/// The projected angle `ψ = atan2(d·e_u, d·z)` (MODEL.md §2.2).
+/// The projected angle `ψ = atan2(d·e_u, d·z)` (docs/spec.md §2.2).
 fn psi(d: Vec3, phi_a: f64) -> f64 {
     d.dot(across(phi_a)).atan2(d.z)
 }
@@ -309,7 +309,7 @@ fn assert_profile_matches_brute_force(
     )
 }
 
-/// MODEL.md §2.3, §6.5: Eq. (17) with exact masking equals brute-force ray casting, for fibers
+/// docs/spec.md §2.3, §6.5: Eq. (17) with exact masking equals brute-force ray casting, for fibers
 /// of `σ_h/τ ∈ [0.1, 0.25]` (see the ignored test below for rougher ones).
 #[test]
 fn profile_brdf_matches_brute_force_ray_casting() {
@@ -377,7 +377,7 @@ fn profile_brdf_matches_brute_force_for_rough_fibers() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 2. Limits of the profile (MODEL.md §2.1, §2.3)
+// 2. Limits of the profile (docs/spec.md §2.1, §2.3)
 // ---------------------------------------------------------------------------------------------
 
 /// Checks `f_p → f_fiber(s, v; z)` as `θ_a → 0` for the given `(θ_a, L)` pairs, over random
@@ -421,7 +421,7 @@ fn flat_limit(cases: usize, seed: u64, shapes: &[(f64, f64)], roughness: (f64, f
     worst.report(&format!("flat limit {shapes:?}, relative"));
 }
 
-/// MODEL.md §2.1, §2.3: `θ_a → 0` is the flat fiber surface, `f_p = f_fiber(s, v; z)`: with
+/// docs/spec.md §2.1, §2.3: `θ_a → 0` is the flat fiber surface, `f_p = f_fiber(s, v; z)`: with
 /// laterals (whose facets `profile_brdf` evaluates directly), and at `θ_a = L = 0` (period 0,
 /// the limit taken exactly); `σ_h/τ ≤ 0.5` (rougher fibers and bare arcs: the ignored test
 /// below).
@@ -483,7 +483,7 @@ fn flat_limit_of_bare_arcs_and_very_rough_fibers() {
     );
 }
 
-/// `M_uu`, `M_ww` of MODEL.md §2.3: `∫ a_u² dl`, `∫ a_w² dl` over one period.
+/// `M_uu`, `M_ww` of docs/spec.md §2.3: `∫ a_u² dl`, `∫ a_w² dl` over one period.
 fn second_moments(theta_a: f64, l: f64) -> (f64, f64) {
     let (st, ct) = theta_a.sin_cos();
     (
@@ -516,7 +516,7 @@ impl LambertianPart {
     }
 }
 
-/// MODEL.md §2.3: with nothing masked (`|ψ_s|, |ψ_v| < π/2 − θ_a`) a Lambertian fiber gives
+/// docs/spec.md §2.3: with nothing masked (`|ψ_s|, |ψ_v| < π/2 − θ_a`) a Lambertian fiber gives
 /// `f_p = (ρ/π)(s_u v_u M_uu + s_z v_z M_ww)/(P s_z v_z)` — not `ρ/π`.
 #[test]
 fn unmasked_lambertian_profile_matches_closed_form() {
@@ -569,7 +569,7 @@ fn unmasked_lambertian_profile_matches_closed_form() {
 }
 
 /// Torrance–Sparrow's V-groove lit fraction of the lateral of normal angle `+θ_a` (facing `+u`)
-/// lit from projected angle `psi` (MODEL.md §2.3): whole below the masking onset, the V-groove
+/// lit from projected angle `psi` (docs/spec.md §2.3): whole below the masking onset, the V-groove
 /// value `2 cos θ_a cos ψ / cos(ψ − θ_a)` past it on the side facing the light, 0 on the other.
 fn v_groove_fraction(theta_a: f64, psi: f64) -> f64 {
     let onset = FRAC_PI_2 - theta_a;
@@ -605,7 +605,7 @@ fn v_groove_lambertian(rho: f64, theta_a: f64, s: Vec3, v: Vec3, phi_a: f64) -> 
     rho * FRAC_1_PI * sum / (2.0 * ct * s.z * v.z)
 }
 
-/// MODEL.md §2.1, §2.3: as `L → ∞` the Lambertian part of `f_p` tends to the V-groove value, with
+/// docs/spec.md §2.1, §2.3: as `L → ∞` the Lambertian part of `f_p` tends to the V-groove value, with
 /// an error `O(1/L)` (the arc and the neighbour's arc in the shadow line are of finite size).
 #[test]
 fn long_laterals_tend_to_the_v_groove_lambertian_brdf() {
@@ -650,7 +650,7 @@ fn long_laterals_tend_to_the_v_groove_lambertian_brdf() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 3. Reciprocity in `none` mode (MODEL.md §2.3, §6.3)
+// 3. Reciprocity in `none` mode (docs/spec.md §2.3, §6.3)
 // ---------------------------------------------------------------------------------------------
 
 /// Asserts `f(s, v) = f(v, s)` over random pairs, returning the worst relative asymmetry.
@@ -879,7 +879,7 @@ fn weave_mix_swaps_weft_and_warp_under_the_diagonal_mirror() {
 }
 
 /// The tolerance of rotation invariance: the azimuth quadrature's panels move with the
-/// directions, so invariance holds to its accuracy, ≤ 1e-4 (MODEL.md §2.4); observed 3.3e-5 at
+/// directions, so invariance holds to its accuracy, ≤ 1e-4 (docs/spec.md §2.4); observed 3.3e-5 at
 /// grazing (84°, 86°), ≤ 7e-7 elsewhere.
 const ROTATION_TOL: f64 = 1e-4;
 
@@ -943,7 +943,7 @@ fn check_albedo(what: &str, model: &Model, floor: impl Fn(f64) -> f64, slack: f6
 /// error on a flat profile is far smaller).
 const ALBEDO_SLACK: f64 = 1e-3;
 
-/// MODEL.md §6.2: albedo ≤ 1 in `paper` mode for profile-type, yarn and cloth materials; and
+/// docs/spec.md §6.2: albedo ≤ 1 in `paper` mode for profile-type, yarn and cloth materials; and
 /// with unit Fresnel (the white furnace: nothing but masking removes energy) it is still ≤ 1,
 /// and exactly 1 for the flat profile. Fibers of `σ_h/τ = 0.1` (narrower lobes: the ignored
 /// test below).
@@ -1144,10 +1144,10 @@ fn profile_albedo_matches_adaptive_quadrature() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 6. Convergence of the yarn averages (MODEL.md §2.4: ≤ 1e-4 relative)
+// 6. Convergence of the yarn averages (docs/spec.md §2.4: ≤ 1e-4 relative)
 // ---------------------------------------------------------------------------------------------
 
-/// Relative tolerance of every average (MODEL.md §2.4); values below `CONVERGENCE_FLOOR` sr⁻¹
+/// Relative tolerance of every average (docs/spec.md §2.4); values below `CONVERGENCE_FLOOR` sr⁻¹
 /// compare absolutely against `CONVERGENCE_TOL × CONVERGENCE_FLOOR`.
 const CONVERGENCE_TOL: f64 = 1e-4;
 const CONVERGENCE_FLOOR: f64 = 1e-6;
@@ -1169,7 +1169,7 @@ fn convergence_materials() -> Vec<(String, Material)> {
 
 /// Compares the default `Quadrature` with doubled orders for every material of
 /// [`convergence_materials`] at `pairs` random direction pairs (polar angles up to `max_theta`,
-/// half of them in the plane of incidence); asserts ≤ 1e-4 relative (MODEL.md §2.4).
+/// half of them in the plane of incidence); asserts ≤ 1e-4 relative (docs/spec.md §2.4).
 fn default_vs_doubled(pairs: usize, seed: u64, max_theta: f64) {
     let q = Quadrature::default();
     let doubled = Quadrature {
@@ -1214,7 +1214,7 @@ fn default_vs_doubled(pairs: usize, seed: u64, max_theta: f64) {
     ));
 }
 
-/// MODEL.md §2.4: the default `Quadrature` agrees with doubled orders to ≤ 1e-4 relative for the
+/// docs/spec.md §2.4: the default `Quadrature` agrees with doubled orders to ≤ 1e-4 relative for the
 /// presets and the golden cloth materials, at 20 direction pairs each up to 80° (observed:
 /// ≤ 1e-5). Beyond 80° see the ignored test below.
 #[test]
@@ -1278,7 +1278,7 @@ fn integrate_split(a: f64, b: f64, breaks: &[f64], rel_tol: f64, g: impl Fn(f64)
         .sum()
 }
 
-/// MODEL.md §2.4, §2.6: the slope, twist and isotropic averages agree with independent adaptive
+/// docs/spec.md §2.4, §2.6: the slope, twist and isotropic averages agree with independent adaptive
 /// quadratures of the quantity they average (`profile_brdf` over `θ_a`; `eval_oriented` over the
 /// fiber azimuth) to ≤ 1e-4 relative — a check doubling the orders cannot make (a panel rule with
 /// a missed kink converges slowly, but to the right value).
@@ -1355,7 +1355,7 @@ fn yarn_averages_match_independent_adaptive_quadrature() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 7. Non-negativity and finiteness (MODEL.md §6.1)
+// 7. Non-negativity and finiteness (docs/spec.md §6.1)
 // ---------------------------------------------------------------------------------------------
 
 /// A random valid fiber: rough or (a quarter) full model, any roughness, index, diffuse albedo
@@ -1484,7 +1484,7 @@ fn nonnegative_and_finite(
                     ));
                 }
             }
-            // Below the horizon the BRDF is 0 (MODEL.md §0).
+            // Below the horizon the BRDF is 0 (docs/spec.md §0).
             let below = Vec3::new(v.x, v.y, -v.z.max(1e-3));
             assert_eq!(
                 model.eval(s, below),
@@ -1501,7 +1501,7 @@ fn nonnegative_and_finite(
     bad
 }
 
-/// MODEL.md §6.1 (finiteness): every yarn and cloth BRDF is finite for random valid yarns and
+/// docs/spec.md §6.1 (finiteness): every yarn and cloth BRDF is finite for random valid yarns and
 /// directions, including `θ = 0`, grazing and `θ = π/2` exactly (whose cosine is 6e-17 > 0).
 /// Non-negativity is the ignored test below: it fails today.
 #[test]
@@ -1516,7 +1516,7 @@ fn yarn_and_cloth_brdfs_are_finite() {
     );
 }
 
-/// MODEL.md §6.1: `f ≥ 0` for random valid yarns and directions. Fails today, for the reasons of
+/// docs/spec.md §6.1: `f ≥ 0` for random valid yarns and directions. Fails today, for the reasons of
 /// [`profile_brdf_matches_brute_force_for_rough_fibers`], amplified near the horizon:
 /// - the arc integral reads the interpolant of the facet lobe `g(θ)`
 ///   (`CrossSection::sample_g`), which oscillates below 0 where `g` is tiny (tails of the lobe:
@@ -1610,7 +1610,7 @@ fn yarn_and_cloth_brdfs_are_nonnegative() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 8. Presets (MODEL.md §5) and material round trips
+// 8. Presets (docs/spec.md §5) and material round trips
 // ---------------------------------------------------------------------------------------------
 
 fn rough_roughness(m: &Material) -> f64 {
@@ -1620,7 +1620,7 @@ fn rough_roughness(m: &Material) -> f64 {
     }
 }
 
-/// MODEL.md §5: every preset parses and builds, and carries the values the paper gives.
+/// docs/spec.md §5: every preset parses and builds, and carries the values the paper gives.
 #[test]
 fn presets_carry_the_papers_values() {
     let names = Material::preset_names();
@@ -1665,7 +1665,7 @@ fn presets_carry_the_papers_values() {
     let y = belt.yarn.unwrap();
     assert_eq!(rough_roughness(&belt), 0.2);
     assert!(y.twist_std > 0.0 && !y.isotropic, "{y:?}");
-    // Silk (Fig. 10): isotropic yarns (Eq. (22)) with a slope deviation (MODEL.md §2.6).
+    // Silk (Fig. 10): isotropic yarns (Eq. (22)) with a slope deviation (docs/spec.md §2.6).
     let silk = preset("silk");
     let y = silk.yarn.unwrap();
     assert!(
@@ -1674,7 +1674,7 @@ fn presets_carry_the_papers_values() {
     );
 }
 
-/// MODEL.md §5 on Fig. 8: for the warp-faced sateen, light and sensor in the warp plane (along
+/// docs/spec.md §5 on Fig. 8: for the warp-faced sateen, light and sensor in the warp plane (along
 /// the visible yarns, `φ = π/2`) see no masking — the yarns' cross-section sees both directions
 /// at `ψ = 0` — while in the weft plane (across them, `φ = 0`) masking is strong. Measured as the
 /// lit-and-visible fraction of the profile's length, averaged over the preset's slope

@@ -1,5 +1,5 @@
 //! Material files: the `[yarn]` and `[weave]` tables (the project's material-file contract;
-//! MODEL.md §2, §2.7). Every error names the key, the offending value and the valid range; a
+//! docs/spec.md §2, §2.7). Every error names the key, the offending value and the valid range; a
 //! WIF pattern is read relative to the material file's folder; a pattern gives `γ`.
 
 use std::path::{Path, PathBuf};
@@ -202,7 +202,7 @@ fn mistyped_values_are_parse_errors() {
     );
 }
 
-/// `γ` of a named pattern, a matrix and a WIF file (MODEL.md §2.7: the mean of the matrix).
+/// `γ` of a named pattern, a matrix and a WIF file (docs/spec.md §2.7: the mean of the matrix).
 #[test]
 fn pattern_gives_the_weft_fraction() {
     for (pattern, want) in [
@@ -232,7 +232,7 @@ fn pattern_gives_the_weft_fraction() {
         );
         assert_eq!(built_gamma(&m), g, "pattern {pattern}: the built model's γ");
     }
-    // A 2/1 twill is a third or two thirds weft (MODEL.md §2.7); satin-5 a fifth or four fifths.
+    // A 2/1 twill is a third or two thirds weft (docs/spec.md §2.7); satin-5 a fifth or four fifths.
     let twill = parse(&format!("{YARN}[weave]\npattern = \"twill-2/1\"\n")).weft_fraction();
     assert!(
         (twill - 1.0 / 3.0).abs() < 1e-15 || (twill - 2.0 / 3.0).abs() < 1e-15,
@@ -387,7 +387,7 @@ fn yarn_values_out_of_range() {
 
 #[test]
 fn vertical_laterals_are_rejected() {
-    // θa = π/2 with L > 0 (one slope): laterals would be vertical slits (MODEL.md §2.1).
+    // θa = π/2 with L > 0 (one slope): laterals would be vertical slits (docs/spec.md §2.1).
     assert_invalid(
         "[yarn]\nlateral_length = 1.0\nslope_mean = 1.5707963267948966\n",
         "yarn.slope_mean",

@@ -8,16 +8,10 @@ pub fn dirs(ti: f64, pi: f64, tr: f64, pr: f64) -> (Vec3, Vec3) {
     (Vec3::from_spherical(ti, pi), Vec3::from_spherical(tr, pr))
 }
 
-/// The vector folders: the project's copy in `tests/data/vectors`, and `../shared/vectors` when the
-/// checkout sits beside a `shared/` folder (it may carry newer cases).
+/// The vector folders: the repository's `tests/data/vectors` (docs/spec.md §6.7).
 pub fn vector_roots() -> Vec<PathBuf> {
     let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let mut roots = vec![here.join("tests/data/vectors")];
-    let shared = here.join("../../../shared/vectors");
-    if shared.is_dir() {
-        roots.push(shared);
-    }
-    roots
+    vec![here.join("tests/data/vectors")]
 }
 
 /// Asserts `|got − want| ≤ rel · |want|` (or `≤ abs_floor` absolutely), printing both.

@@ -1,4 +1,4 @@
-//! Fiber BRDF properties (MODEL.md §1, §6): positivity and finiteness everywhere, energy
+//! Fiber BRDF properties (docs/spec.md §1, §6): positivity and finiteness everywhere, energy
 //! (albedo ≤ 1 in `paper` mode, white furnace, the `none`-mode excess at grazing), reciprocity,
 //! the HTSG → rough-limit identity, agreement with an independently written
 //! Torrance–Sparrow/Beckmann/Smith BRDF, Fresnel and shadowing at known points, the limits of the
@@ -166,7 +166,7 @@ fn fiber_none() -> impl Strategy<Value = (FiberParams, f64)> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// An independent Torrance–Sparrow/Beckmann/Smith BRDF (MODEL.md §6.6), written from the
+// An independent Torrance–Sparrow/Beckmann/Smith BRDF (docs/spec.md §6.6), written from the
 // textbook formulas and sharing no code with the library.
 // ---------------------------------------------------------------------------------------------
 
@@ -197,7 +197,7 @@ mod reference {
         (libm::erf(a) - 1.0) / 2.0 + (-a * a).exp() / (2.0 * a * PI.sqrt())
     }
 
-    /// The per-direction shadowing `G1 · (1 − ½ erfc a)` of MODEL.md §1.2, with the paper's extra
+    /// The per-direction shadowing `G1 · (1 − ½ erfc a)` of docs/spec.md §1.2, with the paper's extra
     /// factor written as `(1 + erf a)/2`. 1 at the normal.
     pub fn s1(d: Vec3, alpha: f64) -> f64 {
         let sin = (d.x * d.x + d.y * d.y).sqrt();
@@ -239,7 +239,7 @@ mod reference {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 1. f ≥ 0 and finite (MODEL.md §6.1)
+// 1. f ≥ 0 and finite (docs/spec.md §6.1)
 // ---------------------------------------------------------------------------------------------
 
 /// Checks one evaluation: 0 when a direction lies on the horizon (`z = 0` exactly), otherwise
@@ -291,7 +291,7 @@ proptest! {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 2. Directional albedo (MODEL.md §1.5, §6.2)
+// 2. Directional albedo (docs/spec.md §1.5, §6.2)
 // ---------------------------------------------------------------------------------------------
 
 /// Incidence angles of the albedo tests, degrees (down to 0.1° from grazing).
@@ -437,10 +437,10 @@ fn albedo_agrees_with_brute_force_gauss_legendre_for_a_rough_fiber() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 3. `none` mode exceeds 1 at grazing on smooth fibers (MODEL.md §6.2)
+// 3. `none` mode exceeds 1 at grazing on smooth fibers (docs/spec.md §6.2)
 // ---------------------------------------------------------------------------------------------
 
-/// MODEL.md §6.2 quotes 1.008 for `σ_h/τ = 0.01`, `ρ0 = 0.3`, `cos θi = 0.05` without naming η:
+/// docs/spec.md §6.2 quotes 1.008 for `σ_h/τ = 0.01`, `ρ0 = 0.3`, `cos θi = 0.05` without naming η:
 /// it holds for η = 1.6 (the project's polyester default; η = 1.5 gives 1.0024, η = 1.7 1.0110,
 /// unit Fresnel 1.2584).
 #[test]
@@ -468,7 +468,7 @@ fn none_mode_albedo_exceeds_one_at_grazing_on_smooth_fibers() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 4. Reciprocity (MODEL.md §6.3) and its documented exception
+// 4. Reciprocity (docs/spec.md §6.3) and its documented exception
 // ---------------------------------------------------------------------------------------------
 
 proptest! {
@@ -493,7 +493,7 @@ proptest! {
     }
 }
 
-/// `paper` mode is not reciprocal (MODEL.md §1.5): `β` is taken at the incidence angle, so
+/// `paper` mode is not reciprocal (docs/spec.md §1.5): `β` is taken at the incidence angle, so
 /// swapping the directions scales the lobe by `β(θ_r)/β(θ_i)`.
 #[test]
 fn paper_mode_is_not_reciprocal() {
@@ -512,7 +512,7 @@ fn paper_mode_is_not_reciprocal() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 5. HTSG → rough limit (MODEL.md §1.4)
+// 5. HTSG → rough limit (docs/spec.md §1.4)
 // ---------------------------------------------------------------------------------------------
 
 /// At `θi = 40°, θr = 25°, Δφ = 160°`, `α = 0.2`, λ = 550 nm the full model tends to the rough
@@ -557,7 +557,7 @@ fn htsg_tends_to_rough_limit_as_g_grows() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 6. (16') with β = 1 against an independent Torrance–Sparrow (MODEL.md §6.6)
+// 6. (16') with β = 1 against an independent Torrance–Sparrow (docs/spec.md §6.6)
 // ---------------------------------------------------------------------------------------------
 
 /// The relative tolerance of the comparison: 1e-12, plus what the library's `D_B` loses by forming
@@ -792,7 +792,7 @@ fn mirror_peak_grows_as_one_over_alpha_squared() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 9. The full model's specular spike (MODEL.md §1.4, Eq. (12))
+// 9. The full model's specular spike (docs/spec.md §1.4, Eq. (12))
 // ---------------------------------------------------------------------------------------------
 
 /// `F(θi) e^{−g} S1(θi)²` with `g = (2 k σ_h cos θi)²`, computed from the reference formulas.

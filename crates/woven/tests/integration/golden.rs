@@ -1,4 +1,4 @@
-//! The golden values of `shared/vectors` (MODEL.md §6.7) at the tolerances its README states.
+//! The golden values of `tests/data/vectors` (docs/spec.md §6.7) at the tolerances its README states.
 
 use crate::common::{assert_close, dirs, vector_roots};
 use woven::material::Material;

@@ -1,5 +1,5 @@
-//! Exact masking intervals (MODEL.md §2.2) against brute-force ray casting, and their limits
-//! (MODEL.md §2.1, §2.3): V-groove, flat, unshadowed below the onset, mirror symmetry, and the
+//! Exact masking intervals (docs/spec.md §2.2) against brute-force ray casting, and their limits
+//! (docs/spec.md §2.1, §2.3): V-groove, flat, unshadowed below the onset, mirror symmetry, and the
 //! conservation of light falling on one period.
 
 use crate::common::Rng;
@@ -8,7 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 use woven::yarn::profile::{Piece, PieceIntervals, Profile};
 use woven::yarn::raycast::{sample_lit, sample_lit_and_visible, SampledPieces};
 
-/// Samples per piece for the brute force (MODEL.md §2.2 asks for at least 10⁴).
+/// Samples per piece for the brute force (docs/spec.md §2.2 asks for at least 10⁴).
 const SAMPLES: usize = 10_000;
 /// Agreement asked of closed form and brute force, as a fraction of the piece's length.
 const REL_TOL: f64 = 1e-3;

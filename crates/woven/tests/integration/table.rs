@@ -15,7 +15,7 @@ use woven::{Model, Vec3};
 /// Small grids keep the tests fast; accuracy at the default grid is the ignored test below.
 fn small() -> TableOptions {
     TableOptions {
-        n_theta: 12,
+        n_theta: 16,
         n_phi: 5,
         n_h: 33,
         n_h_isotropic: 49,
@@ -228,13 +228,13 @@ fn sample_weight_and_pdf_agree_with_eval_and_are_deterministic() {
             );
             // The same density up to rounding in re-deriving the cell from v.
             assert!(
-                (a.pdf - pdf).abs() <= 1e-6 * pdf,
+                (a.pdf - pdf).abs() <= 1e-5 * pdf,
                 "{name}: pdf {} vs pdf() {pdf}",
                 a.pdf
             );
             let w = f * a.v.z / pdf;
             assert!(
-                (a.weight - w).abs() <= 1e-6 * w.max(1e-300),
+                (a.weight - w).abs() <= 1e-5 * w.max(1e-300),
                 "{name}: weight {} vs {w}",
                 a.weight
             );
@@ -354,16 +354,86 @@ fn tables_fold_symmetric_directions_onto_one_another() {
     let _ = FRAC_PI_2;
 }
 
-/// Accuracy of the default grid over random pairs with θi, θr ≤ 80°, for every preset, a rough
-/// and a very smooth flat fiber, and the sateen at the smooth fiber's roughness 0.02 (which gets
-/// [`TableOptions::for_model`]'s finer half-vector grid): the cosine-weighted relative RMS error
-/// ≤ 1 % and the 99th percentile of the relative error ≤ 3 % (the tabulation issue's targets).
-/// Builds full tables (tens of seconds each, the smooth sateen about 90 s):
-/// `cargo test --release -p woven --test integration table_accuracy_at_default_grid -- --ignored`.
+/// The targets for the default grid, over the whole hemisphere in bands of
+/// `θ = max(θ_i, θ_r)`: up to 80°, cosine-weighted relative RMS ≤ 1 % and 99th percentile ≤ 3 %;
+/// in 80°–89°, ≤ 2 % and ≤ 10 %; everywhere, `|f_table − f| cos θ_i cos θ_r` within 1 % of the
+/// material's peak of `f cos θ_i cos θ_r`. And the sampling weight `f cos θ_r / pdf` within 10×
+/// its median at every incidence up to 89.9°.
+fn assert_horizon_targets(name: &str, model: &Model, t: &Table, per_band: usize) {
+    let r = t.accuracy(model, per_band, 11, &|_, _| {});
+    println!("{name}: peak {:.4}", r.peak);
+    for b in &r.bands {
+        println!(
+            "  [{}°, {}°]: rms {:.3} % p99 {:.3} % max {:.2} % peak-rel {:.3} %",
+            b.lo_deg,
+            b.hi_deg,
+            100.0 * b.weighted_rel_rms,
+            100.0 * b.p99_rel,
+            100.0 * b.max_rel,
+            100.0 * b.max_peak_rel
+        );
+    }
+    let (bulk, grazing) = (r.bands[0], r.bands[1]);
+    assert!(
+        bulk.weighted_rel_rms <= 0.01 && bulk.p99_rel <= 0.03,
+        "{name}: {bulk:?}"
+    );
+    assert!(
+        grazing.weighted_rel_rms <= 0.02 && grazing.p99_rel <= 0.10,
+        "{name}: {grazing:?}"
+    );
+    assert!(r.max_peak_rel() <= 0.01, "{name}: {r:?}");
+    let worst = sampling_weight_spread(t, 4000);
+    println!("  sampling: largest weight / median weight {worst:.2}");
+    assert!(
+        worst <= 10.0,
+        "{name}: a sampling weight {worst:.1}× its median"
+    );
+}
+
+/// The largest ratio, over incidences from normal to 89.9° (10 polar angles × 5 azimuths), of
+/// the largest sampling weight `f cos θ_r / pdf` to the median weight, `n` draws each.
+fn sampling_weight_spread(t: &Table, n: usize) -> f64 {
+    let mut rng = SplitMix(23);
+    let mut worst = 0.0f64;
+    for ti in [0.0f64, 20.0, 45.0, 65.0, 80.0, 85.0, 88.0, 89.0, 89.5, 89.9] {
+        for pi in [0.0f64, 20.0, 45.0, 70.0, 90.0] {
+            let s = Vec3::from_spherical(ti.to_radians(), pi.to_radians());
+            let mut w: Vec<f64> = (0..n)
+                .filter_map(|_| t.sample(s, rng.uniform(), rng.uniform()))
+                .map(|smp| smp.weight)
+                .collect();
+            if w.is_empty() {
+                continue;
+            }
+            w.sort_by(f64::total_cmp);
+            let median = w[w.len() / 2];
+            let ratio = w[w.len() - 1] / median;
+            if ratio > worst {
+                println!("  θi {ti}° φi {pi}°: max/median weight {ratio:.2}");
+            }
+            worst = worst.max(ratio);
+        }
+    }
+    worst
+}
+
+/// [`assert_horizon_targets`] for every preset, a rough and a very smooth flat fiber, and the
+/// sateen at the smooth fiber's roughness 0.02 (which gets [`TableOptions::for_model`]'s finer
+/// half-vector grid). Builds full tables (tens of seconds each):
+/// `cargo test --release -p woven --test integration table_accuracy_at_default_grid -- --ignored --nocapture`.
 #[test]
 #[ignore = "slow: builds full-resolution tables"]
 fn table_accuracy_at_default_grid() {
+    // WOVEN_TABLE_MATERIALS=silk,belt-cloth checks only those.
+    let only = std::env::var("WOVEN_TABLE_MATERIALS").ok();
     for name in MATERIALS.iter().copied().chain(["smooth-sateen"]) {
+        if only
+            .as_ref()
+            .is_some_and(|o| !o.split(',').any(|x| x == name))
+        {
+            continue;
+        }
         let m = material(name);
         let model = m.build(550.0).unwrap();
         let t = Table::build(
@@ -374,13 +444,37 @@ fn table_accuracy_at_default_grid() {
         )
         .unwrap();
         let n = if name == "belt-cloth" || name == "silk" {
-            600
+            300
         } else {
-            4000
+            2000
         };
-        let r = t.accuracy(&model, n, 11, &|_, _| {});
-        println!("{name}: {r:?}");
-        let b = r.bands[0];
-        assert!(b.weighted_rel_rms <= 0.01 && b.p99_rel <= 0.03, "{name}: {r:?}");
+        assert_horizon_targets(name, &model, &t, n);
+    }
+}
+
+/// Next to the horizon a table never amplifies: its value is a weighted mean of node values, so
+/// it stays within the range of the exact BRDF around it — the old division of interpolated
+/// `f cos θ_i cos θ_r` by vanishing cosines gave 8 000× the exact value at 89.5°.
+#[test]
+fn grazing_pairs_are_never_amplified() {
+    let mut rng = SplitMix(41);
+    for name in ["rough", "polyester-sateen", "silk"] {
+        let (model, t) = table(name);
+        let largest = t.values().iter().fold(0.0f32, |a, &b| a.max(b)) as f64;
+        let pairs = woven::table::report::band_pairs(300, rng.0);
+        rng.uniform();
+        for &(band, s, v) in pairs.iter().filter(|p| p.0 > 0) {
+            let (f, e) = (t.eval(s, v), model.eval(s, v));
+            assert!(
+                f.is_finite() && f >= 0.0 && f <= largest * (1.0 + 1e-6),
+                "{name}: {f}"
+            );
+            // Small grids are coarse, but never far off where it matters.
+            let c = s.z * v.z;
+            assert!(
+                (f - e).abs() * c <= 0.2 * t.peak_cosine_weighted(),
+                "{name} band {band}: s {s:?} v {v:?}: table {f} exact {e}"
+            );
+        }
     }
 }

@@ -1,4 +1,4 @@
-//! Weave patterns: named constructors, matrices, WIF files (paper Eq. (23); MODEL.md §2.7).
+//! Weave patterns: named constructors, matrices, WIF files (paper Eq. (23); docs/spec.md §2.7).
 
 use std::path::PathBuf;
 use woven::weave::Pattern;
@@ -101,7 +101,7 @@ fn invalid(result: woven::Result<Pattern>) -> (String, String, String) {
 
 #[test]
 fn named_weft_fractions_match_model_md() {
-    // MODEL.md §2.7: plain 1/2, 2/1 twill 1/3 (its reverse 2/3), 5-harness satin 1/5 or 4/5.
+    // docs/spec.md §2.7: plain 1/2, 2/1 twill 1/3 (its reverse 2/3), 5-harness satin 1/5 or 4/5.
     assert_fraction(&named("plain"), 0.5, "plain");
     assert_fraction(&named("twill-2/1"), 1.0 / 3.0, "twill-2/1");
     assert_fraction(&named("twill-1/2"), 2.0 / 3.0, "twill-1/2");

@@ -1,0 +1,60 @@
+//! Material → Model → Table: tabulate a material for a renderer, save and load the table, then
+//! evaluate, sample and compute densities with the `Bsdf` trait.
+//!
+//! Run with `cargo run --release -p woven --example table`. The grid here is deliberately coarse so
+//! that the example builds in about a second; `woven tabulate` (or `TableOptions::for_model`) gives
+//! the accurate default grid.
+
+use woven::bsdf::Bsdf;
+use woven::material::Material;
+use woven::table::{Table, TableOptions};
+use woven::Vec3;
+
+fn main() -> Result<(), woven::Error> {
+    let material = Material::preset("polyester-sateen")?;
+    let model = material.build(550.0)?;
+
+    // A small grid: 12 incidence angles × 7 azimuths × 31² half vectors.
+    let options = TableOptions {
+        n_theta: 12,
+        n_phi: 7,
+        n_h: 31,
+        ..TableOptions::default()
+    };
+    let no_progress = |_done: usize, _total: usize| {};
+    let table = Table::build(&model, &material.to_toml_string(), &options, &no_progress)?;
+
+    // A table is a file: save it, and load it back (a renderer loads one written by
+    // `woven tabulate`).
+    let path = std::env::temp_dir().join(format!("woven-example-{}.wtab", std::process::id()));
+    table.save(&path)?;
+    let table = Table::load(&path)?;
+    std::fs::remove_file(&path).ok();
+    println!(
+        "a table at {} nm, {:?} symmetry",
+        table.wavelength_nm(),
+        table.symmetry()
+    );
+
+    let s = Vec3::from_spherical(0.6, 0.0); // toward the light (a renderer's wi), local frame
+    let v = Vec3::from_spherical(0.5, 3.0); // toward the viewer (wo)
+    let f = table.eval(s, v); // BRDF in 1/sr, no cosine; 0 below the horizon
+    let exact = model.eval(s, v);
+    println!("f(s, v): table {f:.4} sr⁻¹, exact {exact:.4} sr⁻¹");
+
+    let (u1, u2) = (0.3, 0.7); // two uniforms in [0, 1)
+    if let Some(sample) = table.sample(s, u1, u2) {
+        // sample.v is drawn ∝ f(s, v) cos θr; sample.pdf is per unit solid angle, and
+        // sample.weight = f cos θr / pdf is the path throughput factor.
+        println!(
+            "sampled θr = {:.3} rad, f = {:.4} sr⁻¹, pdf = {:.4} sr⁻¹, weight = {:.4}",
+            sample.v.z.acos(),
+            sample.f,
+            sample.pdf,
+            sample.weight
+        );
+        // `pdf` gives the density `sample` draws with.
+        assert!((table.pdf(s, sample.v) - sample.pdf).abs() <= 1e-6 * sample.pdf);
+    }
+    Ok(())
+}
