@@ -53,3 +53,62 @@ impl Rng {
         10f64.powf(self.range(lo, hi))
     }
 }
+
+/// A material for the table tests: a preset, `rough` and `smooth` flat fibers, or `smooth-sateen`
+/// (the sateen preset at the smooth fiber's roughness 0.02).
+pub fn table_material(name: &str) -> woven::material::Material {
+    use woven::material::Material;
+    match name {
+        "rough" => {
+            Material::from_toml_str("[fiber]\neta = 1.5\nroughness = 0.2\ndiffuse = 0.1\n", name)
+                .unwrap()
+        }
+        "smooth" => Material::from_toml_str(
+            "[fiber]\neta = 1.5\nroughness = 0.02\ndiffuse = 0.1\n",
+            name,
+        )
+        .unwrap(),
+        "smooth-sateen" => {
+            let sateen = Material::preset("polyester-sateen")
+                .unwrap()
+                .to_toml_string();
+            let text = sateen.replace("roughness = 0.05", "roughness = 0.02");
+            assert_ne!(text, sateen, "the sateen's roughness moved");
+            Material::from_toml_str(&text, name).unwrap()
+        }
+        preset => Material::preset(preset).unwrap(),
+    }
+}
+
+/// The model and the default-grid table ([`woven::table::TableOptions::for_model`]) of
+/// [`table_material`]`(name)`, built once per test binary: the slow tests of several files share
+/// them (a full table takes tens of seconds).
+pub fn default_table(name: &str) -> &'static (woven::Model, woven::table::Table) {
+    use std::sync::{Mutex, OnceLock};
+    use woven::table::{Table, TableOptions};
+    type Entry = (String, &'static OnceLock<(woven::Model, Table)>);
+    static CACHE: OnceLock<Mutex<Vec<Entry>>> = OnceLock::new();
+    let cell = {
+        let mut cache = CACHE.get_or_init(Default::default).lock().unwrap();
+        match cache.iter().find(|(n, _)| n == name) {
+            Some((_, cell)) => *cell,
+            None => {
+                let cell: &'static OnceLock<_> = Box::leak(Box::default());
+                cache.push((name.to_string(), cell));
+                cell
+            }
+        }
+    };
+    cell.get_or_init(|| {
+        let m = table_material(name);
+        let model = m.build(550.0).unwrap();
+        let t = Table::build(
+            &model,
+            &m.to_toml_string(),
+            &TableOptions::for_model(&model),
+            &|_, _| {},
+        )
+        .unwrap();
+        (model, t)
+    })
+}

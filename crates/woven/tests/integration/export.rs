@@ -623,20 +623,11 @@ fn export_check_isotropic() {
 #[ignore = "slow: builds a full table and evaluates the exact model at thousands of bins"]
 fn merl_export_of_silk_agrees_with_the_exact_model() {
     use rayon::prelude::*;
-    use woven::table::{Table, TableOptions};
     let stride: usize = std::env::var("WOVEN_MERL_STRIDE")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(53);
-    let material = Material::preset("silk").unwrap();
-    let model = material.build(550.0).unwrap();
-    let table = Table::build(
-        &model,
-        &material.to_toml_string(),
-        &TableOptions::for_model(&model),
-        &|_, _| {},
-    )
-    .unwrap();
+    let (model, table) = crate::common::default_table("silk");
     let exported = MerlBrdf::from_fn_threaded(|s, v| table.eval(s, v), 0).unwrap();
     // (band, cos θi cos θr, exported, exact) per checked bin above the horizon.
     let rows: Vec<(usize, f64, f64, f64)> = (0..MERL_BINS)
