@@ -36,6 +36,17 @@ pub struct CrossSection<'a> {
     /// The sampling panels of `g` (also used by the exact arc integral of a single profile).
     edges: Vec<f64>,
     g: PiecewiseLegendre,
+    masking: Masking,
+}
+
+/// Which facets of a profile count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Masking {
+    /// The exact lit-and-visible sets of Eq. (17) (MODEL.md §2.2–§2.3): the model.
+    Exact,
+    /// No facet hides another: every facet facing both directions counts. Not the model — a
+    /// reference that measures how much masking and shadowing the model applies (Fig. 8).
+    Off,
 }
 
 /// Widest sampling panel of the facet lobe, radians (10 nodes resolve any smooth lobe on it to
@@ -50,7 +61,7 @@ pub const COARSE_PANELS: f64 = 2.5;
 impl<'a> CrossSection<'a> {
     /// Prepares the cross-section of fibers along `e_f = (cos φ_a, sin φ_a, 0)` for light from `s`
     /// and a viewer at `v` (both with positive `z`), sampling the facet lobe on panels
-    /// `panel_widths` highlight widths wide ([`FINE_PANELS`] or [`COARSE_PANELS`]).
+    /// `panel_widths` highlight widths wide (`FINE_PANELS` or `COARSE_PANELS`).
     pub fn new(fiber: &'a Fiber, s: Vec3, v: Vec3, phi_a: f64, panel_widths: f64) -> Self {
         let frame = FiberFrame::new(phi_a);
         let psi_s = frame.projected_angle(s);
@@ -72,9 +83,32 @@ impl<'a> CrossSection<'a> {
             panel_widths,
             edges: Vec::new(),
             g: PiecewiseLegendre::default(),
+            masking: Masking::Exact,
         };
         cs.sample_g();
         cs
+    }
+
+    /// The same cross-section with masking between facets `masking` (the default: exact).
+    pub fn with_masking(mut self, masking: Masking) -> Self {
+        self.masking = masking;
+        self
+    }
+
+    /// The parts of `profile` that count: lit and visible ([`Masking::Exact`]), or all of it
+    /// ([`Masking::Off`]; facets facing away from either direction have `g = 0` anyway).
+    fn visible(&self, profile: &Profile) -> PieceIntervals {
+        match self.masking {
+            Masking::Exact => profile.lit_and_visible(self.psi_s, self.psi_v),
+            Masking::Off => {
+                let l = profile.lateral_length;
+                PieceIntervals {
+                    arc: Some((-profile.theta_a, profile.theta_a)),
+                    right: Some((0.0, l)),
+                    left: Some((0.0, l)),
+                }
+            }
+        }
     }
 
     /// `g(θ) = f_fiber(s, v; a(θ)) (s·a)(v·a)`, 0 where either cosine is not positive.
@@ -136,7 +170,7 @@ impl<'a> CrossSection<'a> {
         if period < 1e-12 {
             return self.fiber.eval(self.s, self.v);
         }
-        let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
+        let lv = self.visible(profile);
         let sum = self.profile_sum(
             profile,
             &lv,
@@ -239,7 +273,7 @@ impl<'a> CrossSection<'a> {
             if period < 1e-12 {
                 return slopes.density(theta_a) * flat;
             }
-            let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
+            let lv = self.visible(&profile);
             // The interpolant of a non-negative lobe can dip below 0 in its far tails: clamp.
             let sum = self.profile_sum(
                 &profile,
@@ -283,18 +317,17 @@ impl<'a> CrossSection<'a> {
             });
         }
         // The reference slope: μ, or the end of the window nearest it.
-        let ref_arc = Profile {
+        let reference = Profile {
             theta_a: mu + sigma * 0.0_f64.clamp(lo, hi),
             lateral_length,
-        }
-        .lit_and_visible(self.psi_s, self.psi_v)
-        .arc;
+        };
+        let ref_arc = self.visible(&reference).arc;
         let ref_arc_integral = ref_arc.map(|(a, b)| self.arc_integral_exact(a, b));
         let arc = |a: f64, b: f64| match (ref_arc, ref_arc_integral) {
-            (Some((a0, b0)), Some(i0)) => {
-                i0 + (self.g.cumulative(b) - self.g.cumulative(b0))
-                    - (self.g.cumulative(a) - self.g.cumulative(a0))
-            }
+            // The interpolant's corrections can overshoot a vanishing lobe: clamp at 0.
+            (Some((a0, b0)), Some(i0)) => (i0 + (self.g.cumulative(b) - self.g.cumulative(b0))
+                - (self.g.cumulative(a) - self.g.cumulative(a0)))
+            .max(0.0),
             _ => self.arc_integral_exact(a, b),
         };
         let flat = self.fiber.eval(self.s, self.v);
@@ -307,13 +340,13 @@ impl<'a> CrossSection<'a> {
             if period < 1e-12 {
                 return flat;
             }
-            let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
+            let lv = self.visible(&profile);
             // As `profile_brdf` computes it, so that σ → 0 gives its value to rounding.
             self.profile_sum(&profile, &lv, arc, |t| self.g_direct(t))
                 / (period * self.s.z * self.v.z)
         };
         let extra = breaks.iter().map(|&b| (b - mu) / sigma);
-        let edges = window::edges(lo, hi, extra);
+        let edges = window::edges(lo, hi, nodes.nodes().len(), extra);
         let (mut num, mut den) = (0.0, 0.0);
         for e in edges.windows(2) {
             num += nodes.integrate(e[0], e[1], |x| {

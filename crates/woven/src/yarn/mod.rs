@@ -18,7 +18,7 @@ pub mod raycast;
 mod slope;
 mod window;
 
-pub use cross_section::CrossSection;
+pub use cross_section::{CrossSection, Masking};
 pub use orientation::{Orientation, TwistDensity};
 pub use slope::SlopeDistribution;
 pub use window::NARROW_STD;
@@ -246,7 +246,20 @@ impl Yarn {
 
     /// `f_θ` (Eq. (18)): the slope-averaged BRDF of fibers at azimuth `phi_a`, before
     /// interreflection.
+    ///
+    /// Implements Eqs. (17)–(19) of the paper; MODEL.md §2.3–§2.4.
     pub fn slope_averaged(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
+        self.slope_averaged_with(s, v, phi_a, Masking::Exact)
+    }
+
+    /// [`slope_averaged`](Self::slope_averaged) with masking and shadowing between facets switched
+    /// off ([`Masking::Off`]): not the model, but the reference that measures how much masking it
+    /// applies (the paper's Fig. 8). Equal to `slope_averaged` wherever nothing is masked.
+    pub fn slope_averaged_unmasked(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
+        self.slope_averaged_with(s, v, phi_a, Masking::Off)
+    }
+
+    fn slope_averaged_with(&self, s: Vec3, v: Vec3, phi_a: f64, masking: Masking) -> f64 {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
@@ -257,11 +270,9 @@ impl Yarn {
         } else {
             cross_section::COARSE_PANELS
         };
-        CrossSection::new(&self.fiber, s, v, phi_a, panels).slope_average(
-            &self.slopes,
-            self.params.lateral_length,
-            &self.slope_rule,
-        )
+        CrossSection::new(&self.fiber, s, v, phi_a, panels)
+            .with_masking(masking)
+            .slope_average(&self.slopes, self.params.lateral_length, &self.slope_rule)
     }
 
     /// `f_ir` (Eq. (20); MODEL.md §2.5) for fibers at azimuth `phi_a`:
@@ -284,15 +295,23 @@ impl Yarn {
     /// fiber azimuths: `f_θ(φ_a)` is π-periodic, and each yarn's twist window `φ_k ± π/2` is one
     /// whole period, so all the yarns' weights are applied to the same samples.
     pub fn eval_mix(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)]) -> f64 {
+        self.eval_mix_with(s, v, yarns, Masking::Exact)
+    }
+
+    /// [`eval_mix`](Self::eval_mix) with masking and shadowing between facets switched off
+    /// ([`Masking::Off`]; see [`slope_averaged_unmasked`](Self::slope_averaged_unmasked)).
+    pub fn eval_mix_unmasked(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)]) -> f64 {
+        self.eval_mix_with(s, v, yarns, Masking::Off)
+    }
+
+    fn eval_mix_with(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)], masking: Masking) -> f64 {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
         let total_weight: f64 = yarns.iter().map(|&(_, w)| w).sum();
+        let f = |phi_a: f64| self.slope_averaged_with(s, v, phi_a, masking);
         let f_theta = if self.is_single_orientation() {
-            self.orientation
-                .average(yarns, &[], &self.slope_rule, |phi| {
-                    self.slope_averaged(s, v, phi)
-                })
+            self.orientation.average(yarns, &[], &self.slope_rule, f)
         } else {
             let rule = if s.z.min(v.z) < GRAZING_THETA.cos() {
                 &self.azimuth_rule_grazing
@@ -300,9 +319,7 @@ impl Yarn {
                 &self.azimuth_rule
             };
             self.orientation
-                .average(yarns, &self.azimuth_breaks(s, v), rule, |phi_a| {
-                    self.slope_averaged(s, v, phi_a)
-                })
+                .average(yarns, &self.azimuth_breaks(s, v), rule, f)
         };
         self.interreflection_mix(f_theta, total_weight)
     }

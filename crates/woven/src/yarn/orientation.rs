@@ -132,12 +132,13 @@ impl Orientation {
                 Orientation::Aligned => {
                     // The cell of the axis, reduced to [0, π); half to each side on an edge.
                     let c = phi_y.rem_euclid(PI) / h;
-                    let j = (c.floor() as usize).min(n - 1);
-                    if c == c.floor() {
+                    // Within rounding of an edge (φ_y = π/2 lands a few ulp off one).
+                    if (c - c.round()).abs() < 1e-9 {
+                        let j = c.round() as usize % n;
                         out[j] += 0.5 * w;
                         out[(j + n - 1) % n] += 0.5 * w;
                     } else {
-                        out[j] += w;
+                        out[(c.floor() as usize).min(n - 1)] += w;
                     }
                 }
             }
@@ -178,7 +179,12 @@ impl Orientation {
                 .map(|&(phi, w)| {
                     let sigma = t.sigma;
                     let extra = breaks.iter().map(|&b| TwistDensity::offset(b, phi) / sigma);
-                    let edges = window::edges(-window::HALF_WIDTH, window::HALF_WIDTH, extra);
+                    let edges = window::edges(
+                        -window::HALF_WIDTH,
+                        window::HALF_WIDTH,
+                        rule.nodes().len(),
+                        extra,
+                    );
                     let (mut num, mut den) = (0.0, 0.0);
                     for e in edges.windows(2) {
                         num +=
@@ -237,4 +243,130 @@ fn period_integral(
         });
     }
     total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::quadrature::adaptive;
+
+    /// Eq. (21): the closed-form normalization makes the twist density integrate to 1 over one
+    /// period, checked by adaptive quadrature split at the peak, for wide and narrow spreads.
+    #[test]
+    fn twist_density_integrates_to_one_over_a_period() {
+        for sigma in [2.0, 0.35, 0.05, 1e-3] {
+            let t = TwistDensity::new(sigma);
+            let phi_y = 0.7;
+            let p = |d: f64| t.density(phi_y + d, phi_y);
+            // Split at ±σ, ±8σ so that the adaptive rule sees the peak.
+            let mut e = vec![-FRAC_PI_2, 0.0, FRAC_PI_2];
+            for k in [-8.0, -1.0, 1.0, 8.0] {
+                if (k * sigma).abs() < FRAC_PI_2 {
+                    e.push(k * sigma);
+                }
+            }
+            e.sort_by(f64::total_cmp);
+            let i: f64 = e
+                .windows(2)
+                .map(|w| adaptive(w[0], w[1], 1e-13, 1e-15, 30, p))
+                .sum();
+            assert!((i - 1.0).abs() < 1e-10, "σ_t {sigma}: ∫p = {i}");
+            // One period's mass, in closed form, is 1 wherever the period starts.
+            let m = t.mass(0.3, 0.3 + PI, phi_y);
+            assert!((m - 1.0).abs() < 1e-14, "σ_t {sigma}: mass {m}");
+        }
+    }
+
+    /// Eqs. (21)–(23) on a grid: each yarn's weights sum to its weight, they are the density's
+    /// cell masses (≈ density × cell width when the twist is resolved), and a vanishing twist
+    /// puts them where an aligned yarn's are.
+    #[test]
+    fn midpoint_weights_are_cell_masses_that_tend_to_the_aligned_yarn() {
+        let axes = [(0.0, 0.3), (FRAC_PI_2, 0.7)];
+        let n = 180;
+        let h = PI / n as f64;
+        for o in [
+            Orientation::Isotropic,
+            Orientation::Aligned,
+            Orientation::Twisted(TwistDensity::new(0.35)),
+            Orientation::Twisted(TwistDensity::new(1e-9)),
+        ] {
+            let w = o.midpoint_weights(n, &axes);
+            let sum: f64 = w.iter().sum();
+            assert!((sum - 1.0).abs() < 1e-13, "{o:?}: Σ = {sum}");
+            assert!(w.iter().all(|&x| x >= 0.0 && x.is_finite()), "{o:?}");
+        }
+        let t = TwistDensity::new(0.35);
+        let w = Orientation::Twisted(t).midpoint_weights(n, &axes);
+        for (j, &x) in w.iter().enumerate().step_by(17) {
+            let phi = (j as f64 + 0.5) * h;
+            let want = h * (0.3 * t.density(phi, 0.0) + 0.7 * t.density(phi, FRAC_PI_2));
+            // Cell mass − midpoint rule = h³p''/24 + …, and p''/p = (δ² − σ²)/σ⁴.
+            let curvature = [0.0, FRAC_PI_2]
+                .map(|c| {
+                    let d = TwistDensity::offset(phi, c);
+                    (d * d - 0.35 * 0.35).abs() / 0.35f64.powi(4)
+                })
+                .into_iter()
+                .fold(0.0, f64::max);
+            let tol = 2.0 * h * h / 24.0 * curvature;
+            assert!(
+                (x - want).abs() <= tol * want,
+                "node {j}: {x} vs {want} (tol {tol:.1e})"
+            );
+        }
+        // A vanishing twist, like an aligned yarn, puts each yarn's weight on the nodes within
+        // one cell of its axis.
+        for o in [
+            Orientation::Aligned,
+            Orientation::Twisted(TwistDensity::new(1e-9)),
+        ] {
+            let w = o.midpoint_weights(n, &axes);
+            for &(phi_y, wy) in &axes {
+                let near: f64 = w
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| {
+                        let phi = (j as f64 + 0.5) * h;
+                        TwistDensity::offset(phi, phi_y).abs() < h
+                    })
+                    .map(|(_, x)| x)
+                    .sum();
+                assert!(
+                    (near - wy).abs() < 1e-12,
+                    "{o:?}, axis {phi_y}: {near} vs {wy}"
+                );
+            }
+        }
+    }
+
+    /// The continuous average: a constant averages to the sum of the weights in every case, a
+    /// smooth periodic function to its closed-form average, and narrow twists to `f(φ_y)`.
+    #[test]
+    fn average_of_known_functions() {
+        let rule = GaussLegendre::new(6);
+        let axes = [(0.0, 0.25), (FRAC_PI_2, 0.75)];
+        // f(φ) = 1 + cos 2φ: aligned ⇒ Σ w (1 + cos 2φ_k); isotropic ⇒ Σ w; a twist of spread
+        // σ multiplies cos 2φ by E[cos 2δ] = e^{−2σ²} (up to its truncation at ±π/2).
+        let f = |phi: f64| 1.0 + (2.0 * phi).cos();
+        let exact_aligned = 0.25 * 2.0 + 0.75 * 0.0;
+        let cases = [
+            (Orientation::Aligned, exact_aligned),
+            (Orientation::Isotropic, 1.0),
+            (
+                Orientation::Twisted(TwistDensity::new(0.05)),
+                1.0 + (0.25 - 0.75) * (-2.0 * 0.05f64 * 0.05).exp(),
+            ),
+            (
+                Orientation::Twisted(TwistDensity::new(1e-200)),
+                exact_aligned,
+            ),
+        ];
+        for (o, want) in cases {
+            let got = o.average(&axes, &[], &rule, f);
+            assert!((got - want).abs() < 1e-9, "{o:?}: {got} vs {want}");
+            let one = o.average(&axes, &[], &rule, |_| 1.0);
+            assert!((one - 1.0).abs() < 1e-12, "{o:?}: average of 1 = {one}");
+        }
+    }
 }

@@ -39,7 +39,7 @@ impl SlopeDistribution {
         // window of x = (t − μ)/σ (Gaussian mass beyond ±8σ: 1.2e-15): a fixed number of panels
         // for every σ, each integrated by 20-point Gauss–Legendre to rounding.
         let (lo, hi) = x_window(mu, sigma, FRAC_PI_2);
-        let mut edges = window::edges(lo, hi, []);
+        let mut edges = window::edges(lo, hi, 20, []);
         panel_edges(&mut edges, lo, hi, 1.0);
         let rule = rule20();
         let z: f64 = edges
@@ -93,6 +93,33 @@ mod tests {
             let i = adaptive(0.0, mu, 1e-12, 0.0, 40, |t| d.density(t))
                 + adaptive(mu, FRAC_PI_2, 1e-12, 0.0, 40, |t| d.density(t));
             assert!((i - 1.0).abs() < 1e-10, "μ {mu} σ {sigma}: {i}");
+        }
+    }
+
+    /// Narrow spreads (which once took an adaptive rule minutes, or gave c = ∞): the density
+    /// integrates to 1 over its ±8σ window, at the mean, near either end of the range.
+    #[test]
+    fn narrow_density_integrates_to_one() {
+        for (mu, sigma) in [
+            (0.4, 1e-3),
+            (0.4, 1e-6),
+            (0.0, 1e-5),
+            (1.5, 1e-4),
+            (1.0, 1e-9),
+        ] {
+            let d = SlopeDistribution::new(mu, sigma);
+            assert!(
+                d.c.is_finite() && d.c > 0.0,
+                "μ {mu} σ {sigma}: c = {}",
+                d.c
+            );
+            let (lo, hi) = (
+                (mu - 8.0 * sigma).max(0.0),
+                (mu + 8.0 * sigma).min(FRAC_PI_2),
+            );
+            let i = adaptive(lo, mu, 1e-12, 0.0, 40, |t| d.density(t))
+                + adaptive(mu, hi, 1e-12, 0.0, 40, |t| d.density(t));
+            assert!((i - 1.0).abs() < 1e-9, "μ {mu} σ {sigma}: {i}");
         }
     }
 }
