@@ -39,8 +39,6 @@ pub fn edges(lo: f64, hi: f64, nodes: usize, extra: impl IntoIterator<Item = f64
     } else {
         &X_EDGES
     };
-    let _ = fixed;
-    let fixed = &X_EDGES;
     let mut e: Vec<f64> = fixed
         .iter()
         .copied()
