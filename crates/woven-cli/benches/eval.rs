@@ -15,15 +15,9 @@ fn input_csv() -> PathBuf {
     let path = std::env::temp_dir().join(format!("woven-bench-eval-{}.csv", std::process::id()));
     let mut f = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
     writeln!(f, "theta_i,phi_i,theta_r,phi_r").unwrap();
-    // SplitMix64: reproducible uniforms.
-    let mut state = 7u64;
-    let mut uniform = move || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    // Reproducible uniforms.
+    let mut rng = woven::math::rng::SplitMix(7);
+    let mut uniform = move || rng.uniform();
     for _ in 0..ROWS {
         let t = 85f64.to_radians();
         writeln!(

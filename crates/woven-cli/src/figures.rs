@@ -21,7 +21,6 @@ use woven::material::Material;
 use woven::{Model, Vec3};
 
 pub mod cloth;
-pub mod unmasked;
 
 /// Refractive index assumed for the paper's fiber surfaces (polyester; the paper gives none).
 pub const ETA: f64 = 1.6;

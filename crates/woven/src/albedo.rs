@@ -7,7 +7,7 @@
 //! around `e_f`, `v = cos χ e_f + sin χ (cos ω e_u + sin ω z)` (`v_z > 0` ⇔ `ω ∈ (0, π)`), with
 //! `dω_r = sin χ dχ dω`, so the ridge is the line `χ = χ₀` and panels in `χ` resolve it.
 
-use crate::cloth::Structure;
+use crate::fiber::FiberFrame;
 use crate::math::quadrature::{adaptive, GaussLegendre};
 use crate::math::Vec3;
 use crate::yarn::Yarn;
@@ -23,68 +23,25 @@ fn rules() -> &'static (GaussLegendre, GaussLegendre) {
 /// The directional albedo of `model` for light from `(theta_i, phi_i)`.
 pub fn hemisphere_albedo(model: &Model, theta_i: f64, phi_i: f64) -> f64 {
     let s = Vec3::from_spherical(theta_i.min(FRAC_PI_2 - 1e-9), phi_i);
-    match model.structure() {
-        Structure::Flat(fiber) => fiber.albedo(s.z),
-        Structure::Woven {
-            yarn,
-            weft_fraction,
-        } => {
-            let g = *weft_fraction;
-            let mut a = 0.0;
-            if g > 0.0 {
-                a += g * yarn_albedo(yarn, s, 0.0);
-            }
-            if g < 1.0 {
-                a += (1.0 - g) * yarn_albedo(yarn, s, FRAC_PI_2);
-            }
-            a
+    match model.structure().yarns() {
+        None => model.fiber().albedo(s.z),
+        Some((yarn, axes)) => {
+            // The weave mix (Eq. (23)) over fiber azimuths (Eqs. (21)–(22)), as the BRDF takes
+            // it, with the fiber albedo in place of the fiber BRDF; then Eq. (20).
+            let (_, gl) = rules();
+            let oriented = yarn
+                .orientation()
+                .average(&axes, &[], gl, |phi_a| oriented_albedo(yarn, s, phi_a));
+            let total_weight: f64 = axes.iter().map(|&(_, w)| w).sum();
+            yarn.interreflection_mix_albedo(oriented, total_weight)
         }
     }
-}
-
-/// Albedo of a yarn with axis azimuth `phi_y`: `ħρ + (1 − ħ) ⟨A_θ(φ_a)⟩` over its fiber azimuths.
-fn yarn_albedo(yarn: &Yarn, s: Vec3, phi_y: f64) -> f64 {
-    let p = yarn.params();
-    let (_, gl) = rules();
-    let oriented = if p.isotropic {
-        // (1/π) ∫ over one period, on 4 panels.
-        (0..4)
-            .map(|k| {
-                let a = phi_y + k as f64 * PI / 4.0;
-                gl.integrate(a, a + PI / 4.0, |phi_a| oriented_albedo(yarn, s, phi_a))
-            })
-            .sum::<f64>()
-            / PI
-    } else if p.twist_std > 0.0 {
-        let st = p.twist_std;
-        let w = |d: f64| (-d * d / (2.0 * st * st)).exp();
-        // Panels graded by the twist spread, out to ±π/2.
-        let mut edges = vec![-FRAC_PI_2, FRAC_PI_2];
-        for k in [-4.0, -2.0, -1.0, 0.0, 1.0, 2.0, 4.0] {
-            let e = k * st;
-            if e.abs() < FRAC_PI_2 {
-                edges.push(e);
-            }
-        }
-        edges.sort_by(f64::total_cmp);
-        let (mut num, mut den) = (0.0, 0.0);
-        for e in edges.windows(2) {
-            num += gl.integrate(e[0], e[1], |d| w(d) * oriented_albedo(yarn, s, phi_y + d));
-            den += gl.integrate(e[0], e[1], w);
-        }
-        num / den
-    } else {
-        oriented_albedo(yarn, s, phi_y)
-    };
-    (1.0 - p.interreflection) * oriented + p.interreflection * p.interreflection_albedo
 }
 
 /// `∫ f_θ(s, v; φ_a) cos θ_r dω_r` for fibers at azimuth `phi_a`.
 fn oriented_albedo(yarn: &Yarn, s: Vec3, phi_a: f64) -> f64 {
     let (gl_chi, _) = rules();
-    let (sp, cp) = phi_a.sin_cos();
-    let e_f = Vec3::new(cp, sp, 0.0);
-    let e_u = Vec3::new(-sp, cp, 0.0);
+    let FiberFrame { e_f, e_u } = FiberFrame::new(phi_a);
     let chi0 = (-s.dot(e_f)).clamp(-1.0, 1.0).acos();
     let w = yarn.fiber().alpha().clamp(1e-3, 0.5);
     let mut edges = vec![0.0, PI];
@@ -98,7 +55,7 @@ fn oriented_albedo(yarn: &Yarn, s: Vec3, phi_a: f64) -> f64 {
     // In the cross-section the facet of angle θ mirrors s into ψ_v = 2θ − ψ_s, i.e.
     // ω = π/2 − 2θ + ψ_s: split there for the arc top (θ = 0) and the mean lateral slopes (±μ),
     // and integrate each ω panel adaptively (single profiles have sharp lateral highlights).
-    let psi_s = s.dot(e_u).atan2(s.z);
+    let psi_s = FiberFrame::new(phi_a).projected_angle(s);
     let mu = yarn.params().slope_mean;
     let mut omega_breaks = vec![0.0, PI];
     for theta in [0.0, mu, -mu] {

@@ -70,6 +70,7 @@ pub mod error;
 pub mod export;
 pub mod fiber;
 mod fsutil;
+pub mod gonio;
 pub mod material;
 pub mod math;
 mod model;

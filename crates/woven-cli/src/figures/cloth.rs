@@ -8,20 +8,20 @@
 //!
 //! - Fig. 8, sateen: masking and shadowing are strong with the weft in the plane and negligible
 //!   with the warp. Measured by [`masking_factors`]: the library's slope-averaged yarn BRDF
-//!   `f_θ` over the same with masking switched off ([`super::unmasked`]), for the visible yarn.
+//!   `f_θ` over the same with masking switched off ([`woven::yarn::Yarn::slope_averaged_unmasked`]), for the visible yarn.
 //!   The figure also draws the weft curve with masking off, dashed.
 //! - Fig. 9, belt cloth: the 45° curve equals the warp curve. Measured by
 //!   [`max_relative_difference`] (our preset is not fitted to the paper's data: the caption says
 //!   how close it gets).
 //! - Fig. 10, silk: the same in all three directions (Eq. (22) is isotropic): the same measure.
 
-use super::unmasked::slope_averaged_unmasked;
 use super::{Figure, FigureId, LegendCorner, Series, YScale};
 use crate::goniometer::{self, HALF_ANGLE_DEG};
 use crate::summary::{short, Summary};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
-use std::f64::consts::{FRAC_1_PI, FRAC_PI_2};
+use std::f64::consts::FRAC_PI_2;
+use woven::cloth::weave_axes;
 use woven::fiber::Fiber;
 use woven::material::Material;
 use woven::yarn::Yarn;
@@ -138,7 +138,7 @@ pub fn masking_factors(material: &Material, tilts_deg: &[f64]) -> Result<Vec<Mas
             let factor = AZIMUTHS.map(|(a, _)| {
                 let (s, v) = goniometer::directions(a, t);
                 let masked = yarn.slope_averaged(s, v, phi_y);
-                let open = slope_averaged_unmasked(yarn.fiber(), yarn.params(), s, v, phi_y);
+                let open = yarn.slope_averaged_unmasked(s, v, phi_y);
                 masked / open
             });
             Masking {
@@ -149,25 +149,16 @@ pub fn masking_factors(material: &Material, tilts_deg: &[f64]) -> Result<Vec<Mas
         .collect())
 }
 
-/// The cloth radiance `f cos θi` at sample azimuth `azimuth_deg` with masking between facets off:
-/// Eqs. (20), (23) with `f_θ` from [`slope_averaged_unmasked`], for single-orientation yarns.
+/// The cloth radiance `f cos θi` at sample azimuth `azimuth_deg` with masking between facets off
+/// ([`Yarn::eval_mix_unmasked`]), for single-orientation yarns.
 fn unmasked_radiance(material: &Material, azimuth_deg: f64, tilts_deg: &[f64]) -> Result<Vec<f64>> {
     let (yarn, _) = visible_yarn(material)?;
-    let p = *yarn.params();
-    let gamma = material.weft_fraction();
+    let axes = weave_axes(material.weft_fraction());
     Ok(tilts_deg
         .par_iter()
         .map(|&t| {
             let (s, v) = goniometer::directions(azimuth_deg, t);
-            let mut f_theta = 0.0;
-            for (phi, w) in [(0.0, gamma), (FRAC_PI_2, 1.0 - gamma)] {
-                if w > 0.0 {
-                    f_theta += w * slope_averaged_unmasked(yarn.fiber(), &p, s, v, phi);
-                }
-            }
-            let f = (1.0 - p.interreflection) * f_theta
-                + p.interreflection * p.interreflection_albedo * FRAC_1_PI;
-            f * s.z
+            yarn.eval_mix_unmasked(s, v, &axes) * s.z
         })
         .collect())
 }

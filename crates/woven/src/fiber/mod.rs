@@ -14,11 +14,13 @@
 //! (Torrance–Sparrow with a Beckmann distribution and the paper's Smith term), and
 //! `β F S G D / (π cos θ_i cos θ_r) + ρ0/π` plus a specular spike `R_sp` in the full model.
 
+mod frame;
 mod fresnel;
 mod htsg;
 mod microfacet;
 mod normalization;
 
+pub use frame::FiberFrame;
 pub use fresnel::{fresnel_dielectric, Ior};
 pub use htsg::series as htsg_series;
 pub use microfacet::{beckmann_d, smith_lambda, smith_s1};

@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 /// fiber by a factor of ~90 below `cos θ_i = 0.03`.
 pub const BETA_NODES: usize = 384;
 
-/// `ln β(cos θ_i)` sampled at `BETA_NODES` (384) nodes uniform in `(cos θ_i)^{1/3}` and interpolated
+/// `ln β(cos θ_i)` sampled at `BETA_NODES` nodes uniform in `(cos θ_i)^{1/3}` and interpolated
 /// by a monotone cubic. Interpolation error ≤ 1e-4 relative over `(0, 1]` for every supported
 /// roughness (tested against direct evaluation between the nodes).
 #[derive(Clone, Debug)]

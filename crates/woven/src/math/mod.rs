@@ -5,6 +5,7 @@ pub mod hemisphere;
 pub mod interp;
 pub mod legendre;
 pub mod quadrature;
+pub mod rng;
 pub mod special;
 pub mod vec3;
 

@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::Model;
 use rayon::prelude::*;
-use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
+use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 impl Table {
@@ -75,11 +75,12 @@ impl Table {
                     0.0,
                     Some(Vec::new()),
                 );
-                // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)).
-                let p = yarn.params();
+                // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)), with
+                // the model's own orientation weights and interreflection mix.
                 let n = options.azimuth_nodes;
-                let weights = azimuth_weights(n, p.isotropic, p.twist_std, *weft_fraction);
-                let (hbar, rho) = (p.interreflection, p.interreflection_albedo);
+                let weights = yarn
+                    .orientation()
+                    .midpoint_weights(n, &crate::cloth::weave_axes(*weft_fraction));
                 let rows = 2 * theta.n * phi.n;
                 let stage2 = |done: usize, _total: usize| progress(rows + done, 2 * rows);
                 pool.install(|| {
@@ -99,7 +100,7 @@ impl Table {
                         let f0 = &f0;
                         move |o: Vec3| {
                             let acc: f64 = azimuths.iter().map(|z| z.eval(f0, o)).sum();
-                            (1.0 - hbar) * acc + hbar * rho * FRAC_1_PI
+                            yarn.interreflection_mix(acc, 1.0)
                         }
                     })
                 })
@@ -203,33 +204,6 @@ impl Symmetry {
             Structure::Woven { .. } => Symmetry::Mirror,
         }
     }
-}
-
-/// Quadrature weights of the fiber azimuths `φ_j = (j + ½)π/n` over one period, for the weave mix
-/// of twisted (Eq. (21)) or isotropic (Eq. (22)) yarns: normalized per yarn so each sums to its
-/// weight `γ` or `1 − γ` (isotropic: uniform, summing to 1).
-fn azimuth_weights(n: usize, isotropic: bool, twist_std: f64, gamma: f64) -> Vec<f64> {
-    if isotropic {
-        return vec![1.0 / n as f64; n];
-    }
-    let density = |centre: f64| -> Vec<f64> {
-        let w: Vec<f64> = (0..n)
-            .map(|j| {
-                let phi = (j as f64 + 0.5) * PI / n as f64;
-                // δ reduced to [−π/2, π/2): the twist window is one period.
-                let d = (phi - centre + FRAC_PI_2).rem_euclid(PI) - FRAC_PI_2;
-                (-d * d / (2.0 * twist_std * twist_std)).exp()
-            })
-            .collect();
-        let sum: f64 = w.iter().sum();
-        w.into_iter().map(|x| x / sum).collect()
-    };
-    let weft = density(0.0);
-    let warp = density(FRAC_PI_2);
-    weft.iter()
-        .zip(&warp)
-        .map(|(a, b)| gamma * a + (1.0 - gamma) * b)
-        .collect()
 }
 
 /// The other direction of a node whose derived direction lies below the horizon: lifted

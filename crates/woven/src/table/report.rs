@@ -6,30 +6,8 @@ use crate::math::Vec3;
 use crate::Model;
 use rayon::prelude::*;
 
-/// A small deterministic generator (SplitMix64) for reproducible test directions.
-#[derive(Clone, Debug)]
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    /// The next uniform in `[0, 1)`.
-    pub fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// A direction uniform in solid angle with `θ ≤ theta_max`.
-    pub fn direction(&mut self, theta_max: f64) -> Vec3 {
-        let cos_min = theta_max.cos();
-        let z = cos_min + (1.0 - cos_min) * self.uniform();
-        let phi = 2.0 * std::f64::consts::PI * self.uniform();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
-}
+/// The generator of the reports' random directions (re-exported from its home).
+pub use crate::math::rng::SplitMix;
 
 /// The bands of `θ = max(θ_i, θ_r)` the report covers, degrees: the bulk, the grazing band, and
 /// the last degree before the horizon.

@@ -10,8 +10,9 @@
 //! laterals evaluate `g(±θ_a)` directly.
 
 use super::profile::{PieceIntervals, Profile};
-use super::slope::SlopeDistribution;
-use crate::fiber::Fiber;
+use super::slope::{x_window, SlopeDistribution};
+use super::window;
+use crate::fiber::{Fiber, FiberFrame};
 use crate::math::legendre::PiecewiseLegendre;
 use crate::math::quadrature::{panel_edges, GaussLegendre};
 use crate::math::Vec3;
@@ -23,7 +24,7 @@ pub struct CrossSection<'a> {
     fiber: &'a Fiber,
     s: Vec3,
     v: Vec3,
-    e_u: Vec3,
+    frame: FiberFrame,
     /// Projected angles `ψ = atan2(d·e_u, d·z)` (docs/spec.md §2.2).
     psi_s: f64,
     psi_v: f64,
@@ -35,6 +36,17 @@ pub struct CrossSection<'a> {
     /// The sampling panels of `g` (also used by the exact arc integral of a single profile).
     edges: Vec<f64>,
     g: PiecewiseLegendre,
+    masking: Masking,
+}
+
+/// Which facets of a profile count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Masking {
+    /// The exact lit-and-visible sets of Eq. (17) (docs/spec.md §2.2–§2.3): the model.
+    Exact,
+    /// No facet hides another: every facet facing both directions counts. Not the model — a
+    /// reference that measures how much masking and shadowing the model applies (Fig. 8).
+    Off,
 }
 
 /// Widest sampling panel of the facet lobe, radians (10 nodes resolve any smooth lobe on it to
@@ -51,12 +63,11 @@ impl<'a> CrossSection<'a> {
     /// and a viewer at `v` (both with positive `z`), sampling the facet lobe on panels
     /// `panel_widths` highlight widths wide (`FINE_PANELS` or `COARSE_PANELS`).
     pub fn new(fiber: &'a Fiber, s: Vec3, v: Vec3, phi_a: f64, panel_widths: f64) -> Self {
-        let (sp, cp) = phi_a.sin_cos();
-        let e_u = Vec3::new(-sp, cp, 0.0);
-        let psi_s = s.dot(e_u).atan2(s.z);
-        let psi_v = v.dot(e_u).atan2(v.z);
+        let frame = FiberFrame::new(phi_a);
+        let psi_s = frame.projected_angle(s);
+        let psi_v = frame.projected_angle(v);
         let h = s + v;
-        let (hu, hw) = (h.dot(e_u), h.z);
+        let (hu, hw) = (h.dot(frame.e_u), h.z);
         let theta_peak = hu.atan2(hw);
         let rho = (hu * hu + hw * hw).sqrt() / h.length();
         let peak_width = (rho * fiber.lobe_width(0.0)).max(1e-6);
@@ -64,7 +75,7 @@ impl<'a> CrossSection<'a> {
             fiber,
             s,
             v,
-            e_u,
+            frame,
             psi_s,
             psi_v,
             theta_peak,
@@ -72,16 +83,38 @@ impl<'a> CrossSection<'a> {
             panel_widths,
             edges: Vec::new(),
             g: PiecewiseLegendre::default(),
+            masking: Masking::Exact,
         };
         cs.sample_g();
         cs
     }
 
+    /// The same cross-section with masking between facets `masking` (the default: exact).
+    pub fn with_masking(mut self, masking: Masking) -> Self {
+        self.masking = masking;
+        self
+    }
+
+    /// The parts of `profile` that count: lit and visible ([`Masking::Exact`]), or all of it
+    /// ([`Masking::Off`]; facets facing away from either direction have `g = 0` anyway).
+    fn visible(&self, profile: &Profile) -> PieceIntervals {
+        match self.masking {
+            Masking::Exact => profile.lit_and_visible(self.psi_s, self.psi_v),
+            Masking::Off => {
+                let l = profile.lateral_length;
+                PieceIntervals {
+                    arc: Some((-profile.theta_a, profile.theta_a)),
+                    right: Some((0.0, l)),
+                    left: Some((0.0, l)),
+                }
+            }
+        }
+    }
+
     /// `g(θ) = f_fiber(s, v; a(θ)) (s·a)(v·a)`, 0 where either cosine is not positive.
     #[inline]
     fn g_direct(&self, theta: f64) -> f64 {
-        let (st, ct) = theta.sin_cos();
-        let a = self.e_u * st + Vec3::Z * ct;
+        let a = self.frame.facet_normal(theta);
         let (sa, va) = (self.s.dot(a), self.v.dot(a));
         if sa <= 0.0 || va <= 0.0 {
             return 0.0;
@@ -137,7 +170,7 @@ impl<'a> CrossSection<'a> {
         if period < 1e-12 {
             return self.fiber.eval(self.s, self.v);
         }
-        let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
+        let lv = self.visible(profile);
         let sum = self.profile_sum(
             profile,
             &lv,
@@ -220,6 +253,9 @@ impl<'a> CrossSection<'a> {
             breaks.push(c + k * w);
         }
         let (mu, sigma) = (slopes.mean(), slopes.std());
+        if sigma < window::NARROW_STD {
+            return self.narrow_slope_average(mu, sigma, lateral_length, top, &breaks, nodes);
+        }
         if sigma < 0.3 {
             for k in [-6.0, -3.0, -1.5, 0.0, 1.5, 3.0, 6.0] {
                 breaks.push(mu + k * sigma);
@@ -237,7 +273,7 @@ impl<'a> CrossSection<'a> {
             if period < 1e-12 {
                 return slopes.density(theta_a) * flat;
             }
-            let lv = profile.lit_and_visible(self.psi_s, self.psi_v);
+            let lv = self.visible(&profile);
             // The interpolant of a non-negative lobe can dip below 0 in its far tails: clamp.
             let sum = self.profile_sum(
                 &profile,
@@ -252,5 +288,73 @@ impl<'a> CrossSection<'a> {
             total += nodes.integrate(b[0], b[1], integrand);
         }
         total
+    }
+
+    /// [`slope_average`](Self::slope_average) for a narrow distribution (`σ <`
+    /// [`window::NARROW_STD`]): over the `±8σ` window of `x = (θ_a − μ)/σ`, with weights
+    /// `exp(−x²/2) cos θ_a` normalized by their own sum, so that the cost does not depend on `σ`
+    /// and the result tends to the single profile `f_p(μ)` as `σ → 0`.
+    ///
+    /// Each profile reads the exact facet lobe: the laterals `g(±θ_a)` directly, the arc as the
+    /// exact integral over the arc interval of the reference slope (the mean, or the window's
+    /// end nearest it) corrected by the interpolant over the difference of the intervals — a
+    /// correction that vanishes with `σ`, so at `σ → 0` every term is the single profile's.
+    fn narrow_slope_average(
+        &self,
+        mu: f64,
+        sigma: f64,
+        lateral_length: f64,
+        top: f64,
+        breaks: &[f64],
+        nodes: &GaussLegendre,
+    ) -> f64 {
+        let (lo, hi) = x_window(mu, sigma, top);
+        if hi <= lo {
+            // μ lies above the largest slope by more than 8σ: all the mass is at `top`.
+            return self.profile_brdf(&Profile {
+                theta_a: top,
+                lateral_length,
+            });
+        }
+        // The reference slope: μ, or the end of the window nearest it.
+        let reference = Profile {
+            theta_a: mu + sigma * 0.0_f64.clamp(lo, hi),
+            lateral_length,
+        };
+        let ref_arc = self.visible(&reference).arc;
+        let ref_arc_integral = ref_arc.map(|(a, b)| self.arc_integral_exact(a, b));
+        let arc = |a: f64, b: f64| match (ref_arc, ref_arc_integral) {
+            // The interpolant's corrections can overshoot a vanishing lobe: clamp at 0.
+            (Some((a0, b0)), Some(i0)) => (i0 + (self.g.cumulative(b) - self.g.cumulative(b0))
+                - (self.g.cumulative(a) - self.g.cumulative(a0)))
+            .max(0.0),
+            _ => self.arc_integral_exact(a, b),
+        };
+        let flat = self.fiber.eval(self.s, self.v);
+        let f_p = |theta_a: f64| -> f64 {
+            let profile = Profile {
+                theta_a,
+                lateral_length,
+            };
+            let period = profile.period();
+            if period < 1e-12 {
+                return flat;
+            }
+            let lv = self.visible(&profile);
+            // As `profile_brdf` computes it, so that σ → 0 gives its value to rounding.
+            self.profile_sum(&profile, &lv, arc, |t| self.g_direct(t))
+                / (period * self.s.z * self.v.z)
+        };
+        let extra = breaks.iter().map(|&b| (b - mu) / sigma);
+        let edges = window::edges(lo, hi, nodes.nodes().len(), extra);
+        let (mut num, mut den) = (0.0, 0.0);
+        for e in edges.windows(2) {
+            num += nodes.integrate(e[0], e[1], |x| {
+                let theta_a = mu + sigma * x;
+                window::shape(x) * theta_a.cos() * f_p(theta_a)
+            });
+            den += nodes.integrate(e[0], e[1], |x| window::shape(x) * (mu + sigma * x).cos());
+        }
+        num / den
     }
 }

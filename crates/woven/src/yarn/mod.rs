@@ -12,16 +12,21 @@
 //! | `isotropic` | — | fibers in all azimuths, Eq. (22) | — | false | excludes `twist_std > 0` |
 
 mod cross_section;
+mod orientation;
 pub mod profile;
 pub mod raycast;
 mod slope;
+mod window;
 
-pub use cross_section::CrossSection;
+pub use cross_section::{CrossSection, Masking};
+pub use orientation::{Orientation, TwistDensity};
 pub use slope::SlopeDistribution;
+pub use window::NARROW_STD;
 
 use crate::error::{check_range, Error, Result};
 use crate::fiber::Fiber;
-use crate::math::quadrature::{adaptive, panel_edges, GaussLegendre};
+use crate::fiber::FiberFrame;
+use crate::math::quadrature::GaussLegendre;
 use crate::math::Vec3;
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 
@@ -135,8 +140,7 @@ pub struct Yarn {
     fiber: Fiber,
     params: YarnParams,
     slopes: SlopeDistribution,
-    /// Normalization of the twist density on `[−π/2, π/2]` (0 without twist).
-    twist_norm: f64,
+    orientation: Orientation,
     quadrature: Quadrature,
     slope_rule: GaussLegendre,
     azimuth_rule: GaussLegendre,
@@ -151,19 +155,13 @@ impl Yarn {
     pub fn new(fiber: Fiber, params: YarnParams) -> Result<Self> {
         params.validate()?;
         let slopes = SlopeDistribution::new(params.slope_mean, params.slope_std);
-        let twist_norm = if params.twist_std > 0.0 {
-            let st = params.twist_std;
-            let shape = |d: f64| (-d * d / (2.0 * st * st)).exp();
-            1.0 / (2.0 * adaptive(0.0, FRAC_PI_2, 1e-13, 0.0, 40, shape))
-        } else {
-            0.0
-        };
+        let orientation = Orientation::of(&params);
         let q = Quadrature::default();
         Ok(Yarn {
             fiber,
             params,
             slopes,
-            twist_norm,
+            orientation,
             quadrature: q,
             slope_rule: GaussLegendre::new(q.slope_nodes),
             azimuth_rule: GaussLegendre::new(q.azimuth_nodes),
@@ -197,7 +195,39 @@ impl Yarn {
 
     /// Whether the fibers of a yarn all share its axis (no twist, not isotropic).
     pub fn is_single_orientation(&self) -> bool {
-        !self.params.isotropic && self.params.twist_std == 0.0
+        self.orientation == Orientation::Aligned
+    }
+
+    /// How the fibers are oriented about the yarn axis (Eqs. (21)–(22)).
+    pub fn orientation(&self) -> &Orientation {
+        &self.orientation
+    }
+
+    /// The distribution of lateral slopes (Eq. (19)).
+    pub fn slopes(&self) -> &SlopeDistribution {
+        &self.slopes
+    }
+
+    /// The interreflection mix of Eq. (20), `(1 − ħ) f_θ + weight · ħ ρ / π`: the yarn BRDF from
+    /// its slope-averaged BRDF `f_theta` (already averaged over fiber azimuths and weighted by
+    /// yarn weights summing to `weight`).
+    ///
+    /// Implements Eq. (20) of the paper; docs/spec.md §2.5.
+    #[inline]
+    pub fn interreflection_mix(&self, f_theta: f64, weight: f64) -> f64 {
+        let p = &self.params;
+        (1.0 - p.interreflection) * f_theta
+            + weight * p.interreflection * p.interreflection_albedo * FRAC_1_PI
+    }
+
+    /// The directional albedo of Eq. (20)'s mix, `(1 − ħ) A_θ + weight · ħ ρ`, from the albedo
+    /// `a_theta` of the slope-averaged BRDF (the Lambertian term `ρ/π` reflects `ρ`).
+    ///
+    /// Implements Eq. (20) of the paper integrated over the hemisphere; docs/spec.md §2.5, §6.2.
+    #[inline]
+    pub fn interreflection_mix_albedo(&self, a_theta: f64, weight: f64) -> f64 {
+        let p = &self.params;
+        (1.0 - p.interreflection) * a_theta + weight * p.interreflection * p.interreflection_albedo
     }
 
     /// The profile BRDF `f_p` (Eq. (17), exact masking; docs/spec.md §2.3) of the single profile of
@@ -216,20 +246,33 @@ impl Yarn {
 
     /// `f_θ` (Eq. (18)): the slope-averaged BRDF of fibers at azimuth `phi_a`, before
     /// interreflection.
+    ///
+    /// Implements Eqs. (17)–(19) of the paper; docs/spec.md §2.3–§2.4.
     pub fn slope_averaged(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
+        self.slope_averaged_with(s, v, phi_a, Masking::Exact)
+    }
+
+    /// [`slope_averaged`](Self::slope_averaged) with masking and shadowing between facets switched
+    /// off ([`Masking::Off`]): not the model, but the reference that measures how much masking it
+    /// applies (the paper's Fig. 8). Equal to `slope_averaged` wherever nothing is masked.
+    pub fn slope_averaged_unmasked(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
+        self.slope_averaged_with(s, v, phi_a, Masking::Off)
+    }
+
+    fn slope_averaged_with(&self, s: Vec3, v: Vec3, phi_a: f64, masking: Masking) -> f64 {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
-        let panels = if self.slopes.single().is_some() {
+        // Narrow slope distributions read the exact facet lobe near their mean (cross_section.rs),
+        // so they sample it as finely as a single profile does.
+        let panels = if self.slopes.single().is_some() || self.slopes.std() < NARROW_STD {
             cross_section::FINE_PANELS
         } else {
             cross_section::COARSE_PANELS
         };
-        CrossSection::new(&self.fiber, s, v, phi_a, panels).slope_average(
-            &self.slopes,
-            self.params.lateral_length,
-            &self.slope_rule,
-        )
+        CrossSection::new(&self.fiber, s, v, phi_a, panels)
+            .with_masking(masking)
+            .slope_average(&self.slopes, self.params.lateral_length, &self.slope_rule)
     }
 
     /// `f_ir` (Eq. (20); docs/spec.md §2.5) for fibers at azimuth `phi_a`:
@@ -238,9 +281,7 @@ impl Yarn {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
-        let p = &self.params;
-        (1.0 - p.interreflection) * self.slope_averaged(s, v, phi_a)
-            + p.interreflection * p.interreflection_albedo * FRAC_1_PI
+        self.interreflection_mix(self.slope_averaged(s, v, phi_a), 1.0)
     }
 
     /// The yarn BRDF for a yarn whose axis has azimuth `phi_y` (Eqs. (20)–(22); docs/spec.md §2.6):
@@ -254,50 +295,40 @@ impl Yarn {
     /// fiber azimuths: `f_θ(φ_a)` is π-periodic, and each yarn's twist window `φ_k ± π/2` is one
     /// whole period, so all the yarns' weights are applied to the same samples.
     pub fn eval_mix(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)]) -> f64 {
+        self.eval_mix_with(s, v, yarns, Masking::Exact)
+    }
+
+    /// [`eval_mix`](Self::eval_mix) with masking and shadowing between facets switched off
+    /// ([`Masking::Off`]; see [`slope_averaged_unmasked`](Self::slope_averaged_unmasked)).
+    pub fn eval_mix_unmasked(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)]) -> f64 {
+        self.eval_mix_with(s, v, yarns, Masking::Off)
+    }
+
+    fn eval_mix_with(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)], masking: Masking) -> f64 {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
             return 0.0;
         }
-        let p = &self.params;
         let total_weight: f64 = yarns.iter().map(|&(_, w)| w).sum();
+        let f = |phi_a: f64| self.slope_averaged_with(s, v, phi_a, masking);
         let f_theta = if self.is_single_orientation() {
-            yarns
-                .iter()
-                .filter(|&&(_, w)| w != 0.0)
-                .map(|&(phi, w)| w * self.slope_averaged(s, v, phi))
-                .sum()
-        } else if p.isotropic {
-            total_weight * FRAC_1_PI * self.azimuth_integral(s, v, &[], |_| 1.0)
+            self.orientation.average(yarns, &[], &self.slope_rule, f)
         } else {
-            let (st, norm) = (p.twist_std, self.twist_norm);
-            let centres: Vec<f64> = yarns.iter().map(|&(phi, _)| phi).collect();
-            self.azimuth_integral(s, v, &centres, |phi_a| {
-                yarns
-                    .iter()
-                    .map(|&(phi, w)| {
-                        // δ = φ_a − φ_y reduced to [−π/2, π/2): the twist window is one period.
-                        let d = (phi_a - phi + FRAC_PI_2).rem_euclid(PI) - FRAC_PI_2;
-                        w * norm * (-d * d / (2.0 * st * st)).exp()
-                    })
-                    .sum()
-            })
+            let rule = if s.z.min(v.z) < GRAZING_THETA.cos() {
+                &self.azimuth_rule_grazing
+            } else {
+                &self.azimuth_rule
+            };
+            self.orientation
+                .average(yarns, &self.azimuth_breaks(s, v), rule, f)
         };
-        (1.0 - p.interreflection) * f_theta
-            + total_weight * p.interreflection * p.interreflection_albedo * FRAC_1_PI
+        self.interreflection_mix(f_theta, total_weight)
     }
 
-    /// `∫_0^π w(φ_a) f_θ(φ_a) dφ_a`, on panels split where `f_θ` kinks or peaks in `φ_a`
-    /// (docs/spec.md §2.4): where `ψ_s = 0`, `ψ_v = 0`, `ψ_s = ±ψ_v`, around the orientation whose
-    /// cross-section contains the half vector (the highlight, of width `≈ α/|ĥ_xy|`), and around
-    /// the twist centres when the twist is narrow.
-    fn azimuth_integral(
-        &self,
-        s: Vec3,
-        v: Vec3,
-        twist_centres: &[f64],
-        weight: impl Fn(f64) -> f64,
-    ) -> f64 {
-        // An azimuth where e_u ⊥ d (d horizontal): φ_a = azimuth(d) (e_u = (−sin φ_a, cos φ_a)).
-        let perp = |d: Vec3| d.y.atan2(d.x);
+    /// The fiber azimuths where `f_θ(φ_a)` kinks or peaks (docs/spec.md §2.4): where `ψ_s = 0`,
+    /// `ψ_v = 0`, `ψ_s = ±ψ_v`, and around the orientation whose cross-section contains the half
+    /// vector (the highlight, of width `≈ α/|ĥ_xy|`).
+    fn azimuth_breaks(&self, s: Vec3, v: Vec3) -> Vec<f64> {
+        let perp = FiberFrame::azimuth_across;
         let mut breaks: Vec<f64> = Vec::with_capacity(32);
         breaks.extend([
             perp(s),
@@ -315,36 +346,6 @@ impl Yarn {
                 breaks.push(c + k * w);
             }
         }
-        let st = self.params.twist_std;
-        if st > 0.0 && st < 0.3 {
-            for &c in twist_centres {
-                for k in [-4.0, -2.0, -1.0, 0.0, 1.0, 2.0, 4.0] {
-                    breaks.push(c + k * st);
-                }
-            }
-        }
-        // Reduce every break into [0, π) (f_θ is π-periodic in φ_a).
-        let mut edges: Vec<f64> = breaks
-            .into_iter()
-            .filter(|b| b.is_finite())
-            .map(|b| b.rem_euclid(PI))
-            .collect();
-        panel_edges(&mut edges, 0.0, PI, 0.25 * PI);
-        let rule = if s.z.min(v.z) < GRAZING_THETA.cos() {
-            &self.azimuth_rule_grazing
-        } else {
-            &self.azimuth_rule
-        };
-        let mut total = 0.0;
-        for e in edges.windows(2) {
-            total += rule.integrate(e[0], e[1], |phi_a| {
-                let wt = weight(phi_a);
-                if wt == 0.0 {
-                    return 0.0;
-                }
-                wt * self.slope_averaged(s, v, phi_a)
-            });
-        }
-        total
+        breaks
     }
 }

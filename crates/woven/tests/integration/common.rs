@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests.
 
 use std::path::PathBuf;
+use woven::math::rng::SplitMix;
 use woven::Vec3;
 
 /// Directions from `(θ_i, φ_i, θ_r, φ_r)`.
@@ -24,33 +25,38 @@ pub fn assert_close(got: f64, want: f64, rel: f64, abs_floor: f64, what: &str) {
     );
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny fixed-seed generator, so every run draws the
-/// same cases. Test files add the draws they need in their own `impl Rng` blocks.
+/// The library's test generator ([`woven::math::rng::SplitMix`]) under a local name, so that
+/// test files can add the draws they need in their own `impl Rng` blocks; every run draws the
+/// same cases.
 pub struct Rng(pub u64);
 
 impl Rng {
+    /// Runs `draw` on the library generator in this state, keeping the state it leaves.
+    fn draw<T>(&mut self, draw: impl FnOnce(&mut SplitMix) -> T) -> T {
+        let mut g = SplitMix(self.0);
+        let x = draw(&mut g);
+        self.0 = g.0;
+        x
+    }
+
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.draw(SplitMix::next_u64)
     }
 
     /// Uniform in `[0, 1)`.
     pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.draw(SplitMix::uniform)
     }
 
     /// Uniform in `[a, b)`.
     pub fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.uniform()
+        self.draw(|g| g.range(a, b))
     }
 
     /// `10^x`, `x` uniform in `[lo, hi)`.
     pub fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
-        10f64.powf(self.range(lo, hi))
+        self.draw(|g| g.log_range(lo, hi))
     }
 }
 
