@@ -65,10 +65,11 @@ pub struct TabulateArgs {
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
 
-    /// Polar nodes of each half's axis direction, from 0° to 89.9° (denser toward grazing).
-    #[arg(long, value_name = "N", default_value_t = TableOptions::default().n_theta as u64,
+    /// Polar nodes of each half's axis direction, from 0° to 89.9° (denser toward grazing)
+    /// [default: 40; 60 for isotropic materials].
+    #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u64).range(N_THETA.0..=N_THETA.1))]
-    pub n_theta: u64,
+    pub n_theta: Option<u64>,
 
     /// Azimuth nodes of each half's axis direction over [0°, 90°] (ignored for isotropic
     /// materials).
@@ -130,7 +131,7 @@ pub fn has_slow_yarns(material: &Material) -> bool {
 fn options(args: &TabulateArgs, model: &Model) -> TableOptions {
     let auto = TableOptions::for_model(model);
     TableOptions {
-        n_theta: args.n_theta as usize,
+        n_theta: args.n_theta.map_or(auto.n_theta, |n| n as usize),
         n_phi: args.n_phi as usize,
         n_h: args.n_h.map_or(auto.n_h, |n| n as usize),
         n_h_isotropic: args.n_h_isotropic as usize,

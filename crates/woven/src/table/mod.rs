@@ -37,7 +37,7 @@
 //!
 //! | option | meaning | default |
 //! |---|---|---|
-//! | `n_theta` | polar nodes of the axis on `[0, theta_max]`, graded toward grazing | 40 |
+//! | `n_theta` | polar nodes of the axis on `[0, theta_max]`, graded toward grazing | 40 ([`TableOptions::for_model`]: 60 for isotropic materials) |
 //! | `theta_max_deg` | last polar node (beyond: clamped) | 89.9° |
 //! | `n_phi` | azimuth nodes of the axis on `[0, π/2]` (anisotropic materials) | 19 |
 //! | `n_h` | nodes per half-vector slope axis, `t ∈ [−1, 1]` (anisotropic) | 81 ([`TableOptions::for_model`]: up to 121 for smooth fibers) |
@@ -54,6 +54,7 @@ mod sampler;
 
 pub use options::{
     grid_of, value_count, TableOptions, MAX_VALUES, N_H_NARROW_LOBE, N_H_SMOOTH, N_H_WIDE_LOBE,
+    N_THETA_ISOTROPIC,
 };
 
 use crate::math::Vec3;
