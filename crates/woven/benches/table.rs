@@ -22,13 +22,7 @@ fn parallel_sum(n: usize, f: impl Fn(usize) -> f64 + Sync + Send) -> f64 {
 fn bench_table(c: &mut Criterion) {
     let material = Material::preset("polyester-sateen").unwrap();
     let model = material.build(550.0).unwrap();
-    let table = Table::build(
-        &model,
-        &material.to_toml_string(),
-        &TableOptions::default(),
-        &|_, _| {},
-    )
-    .unwrap();
+    let table = Table::build(&model, &material, &TableOptions::default(), &|_, _| {}).unwrap();
     let mut rng = SplitMix(1);
     let pairs: Vec<(Vec3, Vec3)> = (0..BATCH)
         .map(|_| (rng.direction(1.4), rng.direction(1.4)))

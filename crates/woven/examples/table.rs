@@ -22,7 +22,7 @@ fn main() -> Result<(), woven::Error> {
         ..TableOptions::default()
     };
     let no_progress = |_done: usize, _total: usize| {};
-    let table = Table::build(&model, &material.to_toml_string(), &options, &no_progress)?;
+    let table = Table::build(&model, &material, &options, &no_progress)?;
 
     // A table is a file: save it, and load it back (a renderer loads one written by
     // `woven tabulate`).

@@ -31,7 +31,7 @@
 //! // Table: a (deliberately coarse) tabulation for a renderer; `woven tabulate` and
 //! // TableOptions::for_model give the accurate default grid.
 //! let options = TableOptions { n_theta: 6, n_phi: 4, n_h: 21, ..TableOptions::default() };
-//! let table = Table::build(&model, &material.to_toml_string(), &options, &|_, _| {})?;
+//! let table = Table::build(&model, &material, &options, &|_, _| {})?;
 //! assert!(table.eval(s, v) > 0.0);
 //! if let Some(sample) = table.sample(s, 0.3, 0.7) {
 //!     // v drawn ∝ f cos θr; the density `pdf` reports is the one `sample` drew with.

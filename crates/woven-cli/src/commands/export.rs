@@ -185,8 +185,10 @@ fn export_merl(args: &ExportArgs) -> Result<()> {
 fn material_of(args: &ExportArgs, table: Option<&Table>) -> Result<(Material, String)> {
     let recorded = |table: &Table| -> Result<Material> {
         let name = table_name(args).to_string();
-        Material::from_toml_str(table.material_toml(), &name)
-            .with_context(|| format!("cannot read the material recorded in --table `{name}`"))
+        table
+            .material()
+            .cloned()
+            .with_context(|| format!("--table `{name}` records no material"))
     };
     match (&args.material, table) {
         (Some(source), table) => {

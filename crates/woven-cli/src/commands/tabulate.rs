@@ -172,12 +172,9 @@ pub fn build_table(material: &Material, model: &Model, options: &TableOptions) -
     check_size(Symmetry::of(model), options)?;
     let bar = Progress::new(Some(0), "table rows", true);
     let start = Instant::now();
-    let table = Table::build(
-        model,
-        &material.to_self_contained_toml_string(),
-        options,
-        &|done, total| bar.set(done as u64, total as u64),
-    )
+    let table = Table::build(model, material, options, &|done, total| {
+        bar.set(done as u64, total as u64)
+    })
     .context("cannot build the table")?;
     bar.finish();
     Ok(Built {

@@ -16,15 +16,15 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 impl Table {
-    /// Builds the table of `model` (prepared at `wavelength_nm` from `material_toml`, which is
-    /// stored in the file for provenance). `progress(done, total)` is called as rows complete,
-    /// from worker threads.
+    /// Builds the table of `model`, prepared from `material` (recorded as the table's
+    /// [`Provenance`](super::Provenance), with the model's wavelength). `progress(done, total)` is
+    /// called as rows complete, from worker threads.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid options or a grid larger than a table file holds.
     pub fn build(
         model: &Model,
-        material_toml: &str,
+        material: &crate::material::Material,
         options: &TableOptions,
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<Table> {
@@ -71,8 +71,8 @@ impl Table {
                     f0_phi,
                     f0_t,
                     f0_values,
-                    String::new(),
-                    0.0,
+                    None,
+                    model.fiber().wavelength_nm(),
                     Some(Vec::new()),
                 );
                 // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)), with
@@ -120,7 +120,10 @@ impl Table {
             phi,
             t,
             values,
-            material_toml.to_string(),
+            Some(super::Provenance {
+                material: material.clone(),
+                wavelength_nm: model.fiber().wavelength_nm(),
+            }),
             model.fiber().wavelength_nm(),
             None,
         ))
@@ -363,7 +366,7 @@ mod tests {
                 phi,
                 t,
                 values,
-                String::new(),
+                None,
                 550.0,
                 Some(Vec::new()),
             );

@@ -52,7 +52,11 @@ impl Table {
             self.phi.n,
             self.t.n,
             self.wavelength_nm,
-            toml_string(&self.material_toml),
+            toml_string(
+                &self
+                    .material()
+                    .map_or_else(String::new, |m| m.to_self_contained_toml_string())
+            ),
         );
         let mut out = Vec::with_capacity(32 + header.len() + 4 * self.values.len());
         out.extend_from_slice(MAGIC);
@@ -185,11 +189,12 @@ impl Table {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(err("non-finite values"));
         }
-        let material = toml_header
+        let text = toml_header
             .get("material")
             .and_then(|v| v.as_str())
-            .unwrap_or("")
-            .to_string();
+            .unwrap_or("");
+        let material = crate::material::Material::from_toml_str(text, origin)
+            .map_err(|e| err(&format!("its recorded material does not parse: {e}")))?;
         Ok(Table::assemble(
             symmetry,
             Axis {
@@ -201,7 +206,10 @@ impl Table {
             Axis::uniform(0.0, std::f64::consts::FRAC_PI_2, n_phi),
             Axis::uniform(-1.0, 1.0, n_h),
             values,
-            material,
+            Some(super::Provenance {
+                material,
+                wavelength_nm,
+            }),
             wavelength_nm,
             Some(cell_pdf),
         ))

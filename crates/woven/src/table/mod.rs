@@ -57,6 +57,7 @@ pub use options::{
     N_THETA_ISOTROPIC,
 };
 
+use crate::material::Material;
 use crate::math::Vec3;
 use grid::{slope_of_t, Axis};
 use sampler::Sampler;
@@ -151,10 +152,21 @@ pub struct Table {
     slopes: Vec<f64>,
     /// `(cos φ, sin φ)` of each azimuth node.
     phi_cs: Vec<(f64, f64)>,
-    /// The material (TOML) and wavelength the table was built from.
-    material_toml: String,
+    /// What the table was built from (`None` for an intermediate table of the build).
+    provenance: Option<Provenance>,
     wavelength_nm: f64,
     sampler: Sampler,
+}
+
+/// What a table was built from: the material and the wavelength. Written into `.wtab` files, so
+/// a table can be traced and rebuilt; the material is kept self-contained (a WIF pattern as its
+/// matrix, [`Material::to_self_contained_toml_string`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Provenance {
+    /// The material.
+    pub material: Material,
+    /// The wavelength, nm.
+    pub wavelength_nm: f64,
 }
 
 impl Table {
@@ -167,7 +179,7 @@ impl Table {
         phi: Axis,
         t: Axis,
         values: Vec<f32>,
-        material_toml: String,
+        provenance: Option<Provenance>,
         wavelength_nm: f64,
         cell_pdf: Option<Vec<f32>>,
     ) -> Table {
@@ -190,7 +202,7 @@ impl Table {
             values,
             axis_dirs,
             slopes,
-            material_toml,
+            provenance,
             wavelength_nm,
             sampler: Sampler::default(),
         };
@@ -206,9 +218,14 @@ impl Table {
         self.symmetry
     }
 
-    /// The material the table was built from, as TOML.
-    pub fn material_toml(&self) -> &str {
-        &self.material_toml
+    /// What the table was built from.
+    pub fn provenance(&self) -> Option<&Provenance> {
+        self.provenance.as_ref()
+    }
+
+    /// The material the table was built from.
+    pub fn material(&self) -> Option<&Material> {
+        self.provenance.as_ref().map(|p| &p.material)
     }
 
     /// The wavelength the table was built at, nm.

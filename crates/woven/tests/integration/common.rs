@@ -108,13 +108,7 @@ pub fn default_table(name: &str) -> &'static (woven::Model, woven::table::Table)
     cell.get_or_init(|| {
         let m = table_material(name);
         let model = m.build(550.0).unwrap();
-        let t = Table::build(
-            &model,
-            &m.to_toml_string(),
-            &TableOptions::for_model(&model),
-            &|_, _| {},
-        )
-        .unwrap();
+        let t = Table::build(&model, &m, &TableOptions::for_model(&model), &|_, _| {}).unwrap();
         (model, t)
     })
 }

@@ -26,7 +26,7 @@ fn tiny_table(material: &str) -> Table {
         ..TableOptions::default()
     };
     let model = m.build(550.0).unwrap();
-    Table::build(&model, &m.to_toml_string(), &options, &|_, _| {}).unwrap()
+    Table::build(&model, &m, &options, &|_, _| {}).unwrap()
 }
 
 const FLAT: &str = "[fiber]\neta = 1.5\nroughness = 0.2\ndiffuse = 0.1\nnormalization = \"none\"\n";

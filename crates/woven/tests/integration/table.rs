@@ -38,7 +38,7 @@ fn table(name: &str) -> &'static (Model, Table) {
     }
     let m = material(name);
     let model = m.build(550.0).unwrap();
-    let t = Table::build(&model, &m.to_toml_string(), &small(), &|_, _| {}).unwrap();
+    let t = Table::build(&model, &m, &small(), &|_, _| {}).unwrap();
     let leaked: &'static (Model, Table) = Box::leak(Box::new((model, t)));
     cache.lock().unwrap().push((name.to_string(), leaked));
     leaked
