@@ -340,14 +340,15 @@ fn tables_fold_symmetric_directions_onto_one_another() {
 
 /// What a default-grid table must achieve, band by band of `θ = max(θ_i, θ_r)`: the largest
 /// cosine-weighted relative RMS error and 99th percentile up to 80° and in 80°–89°, the largest
-/// `|f_table − f| cos θ_i cos θ_r` relative to the material's peak of `f cos θ_i cos θ_r` in any
-/// band, and the largest sampling weight `f cos θ_r / pdf` relative to its median at incidences
-/// up to 89.9°.
+/// `|f_table − f| cos θ_i cos θ_r` relative to the material's peak of `f cos θ_i cos θ_r` up to
+/// 89° and in the last degree, and the largest sampling weight `f cos θ_r / pdf` relative to its
+/// median at incidences up to 89.9°.
 #[derive(Clone, Copy, Debug)]
 struct Bounds {
     bulk: (f64, f64),
     grazing: (f64, f64),
     peak_rel: f64,
+    peak_rel_last_degree: f64,
     weight_spread: f64,
 }
 
@@ -357,6 +358,7 @@ const TARGETS: Bounds = Bounds {
     bulk: (0.01, 0.03),
     grazing: (0.02, 0.10),
     peak_rel: 0.01,
+    peak_rel_last_degree: 0.01,
     weight_spread: 10.0,
 };
 
@@ -365,17 +367,15 @@ const TARGETS: Bounds = Bounds {
 /// cannot get worse unnoticed; docs/model.md §6 states the gap.
 fn bounds(name: &str) -> Bounds {
     match name {
-        // Sharp yarn ridges at grazing incidence: across the weft at φ within 1° of 90°, the
-        // sateen's BRDF at θi = 89.6° jumps from 0.05 to 125 sr⁻¹; 5° azimuth nodes blur it.
+        // Light running along the visible yarns at grazing incidence: the fibers' specular cone
+        // closes onto the forward direction, and within 1° of the yarn axis the sateen's BRDF at
+        // θi = 89.6° jumps from 0.05 to 125 sr⁻¹; azimuth nodes 5° apart cannot follow it
+        // (measured with this seed: 80°–89° RMS 2.1 %, p99 10.1 %, 2.1 % of the peak; in the last
+        // degree 15 % of the peak, at θi 89.3°, 0.75° off the warp).
         "polyester-sateen" | "smooth-sateen" => Bounds {
-            grazing: (0.05, 0.15),
-            peak_rel: 0.035,
-            ..TARGETS
-        },
-        // The weighted mean's O(Δθ²) bias next to the horizon: 1.3 % of the peak at 40 polar
-        // nodes (0.9 % at 50).
-        "silk" => Bounds {
-            peak_rel: 0.016,
+            grazing: (0.03, 0.13),
+            peak_rel: 0.03,
+            peak_rel_last_degree: 0.2,
             ..TARGETS
         },
         _ => TARGETS,
@@ -410,7 +410,10 @@ fn assert_bounds(name: &str, model: &Model, t: &Table, per_band: usize) {
         "{name}: {grazing:?} against {b:?}"
     );
     assert!(
-        r.max_peak_rel() <= b.peak_rel,
+        r.bands[..2]
+            .iter()
+            .all(|band| band.max_peak_rel <= b.peak_rel)
+            && r.bands[2].max_peak_rel <= b.peak_rel_last_degree,
         "{name}: {r:?} against {b:?}"
     );
     assert!(
