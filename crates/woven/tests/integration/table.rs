@@ -485,7 +485,7 @@ fn table_accuracy_at_default_grid() {
 
 /// Next to the horizon a table never amplifies: its value is a weighted mean of node values, so
 /// it stays within the range of the exact BRDF around it — the old division of interpolated
-/// `f cos θ_i cos θ_r` by vanishing cosines gave 8 000× the exact value at 89.5°.
+/// `f cos θ_i cos θ_r` by vanishing cosines gave up to 8 000× the exact value next to the horizon.
 #[test]
 fn grazing_pairs_are_never_amplified() {
     let mut rng = SplitMix(41);
