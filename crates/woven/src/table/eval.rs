@@ -108,23 +108,35 @@ impl Table {
         } else {
             &[(0, 1.0)]
         };
+        let turns = self.phi.n > 1 && q.turn > 0.0;
+        let locate = |h: Vec3| {
+            (
+                self.t.locate(t_of_slope(h.y / h.z)),
+                self.t.locate(t_of_slope(h.x / h.z)),
+            )
+        };
+        // Without a turn both azimuth nodes read the query's own half vector: locate it once.
+        let unturned = (!turns).then(|| locate(q.h));
         for &(b, fb) in phi_nodes {
-            // The pair turned (by `q.turn` of the way) onto azimuth node ip + b.
-            let (c, sn) = if self.phi.n > 1 && q.turn > 0.0 {
-                let (cb, sb) = self.phi_cs[ip + b];
-                let (c, sn) = (cb * q.cos + sb * q.sin, sb * q.cos - cb * q.sin);
-                if q.turn >= 1.0 {
-                    (c, sn)
-                } else {
-                    let (s2, c2) = (q.turn * sn.atan2(c)).sin_cos();
-                    (c2, s2)
+            let ((iy, wy), (ix, wx)) = match unturned {
+                Some(located) => located,
+                None => {
+                    // The pair turned (by `q.turn` of the way) onto azimuth node ip + b.
+                    let (cb, sb) = self.phi_cs[ip + b];
+                    let (c, sn) = (cb * q.cos + sb * q.sin, sb * q.cos - cb * q.sin);
+                    let (c, sn) = if q.turn >= 1.0 {
+                        (c, sn)
+                    } else {
+                        let (s2, c2) = (q.turn * sn.atan2(c)).sin_cos();
+                        (c2, s2)
+                    };
+                    locate(Vec3::new(
+                        c * q.h.x - sn * q.h.y,
+                        sn * q.h.x + c * q.h.y,
+                        q.h.z,
+                    ))
                 }
-            } else {
-                (1.0, 0.0)
             };
-            let h = Vec3::new(c * q.h.x - sn * q.h.y, sn * q.h.x + c * q.h.y, q.h.z);
-            let (iy, wy) = self.t.locate(t_of_slope(h.y / h.z));
-            let (ix, wx) = self.t.locate(t_of_slope(h.x / h.z));
             for (a, fa) in [(0, 1.0 - wt), (1, wt)] {
                 let node = (it + a) * self.phi.n + ip + b;
                 let d = self.axis_dirs[node];
