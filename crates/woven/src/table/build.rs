@@ -48,85 +48,155 @@ impl Table {
         let phi = Axis::uniform(0.0, FRAC_PI_2, n_phi);
         let t = Axis::uniform(-1.0, 1.0, n_h);
         let pool = pool(options.threads)?;
-        let values = match model.structure() {
-            Structure::Woven {
-                yarn,
-                weft_fraction,
-            } if !yarn.is_single_orientation() => {
-                // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
-                let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
-                let f0_t = Axis::uniform(-1.0, 1.0, options.n_h);
-                let stage = |done: usize, total: usize| progress(done, 2 * total);
-                let f0_values = pool.install(|| {
-                    fill(theta, f0_phi, f0_t, &stage, |half, a| {
-                        move |o| {
-                            let (s, v) = half.join(a, o);
-                            yarn.slope_averaged(s, v, 0.0)
-                        }
-                    })
-                });
-                let f0 = Table::assemble(
-                    Symmetry::Mirror,
-                    theta,
-                    f0_phi,
-                    f0_t,
-                    f0_values,
-                    None,
-                    model.fiber().wavelength_nm(),
-                    Some(Vec::new()),
-                );
-                // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)), with
-                // the model's own orientation weights and interreflection mix.
-                let n = options.azimuth_nodes;
-                let weights = yarn
-                    .orientation()
-                    .midpoint_weights(n, &crate::cloth::weave_axes(*weft_fraction));
-                let rows = 2 * theta.n * phi.n;
-                let stage2 = |done: usize, _total: usize| progress(rows + done, 2 * rows);
-                pool.install(|| {
-                    fill(theta, phi, t, &stage2, |half, a| {
-                        // Per fiber azimuth: the axis direction in the fiber frame, folded into
-                        // F₀'s domain and located once per row; each node then costs a rotation
-                        // and a look-up.
-                        let azimuths: Vec<Azimuth> = weights
-                            .iter()
-                            .enumerate()
-                            .filter(|&(_, &w)| w != 0.0)
-                            .map(|(j, &w)| {
-                                let phi_a = (j as f64 + 0.5) * PI / n as f64;
-                                Azimuth::new(&f0, half, a, phi_a, w)
-                            })
-                            .collect();
-                        let f0 = &f0;
-                        move |o: Vec3| {
-                            let acc: f64 = azimuths.iter().map(|z| z.eval(f0, o)).sum();
-                            yarn.interreflection_mix(acc, 1.0)
-                        }
-                    })
-                })
-            }
-            _ => pool.install(|| {
-                fill(theta, phi, t, progress, |half, a| {
-                    move |o| {
-                        let (s, v) = half.join(a, o);
-                        model.eval(s, v)
-                    }
-                })
-            }),
+        let wavelength_nm = model.fiber().wavelength_nm();
+        let provenance = Some(super::Provenance {
+            material: material.clone(),
+            wavelength_nm,
+        });
+        if !options.colour {
+            let [values] = pool.install(|| tabulate([model], theta, phi, t, options, progress));
+            return Ok(Table::assemble(
+                symmetry,
+                theta,
+                phi,
+                t,
+                values,
+                provenance,
+                wavelength_nm,
+                None,
+                None,
+            ));
+        }
+        // The BRDF is affine in ρ0: with the models at ρ0 = 0 and ρ0 = 1/2,
+        // ∂f/∂ρ0 = 2 (f(1/2) − f(0)) and the material's own f = f(0) + ρ0′ ∂f/∂ρ0.
+        let with_diffuse = |diffuse: f64| {
+            let mut m = material.clone();
+            m.fiber.diffuse = diffuse;
+            m.build(wavelength_nm)
         };
+        let (m0, m1) = (with_diffuse(0.0)?, with_diffuse(0.5)?);
+        let [at0, at1] = pool.install(|| tabulate([&m0, &m1], theta, phi, t, options, progress));
+        let own = material.fiber.diffuse;
+        let (values, body): (Vec<f32>, Vec<f32>) = at0
+            .iter()
+            .zip(&at1)
+            .map(|(&a, &b)| {
+                let d = 2.0 * (b as f64 - a as f64);
+                ((a as f64 + own * d) as f32, d as f32)
+            })
+            .unzip();
         Ok(Table::assemble(
             symmetry,
             theta,
             phi,
             t,
             values,
-            Some(super::Provenance {
-                material: material.clone(),
-                wavelength_nm: model.fiber().wavelength_nm(),
-            }),
-            model.fiber().wavelength_nm(),
+            provenance,
+            wavelength_nm,
             None,
+            Some(super::Colour::new(material, body)),
         ))
+    }
+}
+
+/// The node values of `models` (one model, or the same material with other albedos) on the grid
+/// `(theta, phi, t)`, evaluated together (each node prepares its geometry once), on the current
+/// rayon pool.
+fn tabulate<const K: usize>(
+    models: [&Model; K],
+    theta: Axis,
+    phi: Axis,
+    t: Axis,
+    options: &TableOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> [Vec<f32>; K] {
+    let yarns: Option<([&crate::yarn::Yarn; K], f64)> = match models[0].structure() {
+        Structure::Woven {
+            yarn,
+            weft_fraction,
+        } if !yarn.is_single_orientation() => Some((
+            models.map(|m| match m.structure() {
+                Structure::Woven { yarn, .. } => &**yarn,
+                Structure::Flat(_) => unreachable!("the models share a structure"),
+            }),
+            *weft_fraction,
+        )),
+        _ => None,
+    };
+    let Some((yarns, weft_fraction)) = yarns else {
+        return fill(theta, phi, t, progress, |half, a| {
+            move |o| {
+                let (s, v) = half.join(a, o);
+                models.map(|m| m.eval(s, v))
+            }
+        });
+    };
+    // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
+    let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
+    let f0_t = Axis::uniform(-1.0, 1.0, options.n_h);
+    let stage = |done: usize, total: usize| progress(done, 2 * total);
+    let f0_values = fill(theta, f0_phi, f0_t, &stage, |half, a| {
+        move |o| {
+            let (s, v) = half.join(a, o);
+            yarns.map(|y| y.slope_averaged(s, v, 0.0))
+        }
+    });
+    let f0 = Stage::new(theta, f0_phi, f0_t, f0_values, models[0]);
+    // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)), with the model's
+    // own orientation weights and interreflection mix.
+    let n = options.azimuth_nodes;
+    let yarn = yarns[0];
+    let weights = yarn
+        .orientation()
+        .midpoint_weights(n, &crate::cloth::weave_axes(weft_fraction));
+    let rows = 2 * theta.n * phi.n;
+    let stage2 = |done: usize, _total: usize| progress(rows + done, 2 * rows);
+    fill(theta, phi, t, &stage2, |half, a| {
+        // Per fiber azimuth: the axis direction in the fiber frame, folded into F₀'s domain and
+        // located once per row; each node then costs a rotation and a look-up.
+        let azimuths: Vec<Azimuth> = weights
+            .iter()
+            .enumerate()
+            .filter(|&(_, &w)| w != 0.0)
+            .map(|(j, &w)| {
+                let phi_a = (j as f64 + 0.5) * PI / n as f64;
+                Azimuth::new(&f0.table, half, a, phi_a, w)
+            })
+            .collect();
+        let f0 = &f0;
+        move |o: Vec3| {
+            let mut acc = [0.0; K];
+            for z in &azimuths {
+                for (sum, x) in acc.iter_mut().zip(z.eval(f0, o)) {
+                    *sum += x;
+                }
+            }
+            std::array::from_fn(|k| yarns[k].interreflection_mix(acc[k], 1.0))
+        }
+    })
+}
+
+/// The intermediate table `F₀` of a build: the first model's values as a [`Table`] (for the
+/// grid and the look-up), and each model's values.
+struct Stage<const K: usize> {
+    table: Table,
+    values: [Vec<f32>; K],
+}
+
+impl<const K: usize> Stage<K> {
+    fn new(theta: Axis, phi: Axis, t: Axis, values: [Vec<f32>; K], model: &Model) -> Stage<K> {
+        let table = Table::assemble(
+            Symmetry::Mirror,
+            theta,
+            phi,
+            t,
+            values[0].clone(),
+            None,
+            model.fiber().wavelength_nm(),
+            Some(Vec::new()),
+            None,
+        );
+        Stage { table, values }
     }
 }
 
@@ -177,9 +247,9 @@ impl Azimuth {
     /// `w · F₀` in the fiber frame for the other direction `o`: what `w · f0.eval` of the rotated
     /// pair gives, reading the located axis when the pair belongs to this half.
     #[inline]
-    fn eval(&self, f0: &Table, o: Vec3) -> f64 {
+    fn eval<const K: usize>(&self, f0: &Stage<K>, o: Vec3) -> [f64; K] {
         if self.axis.z <= 0.0 || o.z <= 0.0 {
-            return 0.0;
+            return [0.0; K];
         }
         let x = self.cos * o.x + self.sin * o.y;
         let y = -self.sin * o.x + self.cos * o.y;
@@ -189,11 +259,14 @@ impl Azimuth {
             o.z,
         );
         let (s, v) = self.half.join(self.axis, o);
-        if Half::of(s, v) == self.half {
-            self.weight * f0.eval_at(self.half, self.located, Query::new(self.axis, o))
+        let arrays = f0.values.each_ref().map(|v| v.as_slice());
+        let f = if Half::of(s, v) == self.half {
+            f0.table
+                .interpolate(self.half, self.located, Query::new(self.axis, o), arrays)
         } else {
-            self.weight * f0.eval(s, v)
-        }
+            f0.table.eval_arrays(s, v, arrays)
+        };
+        f.map(|x| self.weight * x.max(0.0))
     }
 }
 
@@ -283,20 +356,21 @@ fn needed_nodes(theta: Axis, phi: Axis, t: Axis, it: usize, ip: usize) -> Vec<bo
 /// Evaluates both halves at every node they read, rows of `(half, θ, φ)` spread over the current
 /// rayon pool: `row(half, a)` prepares the evaluation for axis direction `a` and returns
 /// `o ↦ f(s, v)` with `(s, v) = half.join(a, o)`.
-fn fill<R: Fn(Vec3) -> f64>(
+fn fill<const K: usize, R: Fn(Vec3) -> [f64; K]>(
     theta: Axis,
     phi: Axis,
     t: Axis,
     progress: &(dyn Fn(usize, usize) + Sync),
     row: impl Fn(Half, Vec3) -> R + Sync,
-) -> Vec<f32> {
+) -> [Vec<f32>; K] {
     let rows_per_half = theta.n * phi.n;
     let rows = 2 * rows_per_half;
     let row_len = t.n * t.n;
-    let mut values = vec![0f32; rows * row_len];
+    // Row-major, each row holding its K parts one after the other.
+    let mut values = vec![0f32; K * rows * row_len];
     let done = AtomicUsize::new(0);
     values
-        .par_chunks_mut(row_len)
+        .par_chunks_mut(K * row_len)
         .enumerate()
         .with_max_len(1)
         .for_each(|(r, out)| {
@@ -321,12 +395,21 @@ fn fill<R: Fn(Vec3) -> f64>(
                         Some((o, _)) => Some(o),
                         None => lifted(a, px, py),
                     };
-                    out[iy * t.n + ix] = o.map_or(0.0, &f) as f32;
+                    let parts = o.map_or([0.0; K], &f);
+                    for (k, x) in parts.into_iter().enumerate() {
+                        out[k * row_len + iy * t.n + ix] = x as f32;
+                    }
                 }
             }
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, rows);
         });
-    values
+    std::array::from_fn(|k| {
+        values
+            .chunks_exact(K * row_len)
+            .flat_map(|row| &row[k * row_len..(k + 1) * row_len])
+            .copied()
+            .collect()
+    })
 }
 
 #[cfg(test)]
@@ -354,7 +437,7 @@ mod tests {
             };
             let phi = Axis::uniform(0.0, FRAC_PI_2, n_phi);
             let t = Axis::uniform(-1.0, 1.0, n_t);
-            let values = fill(theta, phi, t, &|_, _| {}, |_, _| |_| 1.0);
+            let [values] = fill(theta, phi, t, &|_, _| {}, |_, _| |_| [1.0]);
             let evaluated = values.iter().filter(|&&v| v == 1.0).count();
             assert!(
                 evaluated < values.len(),
@@ -369,6 +452,7 @@ mod tests {
                 None,
                 550.0,
                 Some(Vec::new()),
+                None,
             );
             for k in 0..100_000 {
                 // Half the draws within 10° of the horizon, a quarter within 1°.

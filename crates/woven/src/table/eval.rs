@@ -2,7 +2,7 @@
 //! interpolating; the [`Bsdf`] implementation.
 
 use super::grid::{t_of_slope, Axis};
-use super::{Half, Symmetry, Table, HORIZON_WEIGHT};
+use super::{Albedos, Half, Symmetry, Table, HORIZON_WEIGHT};
 use crate::bsdf::{Bsdf, BsdfSample};
 use crate::math::Vec3;
 
@@ -80,6 +80,55 @@ impl Table {
         self.eval_half(half, fold.apply(axis), fold.apply(other))
     }
 
+    /// The BRDF for other albedos, one per channel (`N` = 3 for RGB): `f` is affine in the
+    /// fiber's diffuse albedo `ρ0` and the yarn's interreflection albedo `ρ` (docs/model.md
+    /// "Colour"), `f(ρ0, ρ) = f + (ρ0 − ρ0′) ∂f/∂ρ0 + (ρ − ρ′) ħ/π` with `ρ0′, ρ′` the material's
+    /// own, so one table serves every dye. The table must be built with
+    /// [`TableOptions::colour`](super::TableOptions::colour) ([`is_dyeable`](Self::is_dyeable));
+    /// otherwise every channel is the material's own `f`. 0 below the horizon, never negative.
+    #[inline]
+    pub fn eval_dyed<const N: usize>(&self, s: Vec3, v: Vec3, albedos: &[Albedos; N]) -> [f64; N] {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return [0.0; N];
+        }
+        let half = Half::of(s, v);
+        let (axis, other) = half.split(s, v);
+        let fold = Fold::of(self.symmetry, axis);
+        let (axis, other) = (fold.apply(axis), fold.apply(other));
+        let located = locate_axis(&self.theta, &self.phi, axis);
+        let q = Query::new(axis, other);
+        let Some(colour) = &self.colour else {
+            let f = self.eval_at(half, located, q);
+            return [f; N];
+        };
+        let [f, body] = self.interpolate(half, located, q, [&self.values, &colour.body]);
+        albedos.map(|a| {
+            (f + (a.diffuse - colour.own.diffuse) * body
+                + (a.interreflection - colour.own.interreflection) * colour.per_interreflection)
+                .max(0.0)
+        })
+    }
+
+    /// [`eval`](Self::eval) of `K` node arrays laid out as [`values`](Self::values), with the
+    /// same weights; 0 below the horizon.
+    #[inline]
+    pub(crate) fn eval_arrays<const K: usize>(
+        &self,
+        s: Vec3,
+        v: Vec3,
+        arrays: [&[f32]; K],
+    ) -> [f64; K] {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return [0.0; K];
+        }
+        let half = Half::of(s, v);
+        let (axis, other) = half.split(s, v);
+        let fold = Fold::of(self.symmetry, axis);
+        let (axis, other) = (fold.apply(axis), fold.apply(other));
+        let located = locate_axis(&self.theta, &self.phi, axis);
+        self.interpolate(half, located, Query::new(axis, other), arrays)
+    }
+
     /// The value of `half` at a folded `(axis, other)`.
     #[inline]
     pub(crate) fn eval_half(&self, half: Half, axis: Vec3, other: Vec3) -> f64 {
@@ -100,9 +149,21 @@ impl Table {
     /// of the smooth `f cos θ_i cos θ_r` over the interpolated cosines; near the horizon it is a
     /// convex combination of node values, so it never exceeds the largest of them.
     #[inline]
-    pub(crate) fn eval_at(&self, half: Half, (it, wt, ip, wp): Incidence, q: Query) -> f64 {
+    pub(crate) fn eval_at(&self, half: Half, located: Incidence, q: Query) -> f64 {
+        self.interpolate(half, located, q, [&self.values])[0].max(0.0)
+    }
+
+    /// [`eval_at`](Self::eval_at) of `K` node arrays at once, with the same weights.
+    #[inline]
+    pub(crate) fn interpolate<const K: usize>(
+        &self,
+        half: Half,
+        (it, wt, ip, wp): Incidence,
+        q: Query,
+        arrays: [&[f32]; K],
+    ) -> [f64; K] {
         let n = self.t.n;
-        let (mut num, mut den) = (0.0, 0.0);
+        let (mut num, mut den) = ([0.0; K], 0.0);
         let phi_nodes: &[(usize, f64)] = if self.phi.n > 1 {
             &[(0, 1.0 - wp), (1, wp)]
         } else {
@@ -150,16 +211,19 @@ impl Table {
                         let cos_other =
                             2.0 * (d.x * px + d.y * py + d.z) / (1.0 + px * px + py * py) - d.z;
                         let wc = wa * fy * fx * cos_other.max(HORIZON_WEIGHT);
-                        num += wc * self.values[base + dy * n + dx] as f64;
+                        let at = base + dy * n + dx;
+                        for (sum, array) in num.iter_mut().zip(arrays) {
+                            *sum += wc * array[at] as f64;
+                        }
                         den += wc;
                     }
                 }
             }
         }
         if den > 0.0 {
-            (num / den).max(0.0)
+            num.map(|x| x / den)
         } else {
-            0.0
+            [0.0; K]
         }
     }
 

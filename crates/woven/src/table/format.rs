@@ -1,15 +1,15 @@
-//! The `.wtab` file format (version 1).
+//! The `.wtab` file format (version 3; version 2, without `parts`, still reads).
 //!
 //! All integers and floats little-endian.
 //!
 //! | offset | size | content |
 //! |---|---|---|
 //! | 0 | 8 | magic `b"WOVENTAB"` |
-//! | 8 | 4 | format version, `u32` = 1 |
+//! | 8 | 4 | format version, `u32` = 3 |
 //! | 12 | 4 | header length `H`, `u32` |
-//! | 16 | `H` | header: UTF-8 TOML (`symmetry`, grid axes, wavelength, the material's TOML) |
-//! | 16 + H | 8 | value count `N`, `u64` (= `n_theta · n_phi · n_h²`) |
-//! | 24 + H | 4N | values, `f32`, index `((iθ·n_φ + iφ)·n_h + i_y)·n_h + i_x` |
+//! | 16 | `H` | header: UTF-8 TOML (`symmetry`, grid axes, wavelength, `parts`, the material's TOML) |
+//! | 16 + H | 8 | value count `N`, `u64` (= `parts · 2 · n_theta · n_phi · n_h²`) |
+//! | 24 + H | 4N | values, `f32`: `f` at every node as [`Table::values`], then with `parts = 2` `∂f/∂ρ0` ([`Table::body_values`]) |
 //! | 24 + H + 4N | 8 | cell count `M`, `u64` (= `n_theta · n_phi · (n_h − 1)²`) |
 //! | 32 + H + 4N | 4M | sampling densities per incidence node and half-vector cell, `f32` |
 //! | 32 + H + 4N + 4M | 4 | CRC-32 (IEEE) of every byte before it |
@@ -28,7 +28,9 @@ use std::path::Path;
 /// The file's magic bytes.
 pub const MAGIC: &[u8; 8] = b"WOVENTAB";
 /// The format version this build writes and reads.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
+/// The oldest format version this build reads.
+pub const OLDEST_VERSION: u32 = 2;
 use super::MAX_VALUES;
 
 fn format_error(origin: &str, message: impl Into<String>) -> Error {
@@ -42,7 +44,7 @@ impl Table {
     /// The table serialized in the `.wtab` format.
     pub fn to_bytes(&self) -> Vec<u8> {
         let header = format!(
-            "symmetry = \"{}\"\nn_theta = {}\ntheta_max = {:?}\nn_phi = {}\nn_h = {}\nwavelength_nm = {:?}\nmaterial = {}\n",
+            "symmetry = \"{}\"\nn_theta = {}\ntheta_max = {:?}\nn_phi = {}\nn_h = {}\nwavelength_nm = {:?}\nparts = {}\nmaterial = {}\n",
             match self.symmetry {
                 Symmetry::Isotropic => "isotropic",
                 Symmetry::Mirror => "mirror",
@@ -52,6 +54,7 @@ impl Table {
             self.phi.n,
             self.t.n,
             self.wavelength_nm,
+            if self.colour.is_some() { 2 } else { 1 },
             toml_string(
                 &self
                     .material()
@@ -63,8 +66,9 @@ impl Table {
         out.extend_from_slice(&VERSION.to_le_bytes());
         out.extend_from_slice(&(header.len() as u32).to_le_bytes());
         out.extend_from_slice(header.as_bytes());
-        out.extend_from_slice(&(self.values.len() as u64).to_le_bytes());
-        for v in &self.values {
+        let body = self.body_values().unwrap_or(&[]);
+        out.extend_from_slice(&((self.values.len() + body.len()) as u64).to_le_bytes());
+        for v in self.values.iter().chain(body) {
             out.extend_from_slice(&v.to_le_bytes());
         }
         let cells = self.sampler.cell_pdf();
@@ -100,7 +104,7 @@ impl Table {
     /// Reads a table from bytes; `origin` names the source in errors.
     ///
     /// # Errors
-    /// [`Error::Parse`] for anything but a complete, intact version-1 table.
+    /// [`Error::Parse`] for anything but a complete, intact table of a version this build reads.
     pub fn from_bytes(bytes: &[u8], origin: &str) -> Result<Table> {
         let err = |m: &str| format_error(origin, m);
         if bytes.len() < 8 || &bytes[..8] != MAGIC {
@@ -110,10 +114,10 @@ impl Table {
             return Err(err("truncated header"));
         }
         let version = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
-        if version != VERSION {
+        if !(OLDEST_VERSION..=VERSION).contains(&version) {
             return Err(err(&format!(
                 "format version {version}, this build reads version {VERSION}{}",
-                if version < VERSION {
+                if version < OLDEST_VERSION {
                     " (the file was written by an earlier woven; build it again with \
                      `woven tabulate`)"
                 } else {
@@ -169,6 +173,7 @@ impl Table {
             n_h,
             theta_max,
             wavelength_nm,
+            parts,
         } = header;
         let cell_pdf: Vec<f32> = bytes[values_end + 8..payload_end]
             .chunks_exact(4)
@@ -182,10 +187,11 @@ impl Table {
                 "every sampling density is zero (a built table has positive densities)",
             ));
         }
-        let values: Vec<f32> = bytes[after_header + 8..values_end]
+        let mut values: Vec<f32> = bytes[after_header + 8..values_end]
             .chunks_exact(4)
             .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
             .collect();
+        let body = values.split_off(values.len() / parts);
         if values.iter().any(|v| !v.is_finite()) {
             return Err(err("non-finite values"));
         }
@@ -195,6 +201,7 @@ impl Table {
             .unwrap_or("");
         let material = crate::material::Material::from_toml_str(text, origin)
             .map_err(|e| err(&format!("its recorded material does not parse: {e}")))?;
+        let colour = (parts == 2).then(|| super::Colour::new(&material, body));
         Ok(Table::assemble(
             symmetry,
             Axis {
@@ -212,6 +219,7 @@ impl Table {
             }),
             wavelength_nm,
             Some(cell_pdf),
+            colour,
         ))
     }
 
@@ -296,6 +304,7 @@ struct Header {
     n_h: usize,
     theta_max: f64,
     wavelength_nm: f64,
+    parts: usize,
 }
 
 /// The wavelengths a table may hold, nm: those a fiber can be prepared at (`Fiber::new`).
@@ -355,6 +364,11 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
         ));
     }
     let wavelength_nm = float("wavelength_nm", WAVELENGTH_NM.0, WAVELENGTH_NM.1)?;
+    // Absent in version 2: `f` only.
+    let parts = match header.get("parts") {
+        None => 1,
+        Some(_) => int("parts", 1, 2)?,
+    };
     match header.get("material").map(|v| v.as_str()) {
         None => return Err("header key `material` is missing".into()),
         Some(None) => return Err("header key `material` is not a string".into()),
@@ -366,7 +380,7 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
     // The counts, in u64 (each factor is at most 4097, so no product overflows); the values
     // fill two halves (light and view).
     let incidences = (n_theta * n_phi) as u64;
-    let expected = 2 * incidences * (n_h * n_h) as u64;
+    let expected = parts as u64 * 2 * incidences * (n_h * n_h) as u64;
     if expected != count {
         return Err(format!("{count} values, but the grid needs {expected}"));
     }
@@ -383,6 +397,7 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
         n_h,
         theta_max,
         wavelength_nm,
+        parts,
     })
 }
 

@@ -156,6 +156,57 @@ pub struct Table {
     provenance: Option<Provenance>,
     wavelength_nm: f64,
     sampler: Sampler,
+    /// The parts for other albedos ([`Table::eval_dyed`]), when built with them.
+    colour: Option<Colour>,
+}
+
+/// The albedos a BRDF is affine in: the fiber's diffuse albedo `ρ0` (`[fiber] diffuse`) and the
+/// yarn's interreflection albedo `ρ` (`[yarn] interreflection_albedo`; 0 for a flat fiber). They
+/// are the dyed body of the fibers; the Fresnel sheen stays white.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Albedos {
+    /// `ρ0`, in `[0, 1)`.
+    pub diffuse: f64,
+    /// `ρ`, in `[0, 1]`.
+    pub interreflection: f64,
+}
+
+impl Albedos {
+    /// The material's own albedos.
+    pub fn of(material: &Material) -> Albedos {
+        Albedos {
+            diffuse: material.fiber.diffuse,
+            interreflection: material
+                .yarn
+                .as_ref()
+                .map_or(0.0, |y| y.interreflection_albedo),
+        }
+    }
+}
+
+/// What [`Table::eval_dyed`] adds to a table: `∂f/∂ρ0` at every node, and `∂f/∂ρ = ħ/π`.
+#[derive(Clone, Debug)]
+pub(crate) struct Colour {
+    /// `∂f/∂ρ0` at every node, laid out as [`Table::values`].
+    pub(crate) body: Vec<f32>,
+    /// `∂f/∂ρ`: the interreflection term `ħρ/π` of Eq. (20), averaged with weights summing to 1.
+    pub(crate) per_interreflection: f64,
+    /// The albedos `values` were built with.
+    pub(crate) own: Albedos,
+}
+
+impl Colour {
+    /// The colour parts of a table of `material` with node derivatives `body`.
+    pub(crate) fn new(material: &Material, body: Vec<f32>) -> Colour {
+        Colour {
+            body,
+            per_interreflection: material
+                .yarn
+                .as_ref()
+                .map_or(0.0, |y| y.interreflection * std::f64::consts::FRAC_1_PI),
+            own: Albedos::of(material),
+        }
+    }
 }
 
 /// What a table was built from: the material and the wavelength. Written into `.wtab` files, so
@@ -182,6 +233,7 @@ impl Table {
         provenance: Option<Provenance>,
         wavelength_nm: f64,
         cell_pdf: Option<Vec<f32>>,
+        colour: Option<Colour>,
     ) -> Table {
         let axis_dirs = (0..theta.n * phi.n)
             .map(|r| Vec3::from_spherical(theta.node(r / phi.n), phi.node(r % phi.n)))
@@ -205,6 +257,7 @@ impl Table {
             provenance,
             wavelength_nm,
             sampler: Sampler::default(),
+            colour,
         };
         table.sampler = match cell_pdf {
             Some(c) => Sampler::from_cell_pdf(&table, c),
@@ -249,6 +302,18 @@ impl Table {
     /// above it in the same azimuth; a node no pair of its half reads holds 0.
     pub fn values(&self) -> &[f32] {
         &self.values
+    }
+
+    /// Whether the table was built with the parts [`eval_dyed`](Self::eval_dyed) needs
+    /// ([`TableOptions::colour`]).
+    pub fn is_dyeable(&self) -> bool {
+        self.colour.is_some()
+    }
+
+    /// `∂f/∂ρ0` at every node, laid out as [`values`](Self::values), when
+    /// [`is_dyeable`](Self::is_dyeable).
+    pub fn body_values(&self) -> Option<&[f32]> {
+        self.colour.as_ref().map(|c| c.body.as_slice())
     }
 
     /// Values in one half.

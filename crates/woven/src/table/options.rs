@@ -22,6 +22,9 @@ pub struct TableOptions {
     pub azimuth_nodes: usize,
     /// Worker threads (0: all available cores).
     pub threads: usize,
+    /// Also tabulate `∂f/∂ρ0`, so that [`Table::eval_dyed`](super::Table::eval_dyed) serves any
+    /// dye (twice the values, about twice the build time).
+    pub colour: bool,
 }
 
 impl Default for TableOptions {
@@ -34,6 +37,7 @@ impl Default for TableOptions {
             n_h_isotropic: 161,
             azimuth_nodes: 180,
             threads: 0,
+            colour: false,
         }
     }
 }
@@ -121,10 +125,12 @@ pub fn grid_of(symmetry: Symmetry, options: &TableOptions) -> (usize, usize, usi
     }
 }
 
-/// The values a table of `symmetry` holds with `options`: two halves of `n_theta · n_phi · n_h²`.
+/// The values a table of `symmetry` holds with `options`: two halves of `n_theta · n_phi · n_h²`,
+/// twice that with [`colour`](TableOptions::colour).
 pub fn value_count(symmetry: Symmetry, options: &TableOptions) -> u64 {
     let (n_theta, n_phi, n_h) = grid_of(symmetry, options);
-    2 * (n_theta * n_phi) as u64 * (n_h * n_h) as u64
+    let parts = if options.colour { 2 } else { 1 };
+    parts * 2 * (n_theta * n_phi) as u64 * (n_h * n_h) as u64
 }
 
 #[cfg(test)]

@@ -509,3 +509,117 @@ fn grazing_pairs_are_never_amplified() {
         }
     }
 }
+
+/// A material with other albedos.
+fn dyed(m: &Material, diffuse: f64, interreflection: f64) -> Material {
+    let mut m = m.clone();
+    m.fiber.diffuse = diffuse;
+    if let Some(y) = m.yarn.as_mut() {
+        y.interreflection_albedo = interreflection;
+    }
+    m
+}
+
+/// The BRDF is affine in the albedos (docs/model.md "Colour"), exactly, in the exact model: the
+/// interreflection albedo `ρ` enters as `ħρ/π`, and three diffuse albedos determine the rest.
+#[test]
+fn the_exact_model_is_affine_in_the_albedos() {
+    let mut rng = SplitMix(17);
+    for name in ["rough", "polyester-sateen", "belt-cloth"] {
+        let m = material(name);
+        let at = |d: f64, r: f64| dyed(&m, d, r).build(550.0).unwrap();
+        let (m00, m50, m90, m01) = (at(0.0, 0.0), at(0.5, 0.0), at(0.9, 0.0), at(0.0, 1.0));
+        let hbar = m.yarn.as_ref().map_or(0.0, |y| y.interreflection);
+        for _ in 0..40 {
+            let mut pick = || {
+                let z = rng.uniform().max(1e-3);
+                let ph = 2.0 * PI * rng.uniform();
+                let r = (1.0 - z * z).sqrt();
+                Vec3::new(r * ph.cos(), r * ph.sin(), z)
+            };
+            let (s, v) = (pick(), pick());
+            let (f00, f50, f90) = (m00.eval(s, v), m50.eval(s, v), m90.eval(s, v));
+            // Collinear in ρ0: f(0.9) on the line through f(0) and f(0.5).
+            let line = f00 + 1.8 * (f50 - f00);
+            assert!(
+                (f90 - line).abs() <= 1e-6 * f90.abs().max(1e-3),
+                "{name}: f(ρ0 = 0.9) = {f90}, the line gives {line}"
+            );
+            let per_rho = m01.eval(s, v) - f00;
+            assert!(
+                (per_rho - hbar / PI).abs() <= 1e-9,
+                "{name}: ∂f/∂ρ = {per_rho}, ħ/π = {}",
+                hbar / PI
+            );
+        }
+    }
+}
+
+/// A dyeable table gives the material's own BRDF at its own albedos, and at other albedos what a
+/// table built for those albedos gives, on the same grid, in every band; it survives a file
+/// round trip.
+#[test]
+fn dyed_tables_agree_with_tables_of_the_dyed_material() {
+    // The agreement does not depend on the grid: a tiny one keeps the test fast.
+    let tiny = TableOptions {
+        n_theta: 8,
+        n_phi: 4,
+        n_h: 17,
+        n_h_isotropic: 25,
+        azimuth_nodes: 24,
+        ..TableOptions::default()
+    };
+    let options = TableOptions {
+        colour: true,
+        ..tiny
+    };
+    let mut rng = SplitMix(23);
+    for name in ["rough", "polyester-sateen", "silk"] {
+        let m = material(name);
+        let model = m.build(550.0).unwrap();
+        let t = Table::build(&model, &m, &options, &|_, _| {}).unwrap();
+        assert!(t.is_dyeable());
+        let plain = Table::build(&model, &m, &tiny, &|_, _| {}).unwrap();
+        let dyes = [(0.02, 0.9), (0.95, 0.0)];
+        let other: Vec<Table> = dyes
+            .iter()
+            .map(|&(d, r)| {
+                let dm = dyed(&m, d, r);
+                Table::build(&dm.build(550.0).unwrap(), &dm, &tiny, &|_, _| {}).unwrap()
+            })
+            .collect();
+        let albedos = dyes.map(|(d, r)| woven::table::Albedos {
+            diffuse: d,
+            interreflection: r,
+        });
+        let loaded = Table::from_bytes(&t.to_bytes(), "memory").unwrap();
+        assert!(loaded.is_dyeable());
+        for k in 0..3000 {
+            let lim = [1.0, 0.17, 0.02][k % 3];
+            let mut pick = |lim: f64| {
+                let z = lim * rng.uniform().max(1e-6);
+                let ph = 2.0 * PI * rng.uniform();
+                let r = (1.0 - z * z).sqrt();
+                Vec3::new(r * ph.cos(), r * ph.sin(), z)
+            };
+            let (s, v) = (pick(lim), pick(1.0));
+            let own = t.eval_dyed(s, v, &[woven::table::Albedos::of(&m)])[0];
+            let want = plain.eval(s, v);
+            assert!(
+                (own - want).abs() <= 1e-4 * want.max(1e-2),
+                "{name}: own albedos give {own}, the plain table {want} at s {s:?} v {v:?}"
+            );
+            let got = t.eval_dyed(s, v, &albedos);
+            assert_eq!(got, loaded.eval_dyed(s, v, &albedos));
+            for (j, o) in other.iter().enumerate() {
+                let want = o.eval(s, v);
+                assert!(
+                    (got[j] - want).abs() <= 1e-4 * want.max(1e-2),
+                    "{name} dyed {:?}: {} vs a table of the dyed material {want} at s {s:?} v {v:?}",
+                    dyes[j],
+                    got[j]
+                );
+            }
+        }
+    }
+}
