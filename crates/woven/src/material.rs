@@ -131,6 +131,16 @@ impl Material {
         self.weave.as_ref().map_or(1.0, Weave::weft_fraction)
     }
 
+    /// The material's yarn alone: one yarn family, along `x` (the weft), its weave removed
+    /// (`γ = 1`); a flat fiber surface is returned as it is. A renderer that resolves the weave
+    /// shades each point with this BRDF, turned to the yarn on top there; the material's own BRDF
+    /// is its `γ`-mix with the same turned by 90° (docs/spec.md §2.7).
+    pub fn yarn_family(&self) -> Material {
+        let mut m = self.clone();
+        m.weave = None;
+        m
+    }
+
     /// Validates every parameter.
     ///
     /// # Errors

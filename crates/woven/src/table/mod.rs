@@ -45,6 +45,7 @@
 //! | `azimuth_nodes` | fiber azimuths per period for twisted/isotropic yarns | 180 |
 
 mod build;
+pub mod cache;
 mod eval;
 pub mod format;
 pub mod grid;

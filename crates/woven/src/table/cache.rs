@@ -1,0 +1,364 @@
+//! A folder of built tables, so that a renderer (or any front end) builds each table once.
+//!
+//! A table is keyed by what decides its values: the material (self-contained, so a WIF pattern
+//! counts by its content), the wavelength, the grid options (not the thread count) and the file
+//! format version. The key names the file, `NAME-KEY.wtab`, in the cache folder
+//! ([`Cache::default_dir`]: `$XDG_CACHE_HOME/woven`, else `~/.cache/woven`).
+//!
+//! A cached file is never trusted: it is loaded with every check of [`Table::load`] (checksum,
+//! header), and its recorded material, wavelength and grid must be the ones asked for. A damaged,
+//! foreign or stale file is a [`Lookup::Miss`] with the reason, and the caller rebuilds it;
+//! [`Cache::store`] writes atomically (a temporary file, then a rename), so two processes filling
+//! the same entry never leave a half file.
+
+use super::{grid_of, Table, TableOptions};
+use crate::error::{Error, Result};
+use crate::material::Material;
+use std::path::{Path, PathBuf};
+
+/// A folder of cached tables.
+#[derive(Clone, Debug)]
+pub struct Cache {
+    dir: PathBuf,
+}
+
+/// What [`Cache::lookup`] found.
+#[derive(Debug)]
+pub enum Lookup {
+    /// A valid table for the request, from `path`.
+    Hit {
+        /// The table.
+        table: Box<Table>,
+        /// Where it was read from.
+        path: PathBuf,
+    },
+    /// No valid table: build one and [`store`](Cache::store) it at `path`.
+    Miss {
+        /// Where the table belongs.
+        path: PathBuf,
+        /// Why a file there was not used (`None`: there was none).
+        reason: Option<String>,
+    },
+}
+
+impl Cache {
+    /// A cache in `dir` (created when a table is first stored).
+    pub fn new(dir: impl Into<PathBuf>) -> Cache {
+        Cache { dir: dir.into() }
+    }
+
+    /// The user's cache folder for woven: `$XDG_CACHE_HOME/woven` when `XDG_CACHE_HOME` is an
+    /// absolute path, else `$HOME/.cache/woven`; `None` when neither is set.
+    pub fn default_dir() -> Option<PathBuf> {
+        let absolute = |name: &str| {
+            std::env::var_os(name)
+                .map(PathBuf::from)
+                .filter(|p| p.is_absolute())
+        };
+        absolute("XDG_CACHE_HOME")
+            .map(|d| d.join("woven"))
+            .or_else(|| absolute("HOME").map(|h| h.join(".cache").join("woven")))
+    }
+
+    /// The cache in [`default_dir`](Self::default_dir).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] when neither `XDG_CACHE_HOME` nor `HOME` is set.
+    pub fn user() -> Result<Cache> {
+        Cache::default_dir().map(Cache::new).ok_or_else(|| {
+            Error::invalid(
+                "cache folder",
+                "(none)",
+                "XDG_CACHE_HOME or HOME set to an absolute path (or skip the cache)",
+            )
+        })
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Where the table of `material` at `wavelength_nm` with `options` is kept.
+    pub fn path(&self, material: &Material, wavelength_nm: f64, options: &TableOptions) -> PathBuf {
+        let name: String = material
+            .name
+            .as_deref()
+            .unwrap_or("material")
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .take(40)
+            .collect();
+        let key = key(material, wavelength_nm, options);
+        self.dir.join(format!("{name}-{key}.wtab"))
+    }
+
+    /// Looks the table up, checking that the file is intact and is the table asked for.
+    pub fn lookup(
+        &self,
+        material: &Material,
+        wavelength_nm: f64,
+        options: &TableOptions,
+    ) -> Lookup {
+        let path = self.path(material, wavelength_nm, options);
+        if !path.exists() {
+            return Lookup::Miss { path, reason: None };
+        }
+        let reason = match Table::load(&path) {
+            Err(e) => e.to_string(),
+            Ok(table) => match mismatch(&table, material, wavelength_nm, options) {
+                None => {
+                    return Lookup::Hit {
+                        table: Box::new(table),
+                        path,
+                    }
+                }
+                Some(m) => format!("{}: {m}", path.display()),
+            },
+        };
+        Lookup::Miss {
+            path,
+            reason: Some(reason),
+        }
+    }
+
+    /// Stores `table` at `path` (from [`Lookup::Miss`]), creating the folder, atomically.
+    ///
+    /// # Errors
+    /// [`Error::Io`] naming the folder or the file.
+    pub fn store(&self, path: &Path, table: &Table) -> Result<()> {
+        std::fs::create_dir_all(&self.dir).map_err(|source| Error::Io {
+            path: self.dir.clone(),
+            source,
+        })?;
+        table.save(path)
+    }
+
+    /// The table from the cache, or built (`build`) and stored; `notice` hears of a build before
+    /// it starts (with the reason an existing file was not used) and of a store that failed (the
+    /// table is still returned: a read-only cache only costs time).
+    ///
+    /// # Errors
+    /// Whatever `build` returns.
+    pub fn load_or_build(
+        &self,
+        material: &Material,
+        wavelength_nm: f64,
+        options: &TableOptions,
+        build: impl FnOnce() -> Result<Table>,
+        notice: &dyn Fn(Notice<'_>),
+    ) -> Result<Table> {
+        match self.lookup(material, wavelength_nm, options) {
+            Lookup::Hit { table, path } => {
+                notice(Notice::Loaded { path: &path });
+                Ok(*table)
+            }
+            Lookup::Miss { path, reason } => {
+                notice(Notice::Building {
+                    path: &path,
+                    reason: reason.as_deref(),
+                });
+                let table = build()?;
+                if let Err(e) = self.store(&path, &table) {
+                    notice(Notice::NotStored { error: &e });
+                }
+                Ok(table)
+            }
+        }
+    }
+}
+
+/// What [`Cache::load_or_build`] tells its caller.
+#[derive(Debug)]
+pub enum Notice<'a> {
+    /// The table was read from `path`.
+    Loaded {
+        /// The file.
+        path: &'a Path,
+    },
+    /// The table is being built, to be stored at `path`; `reason` says why a file there was not
+    /// used.
+    Building {
+        /// The file it will be stored in.
+        path: &'a Path,
+        /// Why an existing file was refused.
+        reason: Option<&'a str>,
+    },
+    /// The built table could not be stored.
+    NotStored {
+        /// Why.
+        error: &'a Error,
+    },
+}
+
+/// The cache key: a 64-bit FNV-1a hash, in hex, of everything that decides a table's values.
+fn key(material: &Material, wavelength_nm: f64, options: &TableOptions) -> String {
+    let grid = TableOptions {
+        threads: 0,
+        ..*options
+    };
+    let text = format!(
+        "woven table format {}\n{:?}\n{}\n{}",
+        super::format::VERSION,
+        grid,
+        wavelength_nm.to_bits(),
+        material.to_self_contained_toml_string()
+    );
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
+}
+
+/// Why a loaded `table` is not the one asked for (a hash collision or an edited file), if it is
+/// not.
+fn mismatch(
+    table: &Table,
+    material: &Material,
+    wavelength_nm: f64,
+    options: &TableOptions,
+) -> Option<String> {
+    let want = material.to_self_contained_toml_string();
+    if table
+        .material()
+        .map(Material::to_self_contained_toml_string)
+        != Some(want)
+    {
+        return Some("it holds another material".into());
+    }
+    if table.wavelength_nm() != wavelength_nm {
+        return Some(format!(
+            "it holds wavelength {} nm, not {wavelength_nm} nm",
+            table.wavelength_nm()
+        ));
+    }
+    let grid = grid_of(table.symmetry(), options);
+    if table.dims() != grid
+        || (table.theta_max_deg() - options.theta_max_deg).abs() > 1e-9
+        || table.is_dyeable() != options.colour
+    {
+        return Some(format!(
+            "it holds grid {:?} (theta_max {}°, colour {}), not {grid:?} ({}°, colour {})",
+            table.dims(),
+            table.theta_max_deg(),
+            table.is_dyeable(),
+            options.theta_max_deg,
+            options.colour
+        ));
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tiny() -> TableOptions {
+        TableOptions {
+            n_theta: 6,
+            n_phi: 3,
+            n_h: 9,
+            n_h_isotropic: 9,
+            azimuth_nodes: 16,
+            ..TableOptions::default()
+        }
+    }
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("woven-cache-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    }
+
+    #[test]
+    fn builds_once_then_loads_and_rebuilds_damaged_entries() {
+        let dir = scratch("damage");
+        let cache = Cache::new(&dir);
+        let m = Material::from_toml_str(
+            "name = \"flat rough\"\n[fiber]\neta = 1.5\nroughness = 0.3\n",
+            "test",
+        )
+        .unwrap();
+        let options = tiny();
+        let builds = std::cell::Cell::new(0);
+        let build = || {
+            builds.set(builds.get() + 1);
+            Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {})
+        };
+        let quiet = |_: Notice<'_>| {};
+        let a = cache
+            .load_or_build(&m, 550.0, &options, build, &quiet)
+            .unwrap();
+        assert_eq!(builds.get(), 1);
+        let path = cache.path(&m, 550.0, &options);
+        assert!(path.exists(), "{path:?}");
+        assert!(path
+            .file_name()
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .starts_with("flat_rough-"));
+        let b = cache
+            .load_or_build(&m, 550.0, &options, build, &quiet)
+            .unwrap();
+        assert_eq!(builds.get(), 1, "a valid entry is loaded");
+        assert_eq!(a.values(), b.values());
+
+        // A flipped byte: the checksum refuses it, the entry is rebuilt and replaced.
+        let mut bytes = std::fs::read(&path).unwrap();
+        let at = bytes.len() / 2;
+        bytes[at] ^= 0x40;
+        std::fs::write(&path, &bytes).unwrap();
+        let reason = match cache.lookup(&m, 550.0, &options) {
+            Lookup::Miss { reason, .. } => reason.unwrap(),
+            Lookup::Hit { .. } => panic!("a damaged entry was trusted"),
+        };
+        assert!(reason.contains("checksum"), "{reason}");
+        cache
+            .load_or_build(&m, 550.0, &options, build, &quiet)
+            .unwrap();
+        assert_eq!(builds.get(), 2);
+        assert!(matches!(
+            cache.lookup(&m, 550.0, &options),
+            Lookup::Hit { .. }
+        ));
+
+        // A valid table of another material at this entry's path is refused too.
+        let other = Material::from_toml_str("[fiber]\neta = 1.5\nroughness = 0.2\n", "t").unwrap();
+        Table::build(&other.build(550.0).unwrap(), &other, &options, &|_, _| {})
+            .unwrap()
+            .save(&path)
+            .unwrap();
+        match cache.lookup(&m, 550.0, &options) {
+            Lookup::Miss { reason, .. } => {
+                assert!(reason.unwrap().contains("another material"))
+            }
+            Lookup::Hit { .. } => panic!("a foreign table was trusted"),
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn keys_follow_what_decides_the_values() {
+        let cache = Cache::new("/nonexistent");
+        let m = Material::preset("silk").unwrap();
+        let o = tiny();
+        let p = cache.path(&m, 550.0, &o);
+        assert_eq!(p, cache.path(&m, 550.0, &TableOptions { threads: 3, ..o }));
+        assert_ne!(p, cache.path(&m, 551.0, &o));
+        assert_ne!(
+            p,
+            cache.path(&m, 550.0, &TableOptions { colour: true, ..o })
+        );
+        assert_ne!(p, cache.path(&m, 550.0, &TableOptions { n_h: 11, ..o }));
+        let mut dyed = m.clone();
+        dyed.fiber.diffuse = 0.3;
+        assert_ne!(p, cache.path(&dyed, 550.0, &o));
+    }
+}
