@@ -81,8 +81,8 @@ impl Table {
     }
 
     /// The BRDF for other albedos, one per channel (`N` = 3 for RGB): `f` is affine in the
-    /// fiber's diffuse albedo `ρ0` and the yarn's interreflection albedo `ρ` (docs/model.md
-    /// "Colour"), `f(ρ0, ρ) = f + (ρ0 − ρ0′) ∂f/∂ρ0 + (ρ − ρ′) ħ/π` with `ρ0′, ρ′` the material's
+    /// fiber's diffuse albedo `ρ0` and the yarn's interreflection albedo `ρ` (docs/model.md §7),
+    /// `f(ρ0, ρ) = f + (ρ0 − ρ0′) ∂f/∂ρ0 + (ρ − ρ′) ħ/π` with `ρ0′, ρ′` the material's
     /// own, so one table serves every dye. The table must be built with
     /// [`TableOptions::colour`](super::TableOptions::colour) ([`is_dyeable`](Self::is_dyeable));
     /// otherwise every channel is the material's own `f`. 0 below the horizon, never negative.

@@ -520,7 +520,7 @@ fn dyed(m: &Material, diffuse: f64, interreflection: f64) -> Material {
     m
 }
 
-/// The BRDF is affine in the albedos (docs/model.md "Colour"), exactly, in the exact model: the
+/// The BRDF is affine in the albedos (docs/model.md §7), exactly, in the exact model: the
 /// interreflection albedo `ρ` enters as `ħρ/π`, and three diffuse albedos determine the rest.
 #[test]
 fn the_exact_model_is_affine_in_the_albedos() {
