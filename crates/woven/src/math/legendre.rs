@@ -48,10 +48,36 @@ fn legendre_all(x: f64) -> [f64; PANEL_NODES + 1] {
     p[0] = 1.0;
     p[1] = x;
     for k in 1..PANEL_NODES {
-        let kf = k as f64;
-        p[k + 1] = ((2.0 * kf + 1.0) * x * p[k] - kf * p[k - 1]) / (kf + 1.0);
+        // (k + 1) P_{k+1} = (2k + 1) x P_k − k P_{k−1}, with the quotients precomputed.
+        p[k + 1] = RECURRENCE_A[k] * x * p[k] - RECURRENCE_B[k] * p[k - 1];
     }
     p
+}
+
+/// `(2k + 1)/(k + 1)` and `k/(k + 1)`: the Legendre recurrence without divisions.
+const RECURRENCE_A: [f64; PANEL_NODES] = recurrence(1);
+const RECURRENCE_B: [f64; PANEL_NODES] = recurrence(0);
+
+/// `1/(2k + 1)`, the factor of `∫ P_k = (P_{k+1} − P_{k−1})/(2k + 1)`.
+const INV_2K_PLUS_1: [f64; PANEL_NODES] = {
+    let mut r = [0.0; PANEL_NODES];
+    let mut k = 0;
+    while k < PANEL_NODES {
+        r[k] = 1.0 / (2 * k + 1) as f64;
+        k += 1;
+    }
+    r
+};
+
+/// `(2k + 1)/(k + 1)` (`a = 1`) or `k/(k + 1)` (`a = 0`) for `k < PANEL_NODES`.
+const fn recurrence(a: usize) -> [f64; PANEL_NODES] {
+    let mut r = [0.0; PANEL_NODES];
+    let mut k = 0;
+    while k < PANEL_NODES {
+        r[k] = ((1 + a) * k + a) as f64 / (k + 1) as f64;
+        k += 1;
+    }
+    r
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -137,7 +163,7 @@ impl PiecewiseLegendre {
         // ∫_{−1}^{t} P_0 = t + 1; ∫_{−1}^{t} P_k = (P_{k+1}(t) − P_{k−1}(t)) / (2k + 1), k ≥ 1.
         let mut s = p.coeffs[0] * (t + 1.0);
         for k in 1..PANEL_NODES {
-            s += p.coeffs[k] * (pl[k + 1] - pl[k - 1]) / (2 * k + 1) as f64;
+            s += p.coeffs[k] * (pl[k + 1] - pl[k - 1]) * INV_2K_PLUS_1[k];
         }
         p.cumulative + s * h
     }
