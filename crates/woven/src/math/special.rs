@@ -63,6 +63,24 @@ pub fn erfc(x: f64) -> f64 {
     }
 }
 
+/// The cube root of `x ≥ 0` (normal or 0), to about an ulp: an exponent-thirds first guess (6 %),
+/// two Halley steps (1e-12) and a Newton step: faster than `f64::cbrt` (which is
+/// correctly rounded); the β look-up takes one per fiber evaluation. Subnormal, negative, huge
+/// (beyond 1e300, where `y³` would overflow) and non-finite `x` go to `f64::cbrt`.
+#[inline]
+pub fn cbrt(x: f64) -> f64 {
+    if !(f64::MIN_POSITIVE..=1e300).contains(&x) {
+        return x.cbrt();
+    }
+    // A third of the bit pattern (exponent and mantissa together), rebased so that cbrt(1) = 1.
+    let mut y = f64::from_bits(x.to_bits() / 3 + 0x2AA0_0000_0000_0000);
+    for _ in 0..2 {
+        let y3 = y * y * y;
+        y *= (y3 + 2.0 * x) / (2.0 * y3 + x);
+    }
+    y - (y * y * y - x) / (3.0 * y * y)
+}
+
 /// `ln Γ(x)` for `x > 0`.
 #[inline]
 pub fn ln_gamma(x: f64) -> f64 {
@@ -329,6 +347,31 @@ mod tests {
         for x in [-3.0, -0.1, 6.0, 7.5, 30.0] {
             assert_eq!(erfc(x), libm::erfc(x), "erfc({x})");
         }
+    }
+
+    #[test]
+    fn cbrt_is_within_an_ulp_or_two() {
+        let mut rng = crate::math::rng::SplitMix(3);
+        for k in 0..200_000 {
+            let x = if k % 2 == 0 {
+                rng.uniform()
+            } else {
+                rng.log_range(-300.0, 300.0)
+            };
+            let (got, want) = (cbrt(x), x.cbrt());
+            assert!(
+                (got - want).abs() <= 2.5e-16 * want,
+                "cbrt({x}) = {got}, want {want}"
+            );
+        }
+        for x in [0.0, 1.0, 8.0, 1e-310, 1e300, f64::MAX] {
+            assert!(
+                (cbrt(x) - x.cbrt()).abs() <= 2.5e-16 * x.cbrt(),
+                "cbrt({x})"
+            );
+        }
+        assert_eq!(cbrt(f64::INFINITY), f64::INFINITY);
+        assert!(cbrt(f64::NAN).is_nan());
     }
 
     #[test]
