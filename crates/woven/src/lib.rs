@@ -81,7 +81,7 @@ pub mod yarn;
 
 pub use error::{Error, Result};
 pub use math::Vec3;
-pub use model::Model;
+pub use model::{AffineBrdf, Model};
 
 /// The README shows the examples whole: every `examples/*.rs` must appear in it verbatim.
 #[cfg(test)]
