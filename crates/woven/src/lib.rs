@@ -61,6 +61,7 @@
 //! - [`export`]: export to other programs' formats (MERL).
 //! - [`math`]: vectors, special functions, quadrature and interpolation.
 //! - [`error`]: the one error type, [`Error`].
+//! - [`fsutil`]: files written atomically (a temporary file renamed into place).
 
 mod albedo;
 pub mod bsdf;
@@ -69,7 +70,7 @@ pub mod directions;
 pub mod error;
 pub mod export;
 pub mod fiber;
-mod fsutil;
+pub mod fsutil;
 pub mod gonio;
 pub mod material;
 pub mod math;
