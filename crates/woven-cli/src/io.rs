@@ -47,90 +47,54 @@ impl std::fmt::Display for InputSource {
     }
 }
 
-/// Writes a file so that it either appears complete or not at all.
-///
-/// `write` fills a temporary file created next to `path` (same directory, so the final rename
-/// stays on one file system); only when it returns `Ok` is the file flushed, synced and renamed
-/// onto `path`. On any error the temporary file is deleted and an existing `path` is untouched.
-///
-/// A `path` that exists but is no regular file (`/dev/null`, a named pipe) is written in place:
-/// renaming over it would replace the device with a file.
-///
-/// A read-only `path` is refused, not replaced (a rename would otherwise succeed, since it needs
-/// only the folder to be writable). If the process is interrupted (SIGINT, SIGTERM, SIGHUP) while
-/// writing, the temporary file is removed before it exits; SIGKILL cannot be caught, and leaves
-/// the temporary file (named `.woven-*.tmp`) behind.
+/// Writes a file so that it either appears complete or not at all: the library's
+/// [`woven::fsutil::atomic_write_with`] (a temporary file beside `path`, renamed into place;
+/// special files such as `/dev/null` written in place; a read-only `path` refused), with the
+/// temporary file registered for removal if the process is interrupted (SIGINT, SIGTERM, SIGHUP)
+/// while writing. SIGKILL cannot be caught, and leaves the temporary file (named `.NAME.*.tmp`)
+/// behind.
 ///
 /// # Errors
 /// Every error names `path`: an output that cannot be created, written or renamed, and a write
-/// failure inside `write` (a full disk).
+/// failure inside `write` (a full disk). Other errors of `write` (a bad input row) are passed on
+/// as they are.
 pub fn write_atomically<T>(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<T>,
 ) -> Result<T> {
-    // An I/O failure of `write` is a failure to write `path`; other errors (a bad input row) are
-    // passed on as they are.
-    let name_path = |e: anyhow::Error| {
-        if e.downcast_ref::<io::Error>().is_some() {
-            e.context(format!("cannot write `{}`", path.display()))
-        } else {
-            e
+    use woven::fsutil::{atomic_write_with, AtomicWriteError, WriteStep};
+    let shown = path.display();
+    atomic_write_with(path, interrupt::Pending::register, write).map_err(|e| match e {
+        AtomicWriteError::NotAFile => {
+            anyhow::anyhow!("output path `{shown}` does not name a file")
         }
-    };
-    if is_special_file(path) {
-        let file = std::fs::OpenOptions::new()
-            .write(true)
-            .open(path)
-            .with_context(|| format!("cannot open `{}` for writing", path.display()))?;
-        let mut out = BufWriter::with_capacity(1 << 16, file);
-        let value = write(&mut out).map_err(name_path)?;
-        out.flush()
-            .with_context(|| format!("cannot write `{}`", path.display()))?;
-        return Ok(value);
-    }
-    if std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
-        anyhow::bail!(
-            "`{}` is read-only: refusing to replace it (make it writable, or write elsewhere)",
-            path.display()
-        );
-    }
-    let dir = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
-    if path.file_name().is_none() {
-        anyhow::bail!("output path `{}` does not name a file", path.display());
-    }
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".woven-").suffix(".tmp");
-    // Output files are ordinary documents: readable by others, like a file `>` would create
-    // (tempfile's default, 0600, is meant for secrets).
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o644));
-    }
-    let tmp = builder.tempfile_in(dir).with_context(|| {
-        format!(
-            "cannot create a temporary file in `{}` for `{}`",
-            dir.display(),
-            path.display()
-        )
-    })?;
-    let _pending = interrupt::Pending::register(tmp.path());
-    let mut out = BufWriter::with_capacity(1 << 16, tmp);
-    let value = write(&mut out).map_err(name_path)?;
-    let tmp = out
-        .into_inner()
-        .map_err(|e| e.into_error())
-        .with_context(|| format!("cannot write `{}`", path.display()))?;
-    tmp.as_file()
-        .sync_all()
-        .with_context(|| format!("cannot write `{}`", path.display()))?;
-    tmp.persist(path)
-        .map_err(|e| e.error)
-        .with_context(|| format!("cannot create `{}`", path.display()))?;
-    Ok(value)
+        AtomicWriteError::ReadOnly => anyhow::anyhow!(
+            "`{shown}` is read-only: refusing to replace it (make it writable, or write elsewhere)"
+        ),
+        AtomicWriteError::Io { step, source } => {
+            let what = match step {
+                WriteStep::Open => format!("cannot open `{shown}` for writing"),
+                WriteStep::CreateTemporary => {
+                    let dir = match path.parent() {
+                        Some(parent) if !parent.as_os_str().is_empty() => parent,
+                        _ => Path::new("."),
+                    };
+                    format!(
+                        "cannot create a temporary file in `{}` for `{shown}`",
+                        dir.display()
+                    )
+                }
+                WriteStep::Write => format!("cannot write `{shown}`"),
+                WriteStep::Rename => format!("cannot create `{shown}`"),
+            };
+            anyhow::Error::new(source).context(what)
+        }
+        // An I/O failure of `write` is a failure to write `path`.
+        AtomicWriteError::Write(e) if e.downcast_ref::<io::Error>().is_some() => {
+            e.context(format!("cannot write `{shown}`"))
+        }
+        AtomicWriteError::Write(e) => e,
+    })
 }
 
 /// Removal of unfinished temporary files when the process is interrupted.
@@ -180,12 +144,6 @@ mod interrupt {
         // A panic while holding the lock leaves a valid list.
         PENDING.lock().unwrap_or_else(|e| e.into_inner())
     }
-}
-
-/// Whether `path` exists and is neither a regular file nor a folder: a device such as
-/// `/dev/null`, or a named pipe.
-pub fn is_special_file(path: &Path) -> bool {
-    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
 }
 
 /// Runs `write` on `path` atomically (see [`write_atomically`]), or on standard output when
@@ -258,6 +216,12 @@ mod tests {
 
         write_atomically(&path, |w| Ok(w.write_all(b"done")?)).unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"done");
+    }
+
+    /// Whether `path` exists and is neither a regular file nor a folder: a device such as
+    /// `/dev/null`, or a named pipe.
+    fn is_special_file(path: &Path) -> bool {
+        std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
     }
 
     #[cfg(unix)]

@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// file is removed. A `path` that exists and is not a regular file (a device such as `/dev/null`,
 /// a pipe) is written in place instead — renaming over it would replace the device. A read-only
 /// `path` is refused. A library cannot catch signals: a process killed while writing leaves the
-/// temporary file `.NAME.PID-N.tmp` beside `path`.
+/// temporary file `.NAME.PID-N.tmp` beside `path` (see [`atomic_write_with`] for a hook).
 ///
 /// # Errors
 /// [`Error::Io`] naming `path`.
@@ -18,33 +18,92 @@ pub(crate) fn atomic_write(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> Result<()> {
-    let io_error = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    if let Ok(meta) = std::fs::metadata(path) {
-        if !meta.is_file() {
-            let mut file = std::fs::OpenOptions::new()
-                .write(true)
-                .open(path)
-                .map_err(io_error)?;
-            return write(&mut file)
-                .and_then(|()| file.flush())
-                .map_err(io_error);
+    atomic_write_with(path, |_| (), write).map_err(|e| {
+        let source = match e {
+            AtomicWriteError::NotAFile => {
+                io::Error::new(io::ErrorKind::InvalidInput, "not a file path")
+            }
+            AtomicWriteError::ReadOnly => io::Error::new(
+                io::ErrorKind::PermissionDenied,
+                "the file is read-only: refusing to replace it (make it writable, or write elsewhere)",
+            ),
+            AtomicWriteError::Io { source, .. } | AtomicWriteError::Write(source) => source,
+        };
+        Error::Io {
+            path: path.to_path_buf(),
+            source,
         }
+    })
+}
+
+/// Why [`atomic_write_with`] failed; `path` is untouched in every case (a special file may have
+/// received part of the output).
+#[derive(Debug)]
+pub enum AtomicWriteError<E> {
+    /// The path names no file (a root, or ending in `..`).
+    NotAFile,
+    /// The path is a read-only regular file: refused rather than replaced (the rename would
+    /// succeed, since it needs only the folder to be writable).
+    ReadOnly,
+    /// A step on the file itself failed.
+    Io {
+        /// Which step.
+        step: WriteStep,
+        /// The error.
+        source: io::Error,
+    },
+    /// The caller's `write` returned an error of its own.
+    Write(E),
+}
+
+/// The steps of [`atomic_write_with`] on the file system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WriteStep {
+    /// Opening a special file (a device, a pipe) for writing in place.
+    Open,
+    /// Creating the temporary file beside the path.
+    CreateTemporary,
+    /// Writing, flushing or syncing the output.
+    Write,
+    /// Renaming the temporary file onto the path.
+    Rename,
+}
+
+/// The one atomic writer: what [`atomic_write`] (the library's files) and the command line's
+/// outputs use. `write` fills a buffered temporary file `.NAME.PID-N.tmp` in `path`'s folder;
+/// when it returns `Ok`, the file is flushed, synced and renamed onto `path`, and `write`'s value
+/// returned. On any error the temporary file is removed and an existing `path` is untouched.
+///
+/// `on_temp` is called with the temporary file's path before anything is written, and its value
+/// is dropped once the file is renamed or removed: a program that catches signals registers the
+/// path there for removal on interruption. A `path` that exists and is no regular file
+/// (`/dev/null`, a named pipe) is written in place (`on_temp` is not called); a read-only regular
+/// file is refused.
+///
+/// # Errors
+/// [`AtomicWriteError`]: the step that failed, or `write`'s own error.
+pub fn atomic_write_with<T, E, G>(
+    path: &Path,
+    on_temp: impl FnOnce(&Path) -> G,
+    write: impl FnOnce(&mut dyn Write) -> std::result::Result<T, E>,
+) -> std::result::Result<T, AtomicWriteError<E>> {
+    let io = |step| move |source| AtomicWriteError::Io { step, source };
+    let meta = std::fs::metadata(path);
+    if meta.as_ref().is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(io(WriteStep::Open))?;
+        let mut out = io::BufWriter::with_capacity(1 << 16, file);
+        let value = write(&mut out).map_err(AtomicWriteError::Write)?;
+        out.flush().map_err(io(WriteStep::Write))?;
+        return Ok(value);
     }
-    // A read-only file is refused, not replaced: the rename needs only the folder writable.
-    if std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
-        return Err(io_error(io::Error::new(
-            io::ErrorKind::PermissionDenied,
-            "the file is read-only: refusing to replace it (make it writable, or write elsewhere)",
-        )));
+    if meta.is_ok_and(|m| m.is_file() && m.permissions().readonly()) {
+        return Err(AtomicWriteError::ReadOnly);
     }
     let Some(name) = path.file_name() else {
-        return Err(io_error(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "not a file path",
-        )));
+        return Err(AtomicWriteError::NotAFile);
     };
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -52,7 +111,7 @@ pub(crate) fn atomic_write(
     };
     // A name unique within this process (counter) and among processes (pid).
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let (tmp, mut file) = loop {
+    let (tmp, file) = loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
         let tmp = dir.join(format!(
             ".{}.{}-{n}.tmp",
@@ -67,18 +126,27 @@ pub(crate) fn atomic_write(
             Ok(file) => break (tmp, file),
             // A leftover of an earlier process with the same pid: try the next name.
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists && n < 1000 => continue,
-            Err(e) => return Err(io_error(e)),
+            Err(e) => return Err(io(WriteStep::CreateTemporary)(e)),
         }
     };
-    let written = write(&mut file).and_then(|()| file.sync_all());
-    drop(file);
-    let result = written.and_then(|()| std::fs::rename(&tmp, path));
-    if let Err(e) = result {
+    let guard = on_temp(&tmp);
+    let result = (|| {
+        let mut out = io::BufWriter::with_capacity(1 << 16, file);
+        let value = write(&mut out).map_err(AtomicWriteError::Write)?;
+        let file = out
+            .into_inner()
+            .map_err(|e| io(WriteStep::Write)(e.into_error()))?;
+        file.sync_all().map_err(io(WriteStep::Write))?;
+        drop(file);
+        std::fs::rename(&tmp, path).map_err(io(WriteStep::Rename))?;
+        Ok(value)
+    })();
+    if result.is_err() {
         // The temporary file is ours and incomplete; a failure to remove it changes nothing.
         let _ = std::fs::remove_file(&tmp);
-        return Err(io_error(e));
     }
-    Ok(())
+    drop(guard);
+    result
 }
 
 /// `bytes` as a size for messages: `16 MiB`, `512 KiB`, or bytes.

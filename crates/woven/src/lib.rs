@@ -61,6 +61,7 @@
 //! - [`export`]: export to other programs' formats (MERL).
 //! - [`math`]: vectors, special functions, quadrature and interpolation.
 //! - [`error`]: the one error type, [`Error`].
+//! - [`fsutil`]: files written atomically (a temporary file renamed into place).
 
 mod albedo;
 pub mod bsdf;
@@ -69,7 +70,7 @@ pub mod directions;
 pub mod error;
 pub mod export;
 pub mod fiber;
-mod fsutil;
+pub mod fsutil;
 pub mod gonio;
 pub mod material;
 pub mod math;
@@ -81,7 +82,7 @@ pub mod yarn;
 
 pub use error::{Error, Result};
 pub use math::Vec3;
-pub use model::Model;
+pub use model::{AffineBrdf, Model};
 
 /// The README shows the examples whole: every `examples/*.rs` must appear in it verbatim.
 #[cfg(test)]

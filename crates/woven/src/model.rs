@@ -1,8 +1,9 @@
 //! A material prepared for evaluation at one wavelength.
 
-use crate::cloth::Structure;
+use crate::cloth::{weave_axes, Structure};
 use crate::fiber::Fiber;
 use crate::math::Vec3;
+use crate::yarn::Masking;
 
 /// A material ready to evaluate: the result of [`Material::build`](crate::material::Material::build).
 /// `Send + Sync`; cheap to clone.
@@ -24,6 +25,47 @@ impl Model {
         self.structure.eval(s, v)
     }
 
+    /// The BRDF at `(s, v)` as the affine function of the material's two albedos that it is:
+    /// `f = fixed + ρ0·per_diffuse + ρ·per_interreflection`, `ρ0` the fiber's diffuse albedo
+    /// (`fiber.diffuse`; β carries `ζ = 1 − ρ0`, docs/spec.md §1.5) and `ρ` the interreflection
+    /// albedo (`yarn.interreflection_albedo`, Eq. (20); no term for a flat fiber surface).
+    /// Computed in one pass through the model's quadrature; [`AffineBrdf::at`] the material's
+    /// own albedos equals [`eval`](Self::eval) to rounding, and at other albedos equals `eval` of
+    /// the material with those albedos (everything else equal).
+    ///
+    /// For colour: evaluate once, then combine per channel with the dyed albedos.
+    ///
+    /// ```
+    /// use woven::material::Material;
+    /// use woven::Vec3;
+    /// let model = Material::preset("silk")?.build(550.0)?;
+    /// let (s, v) = (Vec3::from_spherical(0.5, 0.0), Vec3::from_spherical(0.6, 3.0));
+    /// let parts = model.eval_affine(s, v);
+    /// let (rho0, rho) = (model.fiber().params().diffuse, 0.5); // silk's own albedos
+    /// assert!((parts.at(rho0, rho) - model.eval(s, v)).abs() < 1e-12 * model.eval(s, v));
+    /// # Ok::<(), woven::Error>(())
+    /// ```
+    pub fn eval_affine(&self, s: Vec3, v: Vec3) -> AffineBrdf {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return AffineBrdf::default();
+        }
+        match &self.structure {
+            Structure::Flat(fiber) => {
+                let (fixed, per_diffuse) =
+                    fiber.affine_in_diffuse(fiber.eval_parts_with_normal(s, v, Vec3::Z));
+                AffineBrdf {
+                    fixed,
+                    per_diffuse,
+                    per_interreflection: 0.0,
+                }
+            }
+            Structure::Woven {
+                yarn,
+                weft_fraction,
+            } => yarn.eval_mix_affine(s, v, &weave_axes(*weft_fraction), Masking::Exact),
+        }
+    }
+
     /// The structure (flat fiber surface or woven yarns).
     pub fn structure(&self) -> &Structure {
         &self.structure
@@ -41,5 +83,108 @@ impl Model {
             Structure::Flat(fiber) => fiber.albedo(theta_i.cos()),
             Structure::Woven { .. } => crate::albedo::hemisphere_albedo(self, theta_i, phi_i),
         }
+    }
+}
+
+/// A BRDF value as an affine function of the material's albedos (see [`Model::eval_affine`]):
+/// `f(ρ0, ρ) = fixed + ρ0·per_diffuse + ρ·per_interreflection`, sr⁻¹.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AffineBrdf {
+    /// The value at `ρ0 = ρ = 0`: the Fresnel sheen (with β at `ζ = 1`), scaled by `1 − ħ`.
+    pub fixed: f64,
+    /// The change per unit of the fiber's diffuse albedo `ρ0` (negative where the sheen's loss
+    /// to `ζ = 1 − ρ0` outweighs the Lambertian gain).
+    pub per_diffuse: f64,
+    /// The change per unit of the interreflection albedo `ρ`: `ħ/π` times the yarn weights.
+    pub per_interreflection: f64,
+}
+
+impl AffineBrdf {
+    /// The BRDF at diffuse albedo `diffuse` (`ρ0`) and interreflection albedo
+    /// `interreflection_albedo` (`ρ`).
+    #[inline]
+    pub fn at(&self, diffuse: f64, interreflection_albedo: f64) -> f64 {
+        self.fixed + diffuse * self.per_diffuse + interreflection_albedo * self.per_interreflection
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::material::Material;
+    use crate::math::rng::SplitMix;
+    use crate::yarn::YarnParams;
+    use std::f64::consts::FRAC_PI_2;
+
+    /// The materials the affine split is checked on: the presets (aligned, twisted, isotropic
+    /// yarns), a narrow-slope yarn, a flat paper-normalized fiber and a flat unnormalized one.
+    fn materials() -> Vec<Material> {
+        let mut out: Vec<Material> = Material::preset_names()
+            .iter()
+            .map(|n| Material::preset(n).unwrap())
+            .collect();
+        let mut narrow = Material::preset("belt-cloth").unwrap();
+        narrow.yarn = Some(YarnParams {
+            slope_std: 0.02,
+            twist_std: 0.01,
+            ..narrow.yarn.unwrap()
+        });
+        out.push(narrow);
+        let silk = Material::preset("silk").unwrap();
+        out.push(Material::flat(silk.fiber));
+        out.push(Material::flat(
+            silk.fiber
+                .with_normalization(crate::fiber::Normalization::None),
+        ));
+        out
+    }
+
+    /// `f = fixed + ρ0·per_diffuse + ρ·per_interreflection`: at the material's own albedos it
+    /// is `eval`, and at other albedos it is `eval` of the material rebuilt with them (every
+    /// other parameter equal), to rounding, for random directions.
+    #[test]
+    fn eval_affine_is_eval_at_every_pair_of_albedos() {
+        let mut rng = SplitMix(11);
+        for material in materials() {
+            let model = material.build(550.0).unwrap();
+            let others: Vec<((f64, f64), crate::Model)> = [(0.0, 0.0), (0.9, 1.0), (0.999, 0.05)]
+                .into_iter()
+                .map(|(rho0, rho)| {
+                    let mut m = material.clone();
+                    m.fiber.diffuse = rho0;
+                    if let Some(y) = &mut m.yarn {
+                        y.interreflection_albedo = rho;
+                    }
+                    ((rho0, rho), m.build(550.0).unwrap())
+                })
+                .collect();
+            let own_rho = material.yarn.map_or(0.0, |y| y.interreflection_albedo);
+            for _ in 0..8 {
+                let (s, v) = (rng.direction(FRAC_PI_2), rng.direction(FRAC_PI_2));
+                let parts = model.eval_affine(s, v);
+                let f = model.eval(s, v);
+                let got = parts.at(material.fiber.diffuse, own_rho);
+                assert!(
+                    (got - f).abs() <= 1e-12 * f.abs(),
+                    "{:?} s {s:?} v {v:?}: affine {got} vs eval {f}",
+                    material.name
+                );
+                for ((rho0, rho), other) in &others {
+                    let want = other.eval(s, v);
+                    let got = parts.at(*rho0, *rho);
+                    assert!(
+                        (got - want).abs() <= 1e-12 * want.abs() + 1e-300,
+                        "{:?} at ρ0 {rho0} ρ {rho}, s {s:?} v {v:?}: affine {got} vs eval {want}",
+                        material.name
+                    );
+                }
+            }
+        }
+        // Below the surface: all parts 0.
+        let model = Material::preset("silk").unwrap().build(550.0).unwrap();
+        let below = crate::Vec3::new(0.0, 0.6, -0.8);
+        assert_eq!(
+            model.eval_affine(below, crate::Vec3::Z),
+            super::AffineBrdf::default()
+        );
     }
 }

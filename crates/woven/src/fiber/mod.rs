@@ -196,7 +196,12 @@ impl Fiber {
         params.eta.checked_at(wavelength_nm)?;
         let mut fiber = Self::unnormalized(params, wavelength_nm);
         if params.normalization == Normalization::Paper {
-            fiber.beta = Some(Arc::new(BetaTable::build(&fiber)));
+            // The table holds β for ζ = 1 (ρ0 = 0); `beta` scales it by ζ = 1 − ρ0, so that fibers
+            // differing only in ρ0 share it exactly and the BRDF is affine in ρ0
+            // (`eval_parts_with_normal`).
+            let mut unit = fiber.clone();
+            unit.params.diffuse = 0.0;
+            fiber.beta = Some(Arc::new(BetaTable::build(&unit)));
         }
         Ok(fiber)
     }
@@ -251,8 +256,28 @@ impl Fiber {
     #[inline]
     pub fn beta(&self, cos_theta_i: f64) -> f64 {
         match &self.beta {
+            Some(t) => self.lobe_weight() * t.eval(cos_theta_i),
+            None => 1.0,
+        }
+    }
+
+    /// `β / ζ` (`ζ = 1 − ρ0`, docs/spec.md §1.5): the normalization of a fiber without diffuse
+    /// albedo, which `β` scales by ζ; 1 without normalization.
+    #[inline]
+    fn beta_unit(&self, cos_theta_i: f64) -> f64 {
+        match &self.beta {
             Some(t) => t.eval(cos_theta_i),
             None => 1.0,
+        }
+    }
+
+    /// The factor of the normalized lobe in [`eval_parts_with_normal`](Self::eval_parts_with_normal):
+    /// `ζ = 1 − ρ0` with the `paper` normalization (β carries it, docs/spec.md §1.5), 1 without.
+    #[inline]
+    pub fn lobe_weight(&self) -> f64 {
+        match self.params.normalization {
+            Normalization::Paper => 1.0 - self.params.diffuse,
+            Normalization::None => 1.0,
         }
     }
 
@@ -279,12 +304,39 @@ impl Fiber {
     /// so only `a` matters. `β` is taken at the local incidence `s·a`.
     #[inline]
     pub fn eval_with_normal(&self, s: Vec3, v: Vec3, a: Vec3) -> f64 {
+        self.combine_parts(self.eval_parts_with_normal(s, v, a))
+    }
+
+    /// The value of [`eval_parts_with_normal`](Self::eval_parts_with_normal)'s parts (or of any
+    /// linear average of them): `ζ·parts[0] + ρ0·parts[1]`.
+    #[inline]
+    pub fn combine_parts(&self, parts: [f64; 2]) -> f64 {
+        self.lobe_weight() * parts[0] + self.params.diffuse * parts[1]
+    }
+
+    /// `(fixed, per_diffuse)` of the parts: their value is `fixed + ρ0·per_diffuse` as a function
+    /// of the diffuse albedo `ρ0` (β carries `ζ = 1 − ρ0` with the `paper` normalization, so
+    /// `per_diffuse = parts[1] − parts[0]` there; `parts[1]` without normalization).
+    #[inline]
+    pub fn affine_in_diffuse(&self, parts: [f64; 2]) -> (f64, f64) {
+        match self.params.normalization {
+            Normalization::Paper => (parts[0], parts[1] - parts[0]),
+            Normalization::None => (parts[0], parts[1]),
+        }
+    }
+
+    /// The BRDF at normal `a` in the two parts it is affine in (docs/spec.md §1.5):
+    /// `[β/ζ · lobe, 1/π]`, so that `f = ζ·parts[0] + ρ0·parts[1]` with `ζ` the
+    /// [`lobe_weight`](Self::lobe_weight) (`1 − ρ0` for the `paper` normalization, else 1). Both
+    /// parts are non-negative and independent of `ρ0`; `[0, 0]` when `s` or `v` is below `a`.
+    #[inline]
+    pub fn eval_parts_with_normal(&self, s: Vec3, v: Vec3, a: Vec3) -> [f64; 2] {
         let ci = s.dot(a);
         let cr = v.dot(a);
         if ci <= 0.0 || cr <= 0.0 {
-            return 0.0;
+            return [0.0, 0.0];
         }
-        self.beta(ci) * self.lobe(s, v, a, ci, cr) + self.params.diffuse * FRAC_1_PI
+        [self.beta_unit(ci) * self.lobe(s, v, a, ci, cr), FRAC_1_PI]
     }
 
     /// The single-scattering lobe with `β = 1` (Fresnel included, `ρ0` excluded).

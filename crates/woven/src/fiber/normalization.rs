@@ -60,7 +60,9 @@ impl BetaTable {
     /// `β` at `cos_theta_i` (clamped to `[0, 1]`).
     #[inline]
     pub fn eval(&self, cos_theta_i: f64) -> f64 {
-        self.interp.eval(cos_theta_i.max(0.0).cbrt()).exp()
+        self.interp
+            .eval(crate::math::special::cbrt(cos_theta_i.max(0.0)))
+            .exp()
     }
 }
 

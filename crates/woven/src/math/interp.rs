@@ -7,8 +7,11 @@
 pub struct MonotoneCubic {
     x0: f64,
     inv_h: f64,
-    y: Vec<f64>,
-    m: Vec<f64>,
+    /// Per interval `k`, the cubic in the local `u ∈ [0, 1]`: `c0 + c1 u + c2 u² + c3 u³` (the
+    /// Hermite form expanded once here, so that a look-up is one row and three products).
+    cubics: Vec<[f64; 4]>,
+    /// The last sample (returned as is at and beyond the last node).
+    last: f64,
 }
 
 impl MonotoneCubic {
@@ -46,30 +49,39 @@ impl MonotoneCubic {
                 m[k + 1] = t * b * d[k];
             }
         }
+        let cubics = (0..n - 1)
+            .map(|k| {
+                let (y0, y1) = (y[k], y[k + 1]);
+                let (m0, m1) = (m[k] * h, m[k + 1] * h);
+                // (2u³ − 3u² + 1) y0 + (u³ − 2u² + u) m0 + (−2u³ + 3u²) y1 + (u³ − u²) m1.
+                [
+                    y0,
+                    m0,
+                    -3.0 * y0 - 2.0 * m0 + 3.0 * y1 - m1,
+                    2.0 * y0 + m0 - 2.0 * y1 + m1,
+                ]
+            })
+            .collect();
         MonotoneCubic {
             x0,
             inv_h: 1.0 / h,
-            y,
-            m,
+            cubics,
+            last: y[n - 1],
         }
     }
 
     /// The interpolated value at `x` (clamped to the grid's range).
     #[inline]
     pub fn eval(&self, x: f64) -> f64 {
-        let n = self.y.len();
-        let t = ((x - self.x0) * self.inv_h).clamp(0.0, (n - 1) as f64);
-        let k = (t as usize).min(n - 2);
+        let intervals = self.cubics.len();
+        let t = ((x - self.x0) * self.inv_h).clamp(0.0, intervals as f64);
+        let k = t as usize;
+        if k >= intervals {
+            return self.last;
+        }
         let u = t - k as f64;
-        let h = 1.0 / self.inv_h;
-        let (y0, y1) = (self.y[k], self.y[k + 1]);
-        let (m0, m1) = (self.m[k] * h, self.m[k + 1] * h);
-        let u2 = u * u;
-        let u3 = u2 * u;
-        (2.0 * u3 - 3.0 * u2 + 1.0) * y0
-            + (u3 - 2.0 * u2 + u) * m0
-            + (-2.0 * u3 + 3.0 * u2) * y1
-            + (u3 - u2) * m1
+        let [c0, c1, c2, c3] = self.cubics[k];
+        ((c3 * u + c2) * u + c1) * u + c0
     }
 }
 

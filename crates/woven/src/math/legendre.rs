@@ -8,6 +8,7 @@
 //! On a panel with `n` nodes the interpolant is the degree-`n − 1` polynomial through the samples;
 //! its integral over the whole panel equals the `n`-point Gauss–Legendre rule.
 
+use super::lanes::Lanes;
 use super::quadrature::GaussLegendre;
 
 /// Nodes per panel.
@@ -48,42 +49,75 @@ fn legendre_all(x: f64) -> [f64; PANEL_NODES + 1] {
     p[0] = 1.0;
     p[1] = x;
     for k in 1..PANEL_NODES {
-        let kf = k as f64;
-        p[k + 1] = ((2.0 * kf + 1.0) * x * p[k] - kf * p[k - 1]) / (kf + 1.0);
+        // (k + 1) P_{k+1} = (2k + 1) x P_k − k P_{k−1}, with the quotients precomputed.
+        p[k + 1] = RECURRENCE_A[k] * x * p[k] - RECURRENCE_B[k] * p[k - 1];
     }
     p
 }
 
+/// `(2k + 1)/(k + 1)` and `k/(k + 1)`: the Legendre recurrence without divisions.
+const RECURRENCE_A: [f64; PANEL_NODES] = recurrence(1);
+const RECURRENCE_B: [f64; PANEL_NODES] = recurrence(0);
+
+/// `1/(2k + 1)`, the factor of `∫ P_k = (P_{k+1} − P_{k−1})/(2k + 1)`.
+const INV_2K_PLUS_1: [f64; PANEL_NODES] = {
+    let mut r = [0.0; PANEL_NODES];
+    let mut k = 0;
+    while k < PANEL_NODES {
+        r[k] = 1.0 / (2 * k + 1) as f64;
+        k += 1;
+    }
+    r
+};
+
+/// `(2k + 1)/(k + 1)` (`a = 1`) or `k/(k + 1)` (`a = 0`) for `k < PANEL_NODES`.
+const fn recurrence(a: usize) -> [f64; PANEL_NODES] {
+    let mut r = [0.0; PANEL_NODES];
+    let mut k = 0;
+    while k < PANEL_NODES {
+        r[k] = ((1 + a) * k + a) as f64 / (k + 1) as f64;
+        k += 1;
+    }
+    r
+}
+
 #[derive(Clone, Copy, Debug)]
-struct Panel {
+struct Panel<T> {
     a: f64,
     b: f64,
     /// Legendre coefficients of the interpolant in the panel's local variable `x ∈ [−1, 1]`.
-    coeffs: [f64; PANEL_NODES],
+    coeffs: [T; PANEL_NODES],
     /// `∫` of the interpolant from the first panel's start to this panel's start.
-    cumulative: f64,
+    cumulative: T,
 }
 
-/// A function represented on `[edges[0], edges[last]]` by one polynomial per panel.
-#[derive(Clone, Debug, Default)]
-pub struct PiecewiseLegendre {
-    panels: Vec<Panel>,
+/// A function represented on `[edges[0], edges[last]]` by one polynomial per panel; its values
+/// are numbers (`T = f64`) or several functions sampled together (`T = [f64; N]`).
+#[derive(Clone, Debug)]
+pub struct PiecewiseLegendre<T = f64> {
+    panels: Vec<Panel<T>>,
 }
 
-impl PiecewiseLegendre {
+impl<T> Default for PiecewiseLegendre<T> {
+    fn default() -> Self {
+        PiecewiseLegendre { panels: Vec::new() }
+    }
+}
+
+impl<T: Lanes> PiecewiseLegendre<T> {
     /// Samples `f` at `PANEL_NODES` Gauss–Legendre nodes on each panel between consecutive
     /// `edges` (ascending; empty panels are skipped).
-    pub fn sample(edges: &[f64], mut f: impl FnMut(f64) -> f64) -> Self {
+    pub fn sample(edges: &[f64], mut f: impl FnMut(f64) -> T) -> Self {
         let mut out = PiecewiseLegendre::default();
         out.resample(edges, &mut f);
         out
     }
 
     /// As [`sample`](Self::sample), reusing this value's storage.
-    pub fn resample(&mut self, edges: &[f64], mut f: impl FnMut(f64) -> f64) {
+    pub fn resample(&mut self, edges: &[f64], mut f: impl FnMut(f64) -> T) {
         let b = basis();
         self.panels.clear();
-        let mut cumulative = 0.0;
+        let mut cumulative = T::ZERO;
         for e in edges.windows(2) {
             let (a, bb) = (e[0], e[1]);
             if bb <= a {
@@ -91,13 +125,16 @@ impl PiecewiseLegendre {
             }
             let h = 0.5 * (bb - a);
             let c = 0.5 * (bb + a);
-            let mut y = [0.0; PANEL_NODES];
+            let mut y = [T::ZERO; PANEL_NODES];
             for (yi, &x) in y.iter_mut().zip(b.gl.nodes()) {
                 *yi = f(c + h * x);
             }
-            let mut coeffs = [0.0; PANEL_NODES];
+            let mut coeffs = [T::ZERO; PANEL_NODES];
             for k in 0..PANEL_NODES {
-                coeffs[k] = b.analysis[k].iter().zip(&y).map(|(m, v)| m * v).sum();
+                coeffs[k] = b.analysis[k]
+                    .iter()
+                    .zip(&y)
+                    .fold(T::ZERO, |acc, (m, v)| acc.add(v.scale(*m)));
             }
             self.panels.push(Panel {
                 a,
@@ -106,65 +143,68 @@ impl PiecewiseLegendre {
                 cumulative,
             });
             // ∫_{−1}^{1} of the series is 2 c_0.
-            cumulative += 2.0 * coeffs[0] * h;
+            cumulative = cumulative.add(coeffs[0].scale(2.0 * h));
         }
     }
 
     /// `∫` of the interpolant over the whole domain.
-    pub fn total(&self) -> f64 {
-        self.panels.last().map_or(0.0, |p| {
-            p.cumulative + 2.0 * p.coeffs[0] * 0.5 * (p.b - p.a)
-        })
+    pub fn total(&self) -> T {
+        self.panels
+            .last()
+            .map_or(T::ZERO, |p| p.cumulative.add(p.coeffs[0].scale(p.b - p.a)))
     }
 
     /// `∫` of the interpolant from the domain's start to `x` (clamped to the domain).
-    pub fn cumulative(&self, x: f64) -> f64 {
+    pub fn cumulative(&self, x: f64) -> T {
         let Some(first) = self.panels.first() else {
-            return 0.0;
+            return T::ZERO;
         };
         if x <= first.a {
-            return 0.0;
+            return T::ZERO;
         }
         // Panels are few (tens): a binary search on their starts.
         let k = self.panels.partition_point(|p| p.a <= x) - 1;
         let p = &self.panels[k];
         if x >= p.b {
-            return p.cumulative + 2.0 * p.coeffs[0] * 0.5 * (p.b - p.a);
+            return p.cumulative.add(p.coeffs[0].scale(p.b - p.a));
         }
         let h = 0.5 * (p.b - p.a);
         let t = (x - 0.5 * (p.a + p.b)) / h;
         let pl = legendre_all(t);
         // ∫_{−1}^{t} P_0 = t + 1; ∫_{−1}^{t} P_k = (P_{k+1}(t) − P_{k−1}(t)) / (2k + 1), k ≥ 1.
-        let mut s = p.coeffs[0] * (t + 1.0);
+        let mut s = p.coeffs[0].scale(t + 1.0);
         for k in 1..PANEL_NODES {
-            s += p.coeffs[k] * (pl[k + 1] - pl[k - 1]) / (2 * k + 1) as f64;
+            s = s.add(p.coeffs[k].scale((pl[k + 1] - pl[k - 1]) * INV_2K_PLUS_1[k]));
         }
-        p.cumulative + s * h
+        p.cumulative.add(s.scale(h))
     }
 
     /// The interpolant's value at `x` (0 outside the domain).
-    pub fn value(&self, x: f64) -> f64 {
+    pub fn value(&self, x: f64) -> T {
         let Some(first) = self.panels.first() else {
-            return 0.0;
+            return T::ZERO;
         };
         let last = self.panels[self.panels.len() - 1].b;
         if x < first.a || x > last {
-            return 0.0;
+            return T::ZERO;
         }
         let k = (self.panels.partition_point(|p| p.a <= x).max(1)) - 1;
         let p = &self.panels[k];
         let t = ((x - 0.5 * (p.a + p.b)) / (0.5 * (p.b - p.a))).clamp(-1.0, 1.0);
         let pl = legendre_all(t);
-        p.coeffs.iter().zip(&pl).map(|(c, l)| c * l).sum()
+        p.coeffs
+            .iter()
+            .zip(&pl)
+            .fold(T::ZERO, |acc, (c, l)| acc.add(c.scale(*l)))
     }
 
     /// `∫_lo^hi` of the interpolant (0 if `hi ≤ lo`).
     #[inline]
-    pub fn integral(&self, lo: f64, hi: f64) -> f64 {
+    pub fn integral(&self, lo: f64, hi: f64) -> T {
         if hi <= lo {
-            return 0.0;
+            return T::ZERO;
         }
-        self.cumulative(hi) - self.cumulative(lo)
+        self.cumulative(hi).add(self.cumulative(lo).scale(-1.0))
     }
 }
 

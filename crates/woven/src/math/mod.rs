@@ -3,6 +3,7 @@
 
 pub mod hemisphere;
 pub mod interp;
+pub mod lanes;
 pub mod legendre;
 pub mod quadrature;
 pub mod rng;

@@ -3,6 +3,8 @@
 //! The model's averages (docs/spec.md §1.5, §2.3–§2.6) all reduce to one-dimensional integrals of
 //! smooth pieces with known breaks; these two rules, applied per piece, carry them.
 
+use super::lanes::Lanes;
+
 /// Sorts `breaks`, drops duplicates and points outside `[lo, hi]`, adds the ends, and splits any
 /// panel wider than `max_width` into equal parts: the panel edges for a piecewise rule.
 pub fn panel_edges(breaks: &mut Vec<f64>, lo: f64, hi: f64, max_width: f64) {
@@ -92,16 +94,16 @@ impl GaussLegendre {
         &self.weights
     }
 
-    /// `∫_a^b f(x) dx` by this rule.
+    /// `∫_a^b f(x) dx` by this rule (`f` a number, or several integrated together).
     #[inline]
-    pub fn integrate(&self, a: f64, b: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
+    pub fn integrate<T: Lanes>(&self, a: f64, b: f64, mut f: impl FnMut(f64) -> T) -> T {
         let h = 0.5 * (b - a);
         let c = 0.5 * (b + a);
-        let mut s = 0.0;
+        let mut s = T::ZERO;
         for (x, w) in self.nodes.iter().zip(&self.weights) {
-            s += w * f(c + h * x);
+            s = s.add(f(c + h * x).scale(*w));
         }
-        s * h
+        s.scale(h)
     }
 }
 

@@ -13,10 +13,16 @@ use super::profile::{PieceIntervals, Profile};
 use super::slope::{x_window, SlopeDistribution};
 use super::window;
 use crate::fiber::{Fiber, FiberFrame};
+use crate::math::lanes::Lanes;
 use crate::math::legendre::PiecewiseLegendre;
 use crate::math::quadrature::{panel_edges, GaussLegendre};
 use crate::math::Vec3;
 use std::f64::consts::FRAC_PI_2;
+
+/// A facet quantity in the two parts the fiber BRDF is affine in
+/// ([`Fiber::eval_parts_with_normal`]): `[normalized lobe, Lambertian 1/π]`; the value is
+/// `ζ·parts[0] + ρ0·parts[1]` ([`Fiber::lobe_weight`], `ρ0` the fiber's diffuse albedo).
+pub type FiberParts = [f64; 2];
 
 /// The cross-section of fibers of azimuth `φ_a`, seen by one pair of directions.
 #[derive(Debug)]
@@ -35,7 +41,7 @@ pub struct CrossSection<'a> {
     panel_widths: f64,
     /// The sampling panels of `g` (also used by the exact arc integral of a single profile).
     edges: Vec<f64>,
-    g: PiecewiseLegendre,
+    g: PiecewiseLegendre<FiberParts>,
     masking: Masking,
 }
 
@@ -111,15 +117,31 @@ impl<'a> CrossSection<'a> {
         }
     }
 
-    /// `g(θ) = f_fiber(s, v; a(θ)) (s·a)(v·a)`, 0 where either cosine is not positive.
+    /// `g(θ) = f_fiber(s, v; a(θ)) (s·a)(v·a)` in its two parts ([`FiberParts`]), 0 where either
+    /// cosine is not positive.
     #[inline]
-    fn g_direct(&self, theta: f64) -> f64 {
+    fn g_direct(&self, theta: f64) -> FiberParts {
         let a = self.frame.facet_normal(theta);
         let (sa, va) = (self.s.dot(a), self.v.dot(a));
         if sa <= 0.0 || va <= 0.0 {
-            return 0.0;
+            return [0.0, 0.0];
         }
-        self.fiber.eval_with_normal(self.s, self.v, a) * sa * va
+        self.fiber
+            .eval_parts_with_normal(self.s, self.v, a)
+            .scale(sa * va)
+    }
+
+    /// The fiber BRDF at the macro normal in its two parts: the flat limit of every profile.
+    #[inline]
+    fn flat(&self) -> FiberParts {
+        self.fiber
+            .eval_parts_with_normal(self.s, self.v, crate::math::Vec3::Z)
+    }
+
+    /// The value of `parts` for this fiber: `ζ·parts[0] + ρ0·parts[1]`.
+    #[inline]
+    pub fn combine(&self, parts: FiberParts) -> f64 {
+        self.fiber.combine_parts(parts)
     }
 
     /// The facing range of `θ` (both cosines positive), within `[−π/2, π/2]`.
@@ -165,10 +187,15 @@ impl<'a> CrossSection<'a> {
     /// sets, `ℓ` their lengths. A profile of zero period (`θ_a = 0`, `L = 0`) is its flat limit,
     /// the fiber BRDF at normal `z`.
     pub fn profile_brdf(&self, profile: &Profile) -> f64 {
+        self.combine(self.profile_brdf_parts(profile))
+    }
+
+    /// [`profile_brdf`](Self::profile_brdf) in its two parts ([`FiberParts`]).
+    pub fn profile_brdf_parts(&self, profile: &Profile) -> FiberParts {
         let period = profile.period();
         // Below this the profile is flat to double precision: use the limit.
         if period < 1e-12 {
-            return self.fiber.eval(self.s, self.v);
+            return self.flat();
         }
         let lv = self.visible(profile);
         let sum = self.profile_sum(
@@ -177,18 +204,18 @@ impl<'a> CrossSection<'a> {
             |lo, hi| self.arc_integral_exact(lo, hi),
             |t| self.g_direct(t),
         );
-        sum / (period * self.s.z * self.v.z)
+        sum.scale(1.0 / (period * self.s.z * self.v.z))
     }
 
     /// `∫_arc g dθ` over `[lo, hi]` with the exact facet lobe: the sampling panels' Gauss–Legendre
     /// rule on their intersections with the interval (a single profile's accuracy, ~1e-10).
-    fn arc_integral_exact(&self, lo: f64, hi: f64) -> f64 {
+    fn arc_integral_exact(&self, lo: f64, hi: f64) -> FiberParts {
         let rule = crate::math::legendre::panel_rule();
-        let mut sum = 0.0;
+        let mut sum = FiberParts::ZERO;
         for e in self.edges.windows(2) {
             let (a, b) = (e[0].max(lo), e[1].min(hi));
             if b > a {
-                sum += rule.integrate(a, b, |t| self.g_direct(t));
+                sum = sum.add(rule.integrate(a, b, |t| self.g_direct(t)));
             }
         }
         sum
@@ -202,20 +229,20 @@ impl<'a> CrossSection<'a> {
         &self,
         profile: &Profile,
         lv: &PieceIntervals,
-        arc: impl Fn(f64, f64) -> f64,
-        lateral_g: impl Fn(f64) -> f64,
-    ) -> f64 {
-        let mut sum = 0.0;
+        arc: impl Fn(f64, f64) -> FiberParts,
+        lateral_g: impl Fn(f64) -> FiberParts,
+    ) -> FiberParts {
+        let mut sum = FiberParts::ZERO;
         if let Some((lo, hi)) = lv.arc {
-            sum += arc(lo, hi);
+            sum = sum.add(arc(lo, hi));
         }
         let len = |iv: Option<(f64, f64)>| iv.map_or(0.0, |(a, b)| b - a);
         let (lr, ll) = (len(lv.right), len(lv.left));
         if lr > 0.0 {
-            sum += lateral_g(profile.theta_a) * lr;
+            sum = sum.add(lateral_g(profile.theta_a).scale(lr));
         }
         if ll > 0.0 {
-            sum += lateral_g(-profile.theta_a) * ll;
+            sum = sum.add(lateral_g(-profile.theta_a).scale(ll));
         }
         sum
     }
@@ -227,14 +254,16 @@ impl<'a> CrossSection<'a> {
     /// masking onsets `θ_a = π/2 − |ψ_s|`, `π/2 − |ψ_v|`, around the lateral highlight
     /// `θ_a = |θ*|` (width `≈ αρ`), and around the mean slope when the distribution is narrow.
     /// The lateral facets read `g` from the interpolant, so a node costs no fiber evaluation.
+    /// In the two parts the fiber BRDF is affine in ([`FiberParts`]; [`combine`](Self::combine)
+    /// gives the value).
     pub fn slope_average(
         &self,
         slopes: &SlopeDistribution,
         lateral_length: f64,
         nodes: &GaussLegendre,
-    ) -> f64 {
+    ) -> FiberParts {
         if let Some(mu) = slopes.single() {
-            return self.profile_brdf(&Profile {
+            return self.profile_brdf_parts(&Profile {
                 theta_a: mu,
                 lateral_length,
             });
@@ -263,29 +292,30 @@ impl<'a> CrossSection<'a> {
         }
         panel_edges(&mut breaks, 0.0, top, 0.25 * top);
         let sz_vz = self.s.z * self.v.z;
-        let flat = self.fiber.eval(self.s, self.v);
-        let integrand = |theta_a: f64| -> f64 {
+        let flat = self.flat();
+        let integrand = |theta_a: f64| -> FiberParts {
             let profile = Profile {
                 theta_a,
                 lateral_length,
             };
             let period = profile.period();
             if period < 1e-12 {
-                return slopes.density(theta_a) * flat;
+                return flat.scale(slopes.density(theta_a));
             }
             let lv = self.visible(&profile);
-            // The interpolant of a non-negative lobe can dip below 0 in its far tails: clamp.
+            // The interpolant of a non-negative lobe can dip below 0 in its far tails: clamp
+            // (each part is non-negative).
             let sum = self.profile_sum(
                 &profile,
                 &lv,
-                |lo, hi| self.g.integral(lo, hi).max(0.0),
-                |t| self.g.value(t).max(0.0),
+                |lo, hi| self.g.integral(lo, hi).clamp_non_negative(),
+                |t| self.g.value(t).clamp_non_negative(),
             );
-            slopes.density(theta_a) * sum / (period * sz_vz)
+            sum.scale(slopes.density(theta_a) / (period * sz_vz))
         };
-        let mut total = 0.0;
+        let mut total = FiberParts::ZERO;
         for b in breaks.windows(2) {
-            total += nodes.integrate(b[0], b[1], integrand);
+            total = total.add(nodes.integrate(b[0], b[1], integrand));
         }
         total
     }
@@ -307,11 +337,11 @@ impl<'a> CrossSection<'a> {
         top: f64,
         breaks: &[f64],
         nodes: &GaussLegendre,
-    ) -> f64 {
+    ) -> FiberParts {
         let (lo, hi) = x_window(mu, sigma, top);
         if hi <= lo {
             // μ lies above the largest slope by more than 8σ: all the mass is at `top`.
-            return self.profile_brdf(&Profile {
+            return self.profile_brdf_parts(&Profile {
                 theta_a: top,
                 lateral_length,
             });
@@ -325,13 +355,18 @@ impl<'a> CrossSection<'a> {
         let ref_arc_integral = ref_arc.map(|(a, b)| self.arc_integral_exact(a, b));
         let arc = |a: f64, b: f64| match (ref_arc, ref_arc_integral) {
             // The interpolant's corrections can overshoot a vanishing lobe: clamp at 0.
-            (Some((a0, b0)), Some(i0)) => (i0 + (self.g.cumulative(b) - self.g.cumulative(b0))
-                - (self.g.cumulative(a) - self.g.cumulative(a0)))
-            .max(0.0),
+            (Some((a0, b0)), Some(i0)) => {
+                // Signed: ∫_{b0}^{b} g − ∫_{a0}^{a} g from the interpolant.
+                let signed =
+                    |x: f64, y: f64| self.g.cumulative(x).add(self.g.cumulative(y).scale(-1.0));
+                i0.add(signed(b, b0))
+                    .add(signed(a, a0).scale(-1.0))
+                    .clamp_non_negative()
+            }
             _ => self.arc_integral_exact(a, b),
         };
-        let flat = self.fiber.eval(self.s, self.v);
-        let f_p = |theta_a: f64| -> f64 {
+        let flat = self.flat();
+        let f_p = |theta_a: f64| -> FiberParts {
             let profile = Profile {
                 theta_a,
                 lateral_length,
@@ -343,18 +378,18 @@ impl<'a> CrossSection<'a> {
             let lv = self.visible(&profile);
             // As `profile_brdf` computes it, so that σ → 0 gives its value to rounding.
             self.profile_sum(&profile, &lv, arc, |t| self.g_direct(t))
-                / (period * self.s.z * self.v.z)
+                .scale(1.0 / (period * self.s.z * self.v.z))
         };
         let extra = breaks.iter().map(|&b| (b - mu) / sigma);
         let edges = window::edges(lo, hi, nodes.nodes().len(), extra);
-        let (mut num, mut den) = (0.0, 0.0);
+        let (mut num, mut den) = (FiberParts::ZERO, 0.0);
         for e in edges.windows(2) {
-            num += nodes.integrate(e[0], e[1], |x| {
+            num = num.add(nodes.integrate(e[0], e[1], |x| {
                 let theta_a = mu + sigma * x;
-                window::shape(x) * theta_a.cos() * f_p(theta_a)
-            });
+                f_p(theta_a).scale(window::shape(x) * theta_a.cos())
+            }));
             den += nodes.integrate(e[0], e[1], |x| window::shape(x) * (mu + sigma * x).cos());
         }
-        num / den
+        num.scale(1.0 / den)
     }
 }

@@ -18,7 +18,7 @@ pub mod raycast;
 mod slope;
 mod window;
 
-pub use cross_section::{CrossSection, Masking};
+pub use cross_section::{CrossSection, FiberParts, Masking};
 pub use orientation::{Orientation, TwistDensity};
 pub use slope::SlopeDistribution;
 pub use window::NARROW_STD;
@@ -28,6 +28,7 @@ use crate::fiber::Fiber;
 use crate::fiber::FiberFrame;
 use crate::math::quadrature::GaussLegendre;
 use crate::math::Vec3;
+use crate::model::AffineBrdf;
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 
 /// The user-facing yarn parameters (the `[yarn]` table of a material file).
@@ -249,19 +250,30 @@ impl Yarn {
     ///
     /// Implements Eqs. (17)–(19) of the paper; docs/spec.md §2.3–§2.4.
     pub fn slope_averaged(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
-        self.slope_averaged_with(s, v, phi_a, Masking::Exact)
+        self.fiber
+            .combine_parts(self.slope_averaged_parts(s, v, phi_a, Masking::Exact))
     }
 
     /// [`slope_averaged`](Self::slope_averaged) with masking and shadowing between facets switched
     /// off ([`Masking::Off`]): not the model, but the reference that measures how much masking it
     /// applies (the paper's Fig. 8). Equal to `slope_averaged` wherever nothing is masked.
     pub fn slope_averaged_unmasked(&self, s: Vec3, v: Vec3, phi_a: f64) -> f64 {
-        self.slope_averaged_with(s, v, phi_a, Masking::Off)
+        self.fiber
+            .combine_parts(self.slope_averaged_parts(s, v, phi_a, Masking::Off))
     }
 
-    fn slope_averaged_with(&self, s: Vec3, v: Vec3, phi_a: f64, masking: Masking) -> f64 {
+    /// [`slope_averaged`](Self::slope_averaged) in the two parts the fiber BRDF is affine in
+    /// ([`FiberParts`]; [`Fiber::combine_parts`] gives the value, [`Fiber::affine_in_diffuse`]
+    /// the dependence on `ρ0`).
+    pub fn slope_averaged_parts(
+        &self,
+        s: Vec3,
+        v: Vec3,
+        phi_a: f64,
+        masking: Masking,
+    ) -> FiberParts {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
-            return 0.0;
+            return [0.0, 0.0];
         }
         // Narrow slope distributions read the exact facet lobe near their mean (cross_section.rs),
         // so they sample it as finely as a single profile does.
@@ -305,12 +317,29 @@ impl Yarn {
     }
 
     fn eval_mix_with(&self, s: Vec3, v: Vec3, yarns: &[(f64, f64)], masking: Masking) -> f64 {
+        let p = &self.params;
+        self.eval_mix_affine(s, v, yarns, masking)
+            .at(self.fiber.params().diffuse, p.interreflection_albedo)
+    }
+
+    /// [`eval_mix`](Self::eval_mix) (with `masking`) as the affine function of the fiber's
+    /// diffuse albedo `ρ0` and the interreflection albedo `ρ` that it is (docs/spec.md §1.5,
+    /// §2.5): one pass through the quadrature, each node carrying both parts of the fiber BRDF.
+    ///
+    /// Implements Eqs. (17)–(23) of the paper with the albedos left free.
+    pub fn eval_mix_affine(
+        &self,
+        s: Vec3,
+        v: Vec3,
+        yarns: &[(f64, f64)],
+        masking: Masking,
+    ) -> AffineBrdf {
         if s.z <= HORIZON_COS || v.z <= HORIZON_COS {
-            return 0.0;
+            return AffineBrdf::default();
         }
         let total_weight: f64 = yarns.iter().map(|&(_, w)| w).sum();
-        let f = |phi_a: f64| self.slope_averaged_with(s, v, phi_a, masking);
-        let f_theta = if self.is_single_orientation() {
+        let f = |phi_a: f64| self.slope_averaged_parts(s, v, phi_a, masking);
+        let f_theta: FiberParts = if self.is_single_orientation() {
             self.orientation.average(yarns, &[], &self.slope_rule, f)
         } else {
             let rule = if s.z.min(v.z) < GRAZING_THETA.cos() {
@@ -321,7 +350,14 @@ impl Yarn {
             self.orientation
                 .average(yarns, &self.azimuth_breaks(s, v), rule, f)
         };
-        self.interreflection_mix(f_theta, total_weight)
+        // Eq. (20), (1 − ħ) f_θ + weight·ħ ρ/π, term by term.
+        let (fixed, per_diffuse) = self.fiber.affine_in_diffuse(f_theta);
+        let k = 1.0 - self.params.interreflection;
+        AffineBrdf {
+            fixed: k * fixed,
+            per_diffuse: k * per_diffuse,
+            per_interreflection: total_weight * self.params.interreflection * FRAC_1_PI,
+        }
     }
 
     /// The fiber azimuths where `f_θ(φ_a)` kinks or peaks (docs/spec.md §2.4): where `ψ_s = 0`,

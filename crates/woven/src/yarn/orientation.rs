@@ -15,6 +15,7 @@
 
 use super::window;
 use super::YarnParams;
+use crate::math::lanes::Lanes;
 use crate::math::quadrature::{panel_edges, GaussLegendre};
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI, SQRT_2};
 
@@ -148,7 +149,7 @@ impl Orientation {
 
     /// `Σ_k w_k ∫ p_k(φ_a) f(φ_a) dφ_a` over one period for yarns of axes and weights `axes`, `p_k`
     /// this orientation's density about axis `φ_k` (a point mass for aligned fibers), `f`
-    /// π-periodic.
+    /// π-periodic (a number, or several parts averaged together).
     ///
     /// `breaks` are azimuths where `f` kinks or peaks; `rule` is applied on each panel between
     /// them. Twists narrower than [`window::NARROW_STD`] are integrated per yarn over their `±8σ_t`
@@ -156,44 +157,44 @@ impl Orientation {
     /// to the aligned yarn's `f(φ_k)` as `σ_t → 0`); wider ones share one pass over `[0, π)`.
     ///
     /// Implements Eqs. (21)–(22) of the paper and the weave mix of Eq. (23); docs/spec.md §2.6.
-    pub fn average(
+    pub fn average<T: Lanes>(
         &self,
         axes: &[(f64, f64)],
         breaks: &[f64],
         rule: &GaussLegendre,
-        f: impl Fn(f64) -> f64,
-    ) -> f64 {
+        f: impl Fn(f64) -> T,
+    ) -> T {
         match self {
             Orientation::Aligned => axes
                 .iter()
                 .filter(|&&(_, w)| w != 0.0)
-                .map(|&(phi, w)| w * f(phi))
-                .sum(),
+                .fold(T::ZERO, |acc, &(phi, w)| acc.add(f(phi).scale(w))),
             Orientation::Isotropic => {
                 let total_weight: f64 = axes.iter().map(|&(_, w)| w).sum();
-                total_weight * FRAC_1_PI * period_integral(breaks, rule, |_| 1.0, &f)
+                period_integral(breaks, rule, |_| 1.0, &f).scale(total_weight * FRAC_1_PI)
             }
-            Orientation::Twisted(t) if t.sigma < window::NARROW_STD => axes
-                .iter()
-                .filter(|&&(_, w)| w != 0.0)
-                .map(|&(phi, w)| {
-                    let sigma = t.sigma;
-                    let extra = breaks.iter().map(|&b| TwistDensity::offset(b, phi) / sigma);
-                    let edges = window::edges(
-                        -window::HALF_WIDTH,
-                        window::HALF_WIDTH,
-                        rule.nodes().len(),
-                        extra,
-                    );
-                    let (mut num, mut den) = (0.0, 0.0);
-                    for e in edges.windows(2) {
-                        num +=
-                            rule.integrate(e[0], e[1], |x| window::shape(x) * f(phi + sigma * x));
-                        den += rule.integrate(e[0], e[1], window::shape);
-                    }
-                    w * num / den
-                })
-                .sum(),
+            Orientation::Twisted(t) if t.sigma < window::NARROW_STD => {
+                axes.iter()
+                    .filter(|&&(_, w)| w != 0.0)
+                    .fold(T::ZERO, |acc, &(phi, w)| {
+                        let sigma = t.sigma;
+                        let extra = breaks.iter().map(|&b| TwistDensity::offset(b, phi) / sigma);
+                        let edges = window::edges(
+                            -window::HALF_WIDTH,
+                            window::HALF_WIDTH,
+                            rule.nodes().len(),
+                            extra,
+                        );
+                        let (mut num, mut den) = (T::ZERO, 0.0);
+                        for e in edges.windows(2) {
+                            num = num.add(rule.integrate(e[0], e[1], |x| {
+                                f(phi + sigma * x).scale(window::shape(x))
+                            }));
+                            den += rule.integrate(e[0], e[1], window::shape);
+                        }
+                        acc.add(num.scale(w / den))
+                    })
+            }
             Orientation::Twisted(t) => {
                 let st = t.sigma;
                 let mut all: Vec<f64> = breaks.to_vec();
@@ -220,27 +221,27 @@ impl Orientation {
 
 /// `∫_0^π w(φ) f(φ) dφ` on panels split at `breaks` (reduced into the period) and at most π/4
 /// wide; `f` is not called where `w` is 0.
-fn period_integral(
+fn period_integral<T: Lanes>(
     breaks: &[f64],
     rule: &GaussLegendre,
     weight: impl Fn(f64) -> f64,
-    f: &impl Fn(f64) -> f64,
-) -> f64 {
+    f: &impl Fn(f64) -> T,
+) -> T {
     let mut edges: Vec<f64> = breaks
         .iter()
         .filter(|b| b.is_finite())
         .map(|b| b.rem_euclid(PI))
         .collect();
     panel_edges(&mut edges, 0.0, PI, 0.25 * PI);
-    let mut total = 0.0;
+    let mut total = T::ZERO;
     for e in edges.windows(2) {
-        total += rule.integrate(e[0], e[1], |phi_a| {
+        total = total.add(rule.integrate(e[0], e[1], |phi_a| {
             let wt = weight(phi_a);
             if wt == 0.0 {
-                return 0.0;
+                return T::ZERO;
             }
-            wt * f(phi_a)
-        });
+            f(phi_a).scale(wt)
+        }));
     }
     total
 }
