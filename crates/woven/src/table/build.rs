@@ -54,7 +54,7 @@ impl Table {
             wavelength_nm,
         });
         if !options.colour {
-            let [values] = pool.install(|| tabulate([model], theta, phi, t, options, progress));
+            let [values] = pool.install(|| tabulate::<1>(model, theta, phi, t, options, progress));
             return Ok(Table::assemble(
                 symmetry,
                 theta,
@@ -67,24 +67,9 @@ impl Table {
                 None,
             ));
         }
-        // The BRDF is affine in ρ0: with the models at ρ0 = 0 and ρ0 = 1/2,
-        // ∂f/∂ρ0 = 2 (f(1/2) − f(0)) and the material's own f = f(0) + ρ0′ ∂f/∂ρ0.
-        let with_diffuse = |diffuse: f64| {
-            let mut m = material.clone();
-            m.fiber.diffuse = diffuse;
-            m.build(wavelength_nm)
-        };
-        let (m0, m1) = (with_diffuse(0.0)?, with_diffuse(0.5)?);
-        let [at0, at1] = pool.install(|| tabulate([&m0, &m1], theta, phi, t, options, progress));
-        let own = material.fiber.diffuse;
-        let (values, body): (Vec<f32>, Vec<f32>) = at0
-            .iter()
-            .zip(&at1)
-            .map(|(&a, &b)| {
-                let d = 2.0 * (b as f64 - a as f64);
-                ((a as f64 + own * d) as f32, d as f32)
-            })
-            .unzip();
+        // f and ∂f/∂ρ0 in one pass (`Model::eval_affine`).
+        let [values, body] =
+            pool.install(|| tabulate::<2>(model, theta, phi, t, options, progress));
         Ok(Table::assemble(
             symmetry,
             theta,
@@ -99,53 +84,59 @@ impl Table {
     }
 }
 
-/// The node values of `models` (one model, or the same material with other albedos) on the grid
-/// `(theta, phi, t)`, evaluated together (each node prepares its geometry once), on the current
-/// rayon pool.
+/// The node values of `model` on the grid `(theta, phi, t)`, on the current rayon pool: `f`
+/// (`K = 1`), or `f` and `∂f/∂ρ0` (`K = 2`, [`Model::eval_affine`]).
 fn tabulate<const K: usize>(
-    models: [&Model; K],
+    model: &Model,
     theta: Axis,
     phi: Axis,
     t: Axis,
     options: &TableOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> [Vec<f32>; K] {
-    let yarns: Option<([&crate::yarn::Yarn; K], f64)> = match models[0].structure() {
+    // The parts of a value: `f` first, then `∂f/∂ρ0`.
+    let parts = |f: f64, per_diffuse: f64| -> [f64; K] {
+        std::array::from_fn(|k| if k == 0 { f } else { per_diffuse })
+    };
+    let (yarn, weft_fraction) = match model.structure() {
         Structure::Woven {
             yarn,
             weft_fraction,
-        } if !yarn.is_single_orientation() => Some((
-            models.map(|m| match m.structure() {
-                Structure::Woven { yarn, .. } => &**yarn,
-                Structure::Flat(_) => unreachable!("the models share a structure"),
-            }),
-            *weft_fraction,
-        )),
-        _ => None,
-    };
-    let Some((yarns, weft_fraction)) = yarns else {
-        return fill(theta, phi, t, progress, |half, a| {
-            move |o| {
-                let (s, v) = half.join(a, o);
-                models.map(|m| m.eval(s, v))
-            }
-        });
+        } if !yarn.is_single_orientation() => (&**yarn, *weft_fraction),
+        _ => {
+            return fill(theta, phi, t, progress, |half, a| {
+                move |o| {
+                    let (s, v) = half.join(a, o);
+                    if K == 1 {
+                        parts(model.eval(s, v), 0.0)
+                    } else {
+                        let affine = model.eval_affine(s, v);
+                        let own = super::Albedos::of_model(model);
+                        parts(
+                            affine.at(own.diffuse, own.interreflection),
+                            affine.per_diffuse,
+                        )
+                    }
+                }
+            });
+        }
     };
     // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
     let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
     let f0_t = Axis::uniform(-1.0, 1.0, options.n_h);
     let stage = |done: usize, total: usize| progress(done, 2 * total);
+    let fiber = yarn.fiber();
     let f0_values = fill(theta, f0_phi, f0_t, &stage, |half, a| {
         move |o| {
             let (s, v) = half.join(a, o);
-            yarns.map(|y| y.slope_averaged(s, v, 0.0))
+            let p = yarn.slope_averaged_parts(s, v, 0.0, crate::yarn::Masking::Exact);
+            parts(fiber.combine_parts(p), fiber.affine_in_diffuse(p).1)
         }
     });
-    let f0 = Stage::new(theta, f0_phi, f0_t, f0_values, models[0]);
+    let f0 = Stage::new(theta, f0_phi, f0_t, f0_values, model);
     // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)), with the model's
     // own orientation weights and interreflection mix.
     let n = options.azimuth_nodes;
-    let yarn = yarns[0];
     let weights = yarn
         .orientation()
         .midpoint_weights(n, &crate::cloth::weave_axes(weft_fraction));
@@ -171,7 +162,10 @@ fn tabulate<const K: usize>(
                     *sum += x;
                 }
             }
-            std::array::from_fn(|k| yarns[k].interreflection_mix(acc[k], 1.0))
+            // Eq. (20): the interreflection term ħρ/π is part of f, not of ∂f/∂ρ0.
+            std::array::from_fn(|k| {
+                yarn.interreflection_mix(acc[k], if k == 0 { 1.0 } else { 0.0 })
+            })
         }
     })
 }
@@ -266,7 +260,12 @@ impl Azimuth {
         } else {
             f0.table.eval_arrays(s, v, arrays)
         };
-        f.map(|x| self.weight * x.max(0.0))
+        // `f` is never negative; `∂f/∂ρ0` may be (the sheen's loss to `ζ = 1 − ρ0`).
+        let mut k = 0;
+        f.map(|x| {
+            k += 1;
+            self.weight * if k == 1 { x.max(0.0) } else { x }
+        })
     }
 }
 
