@@ -39,10 +39,10 @@ ABS_FLOOR = 1e-6  # float32 rounding of values ~1
 PIXEL_PASS_FRACTION = 0.999
 # Known systematic differences between the models (relative), by what is compared:
 #  - Mitsuba vs woven on the roughplastic scene: Mitsuba's rational approximation of the Beckmann
-#    Smith G1 (<= 0.35 % per G1; two G1 per path); here it is measured by the analytic images.
+#    Smith G1 (<= 0.35 % per G1). Not guessed: the two analytic images (exact and Mitsuba's G1)
+#    measure it per scene, and its largest relative effect is added to the tolerance.
 #  - everything else: 0 (pure noise) but for float32 (1e-5).
 TOL_FLOAT32 = 1e-5
-TOL_SMITH_APPROX = 0.007
 
 
 def pick_variant(mi, wanted: str | None) -> str:
@@ -105,8 +105,20 @@ def render_woven(cmd: str, scene: sc.Scene, seeds: list[int], spp: int, out: Pat
     return np.stack(imgs)
 
 
-def stats(a: np.ndarray, b: np.ndarray, tol: float) -> dict:
-    """a: reference stack (K, H, W, 3) or exact image (H, W, 3); b: stack (K', H, W, 3)."""
+def local_se(se: np.ndarray) -> np.ndarray:
+    """A steadier per-pixel standard error: the larger of the pixel's own and the rms over its 3x3
+    neighbourhood. With a few seeds the pixel's own estimate has few degrees of freedom (a heavy
+    t tail); the noise level varies smoothly in these scenes, so the neighbourhood adds ~9x the
+    degrees of freedom, and the max keeps the jumps at silhouettes (never smaller than its own)."""
+    v = np.pad(se**2, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    h, w = se.shape[:2]
+    box = sum(v[i:i + h, j:j + w] for i in range(3) for j in range(3)) / 9.0
+    return np.maximum(se, np.sqrt(box))
+
+
+def stats(a: np.ndarray, b: np.ndarray, tol: float, mask: np.ndarray | None = None) -> dict:
+    """a: reference stack (K, H, W, 3) or exact image (H, W, 3); b: stack (K', H, W, 3).
+    `mask` (H, W): only these pixels count in the per-pixel figures."""
     def mean_se(x):
         if x.ndim == 3:
             return x, np.zeros_like(x), np.full(1, x.mean()), 0.0
@@ -120,9 +132,11 @@ def stats(a: np.ndarray, b: np.ndarray, tol: float) -> dict:
     if ma.shape != mb.shape:
         raise SystemExit(f"image sizes differ: {ma.shape} vs {mb.shape}")
     d = mb - ma
-    se = np.sqrt(sa**2 + sb**2)
+    se = local_se(np.sqrt(sa**2 + sb**2))
     allowed = K_SIGMA * se + tol * np.abs(ma) + ABS_FLOOR
     ok = np.abs(d) <= allowed
+    if mask is not None:
+        ok = ok[mask]
     with np.errstate(divide="ignore", invalid="ignore"):
         z = np.where(se > 0, d / se, 0.0)
     noisy = se > 0
@@ -130,6 +144,11 @@ def stats(a: np.ndarray, b: np.ndarray, tol: float) -> dict:
     gse = float(np.hypot(gsa, gsb))
     gdiff = gmean_b - gmean_a
     lit = np.abs(ma) > 1e-3 * np.abs(ma).max()
+    if mask is not None:
+        lit &= mask[..., None]
+        noisy &= mask[..., None]
+    if mask is not None:  # the image means are not comparable then: judge pixels only
+        gdiff, gse = float((d * mask[..., None]).sum() / (3 * mask.sum())), float("inf")
     glob_ok = abs(gdiff) <= K_SIGMA * gse + tol * abs(gmean_a) + ABS_FLOOR
     frac = float(ok.mean())
     return {
@@ -139,7 +158,7 @@ def stats(a: np.ndarray, b: np.ndarray, tol: float) -> dict:
         "pixel_rel_diff_mean_abs": float(np.mean(np.abs(d[lit]) / np.abs(ma[lit]))),
         "pixel_rel_diff_max_abs": float(np.max(np.abs(d[lit]) / np.abs(ma[lit]))),
         "rms_z": float(np.sqrt(np.mean(z[noisy] ** 2))) if noisy.any() else 0.0,
-        "max_abs_z": float(np.max(np.abs(z))) if noisy.any() else 0.0,
+        "max_abs_z": float(np.max(np.abs(z[noisy]))) if noisy.any() else 0.0,
         "pixels_within": frac,
         "tol_rel": tol,
         "pass": bool(frac >= PIXEL_PASS_FRACTION and glob_ok),
@@ -210,6 +229,7 @@ def main() -> int:
                                    "seeds": len(seeds)}
         # Analytic reference (the exact image, float64). For roughplastic two: one with woven's
         # exact Smith G1 (what woven must match) and one with Mitsuba's approximation.
+        tol_rough = TOL_FLOAT32
         has_rough = any(mt.kind == "roughplastic" for *_, mt in scene.rectangles + scene.spheres)
         exact = sc.analytic_image(scene, grid=args.grid, g1="woven")
         r["analytic_mean"] = float(exact.mean())
@@ -219,10 +239,12 @@ def main() -> int:
             lit = exact > 1e-3 * exact.max()
             ratio = approx[lit] / exact[lit]
             r["smith_approx_ratio_range"] = [float(ratio.min()), float(ratio.max())]
+            tol_rough = TOL_FLOAT32 + float(np.max(np.abs(ratio - 1)))
+            r["tol_rel"] = tol_rough
             s = stats(approx, m, TOL_FLOAT32)
             lines.append(row(f"{scene.name}: analytic(Mitsuba G1) -> Mitsuba", s))
             r["analytic_mitsuba_g1_vs_mitsuba"] = s
-            s = stats(exact, m, TOL_SMITH_APPROX)
+            s = stats(exact, m, tol_rough)
             lines.append(row(f"{scene.name}: analytic(exact G1) -> Mitsuba", s))
             r["analytic_vs_mitsuba"] = s
         else:
@@ -236,7 +258,7 @@ def main() -> int:
         elif args.woven_dir:
             w = np.stack([read_exr(mi, args.woven_dir / f"{scene.name}-s{k}.exr") for k in seeds])
         if w is not None:
-            tol = TOL_SMITH_APPROX if has_rough else TOL_FLOAT32
+            tol = tol_rough if has_rough else TOL_FLOAT32
             s = stats(m, w, tol)
             lines.append(row(f"{scene.name}: Mitsuba -> woven", s))
             r["mitsuba_vs_woven"] = s
@@ -271,10 +293,13 @@ def main() -> int:
         lines.append(row(f"conv {w_}x{h_}: intensity read as power (W)", s))
         conv["intensity read as power (W)"] = s
         results["conventions"] = conv
-        # the centre ray alone (grid 1) vs the pixel mean, for the record
+        # the centre ray alone (grid 1), as rho/pi I cos / r^2 is usually stated: it differs from
+        # the pixel mean by the curvature of the image within a pixel, and at the plane's edges
+        # by partial coverage; shown on the pixels the plane covers whole.
         img = sc.analytic_image(scene, grid=1, width=w_, height=h_)
-        s = stats(img, m, TOL_FLOAT32)
-        lines.append(row(f"conv {w_}x{h_}: pixel-centre rays only (grid 1)", s))
+        full = sc.analytic_image(scene, grid=args.grid, width=w_, height=h_, coverage=True) == 1
+        s = stats(img, m, TOL_FLOAT32, mask=full)
+        lines.append(row(f"conv {w_}x{h_}: pixel-centre rays, covered px", s))
         conv["pixel-centre rays only"] = s
 
     print()
@@ -286,7 +311,8 @@ def main() -> int:
     print(f"z: difference of the image means over its standard error; within: pixels with "
           f"|d| <= {K_SIGMA:g} se + tol*|ref| (pass needs >= {100 * PIXEL_PASS_FRACTION:g} % "
           f"and |mean d| <= {K_SIGMA:g} se + tol*mean); tol = {TOL_FLOAT32:g} (float32), "
-          f"{TOL_SMITH_APPROX:g} where Mitsuba's approximate Smith G1 is compared with the exact one")
+          "plus the largest effect of Mitsuba's approximate Smith G1 where the exact one is compared "
+          "with it (measured on the scene's analytic images)")
     results["variant"] = variant
     results["mitsuba_version"] = mi.__version__
     (args.out / "results.json").write_text(json.dumps(results, indent=2) + "\n")

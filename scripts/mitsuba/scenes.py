@@ -297,7 +297,8 @@ def brdf(m: Material, wi: np.ndarray, wo: np.ndarray, g1: str = "woven") -> np.n
     return np.repeat(f[..., None], 3, axis=-1)
 
 
-def analytic_image(scene: Scene, grid: int = 8, g1: str = "woven", **ray_kw) -> np.ndarray:
+def analytic_image(scene: Scene, grid: int = 8, g1: str = "woven", coverage: bool = False,
+                   **ray_kw) -> np.ndarray:
     """Pixel means (H, W, 3) of direct lighting: point lights on rectangles, and for a constant
     environment the furnace identity (a diffuse convex shape under uniform radiance L reflects
     rho * L; rays that miss see L unless emitters are hidden)."""
@@ -355,4 +356,6 @@ def analytic_image(scene: Scene, grid: int = 8, g1: str = "woven", **ray_kw) -> 
         hit_any |= hit
     if scene.env_radiance is not None and not scene.hide_emitters:
         out = np.where(hit_any[..., None], out, scene.env_radiance)
+    if coverage:  # the fraction of each pixel's rays that hit a shape
+        return hit_any.mean(axis=2)
     return out.mean(axis=2)
