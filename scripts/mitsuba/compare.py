@@ -45,24 +45,33 @@ PIXEL_PASS_FRACTION = 0.999
 TOL_FLOAT32 = 1e-5
 
 
+PROBE = """
+import mitsuba as mi, numpy as np
+mi.set_variant({v!r})
+s = mi.load_dict({{"type": "scene", "integrator": {{"type": "path"}}, "e": {{"type": "constant"}},
+                  "sensor": {{"type": "perspective",
+                             "film": {{"type": "hdrfilm", "width": 2, "height": 2}}}}}})
+assert np.isfinite(np.array(mi.render(s, spp=1))).all()
+"""
+
+
 def pick_variant(mi, wanted: str | None) -> str:
+    """The first variant that renders. Probed in a child process: an LLVM that Dr.Jit cannot use
+    (libLLVM 15 on Debian 12: "LLVM ERROR: Cannot select ... fmaximum") aborts the process."""
     order = [wanted] if wanted else ["llvm_ad_rgb", "scalar_rgb"]
     errors = []
     for v in order:
         if v not in mi.variants():
             errors.append(f"{v}: not in this build ({', '.join(mi.variants())})")
             continue
-        try:
+        r = subprocess.run([sys.executable, "-c", PROBE.format(v=v)], capture_output=True,
+                           text=True)
+        if r.returncode == 0:
             mi.set_variant(v)
-            # a tiny render proves the variant works (llvm needs libLLVM at run time)
-            s = mi.load_dict({"type": "scene", "integrator": {"type": "path"},
-                              "sensor": {"type": "perspective",
-                                         "film": {"type": "hdrfilm", "width": 2, "height": 2}},
-                              "e": {"type": "constant"}})
-            np.array(mi.render(s, spp=1))
             return v
-        except Exception as e:  # noqa: BLE001 -- report why and try the next
-            errors.append(f"{v}: {e}")
+        tail = (r.stderr.strip().splitlines() or ["(no message)"])
+        errors.append(f"{v}: a test render failed ({r.returncode}): {tail[0][:200]}")
+        print(f"note: Mitsuba variant {v} does not work here: {tail[0][:200]}", file=sys.stderr)
     raise SystemExit("no Mitsuba variant works:\n  " + "\n  ".join(errors))
 
 
