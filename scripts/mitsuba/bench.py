@@ -24,21 +24,25 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import scenes as sc  # noqa: E402
+import scenes as sc
 
 REPO = Path(__file__).resolve().parents[2]
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scene", type=Path,
-                    default=REPO / "scenes" / "compare" / "roughplastic-plane.toml")
+    ap.add_argument(
+        "--scene", type=Path, default=REPO / "scenes" / "compare" / "roughplastic-plane.toml"
+    )
     ap.add_argument("--size", type=int, default=512, help="width = height [512]")
     ap.add_argument("--spp", type=int, default=64, help="samples per pixel [64]")
     ap.add_argument("--variant", default="llvm_ad_rgb", help="Mitsuba variant [llvm_ad_rgb]")
     ap.add_argument("--woven", metavar="CMD", help="also time `CMD render` on the same scene")
-    ap.add_argument("--threads", type=int,
-                    help="threads for both (Dr.Jit's pool and woven's --threads); default all")
+    ap.add_argument(
+        "--threads",
+        type=int,
+        help="threads for both (Dr.Jit's pool and woven's --threads); default all",
+    )
     args = ap.parse_args()
 
     try:
@@ -48,6 +52,7 @@ def main() -> int:
         print(f"bench.py: cannot import mitsuba ({e}); pip install mitsuba", file=sys.stderr)
         return 2
     from compare import pick_variant  # probes in a child process: a bad libLLVM aborts
+
     pick_variant(mi, args.variant)
     if args.threads:
         dr.set_thread_count(args.threads)
@@ -63,31 +68,47 @@ def main() -> int:
         times.append(time.perf_counter() - t0)
     mean = float(np.array(img).mean())
     m_rate = n / times[1]
-    print(f"Mitsuba {mi.__version__} {args.variant}, threads {dr.thread_count()}: "
-          f"{args.scene.name} {args.size}x{args.size} {args.spp} spp; first render "
-          f"{times[0]:.2f} s (with JIT), second {times[1]:.2f} s: {m_rate / 1e6:.2f} M samples/s "
-          f"(mean pixel {mean:.5f})")
+    print(
+        f"Mitsuba {mi.__version__} {args.variant}, threads {dr.thread_count()}: "
+        f"{args.scene.name} {args.size}x{args.size} {args.spp} spp; first render "
+        f"{times[0]:.2f} s (with JIT), second {times[1]:.2f} s: {m_rate / 1e6:.2f} M samples/s "
+        f"(mean pixel {mean:.5f})"
+    )
     if args.woven:
         wt = []
         with tempfile.TemporaryDirectory() as tmp:
             for k in range(2):
                 argv = shlex.split(args.woven) + [
-                    "render", str(args.scene), "-o", str(Path(tmp) / "bench.exr"),
-                    "--width", str(args.size), "--height", str(args.size),
-                    "--spp", str(args.spp), "--seed", str(k)]
+                    "render",
+                    str(args.scene),
+                    "-o",
+                    str(Path(tmp) / "bench.exr"),
+                    "--width",
+                    str(args.size),
+                    "--height",
+                    str(args.size),
+                    "--spp",
+                    str(args.spp),
+                    "--seed",
+                    str(k),
+                ]
                 if args.threads:
                     argv += ["--threads", str(args.threads)]
                 t0 = time.perf_counter()
-                r = subprocess.run(argv, cwd=REPO, capture_output=True, text=True)
+                r = subprocess.run(argv, cwd=REPO, check=False, capture_output=True, text=True)
                 wt.append(time.perf_counter() - t0)
                 if r.returncode != 0:
-                    print(f"bench.py: `{shlex.join(argv)}` failed:\n{r.stderr[-3000:]}",
-                          file=sys.stderr)
+                    print(
+                        f"bench.py: `{shlex.join(argv)}` failed:\n{r.stderr[-3000:]}",
+                        file=sys.stderr,
+                    )
                     return 1
         w_rate = n / wt[1]
-        print(f"woven render: first {wt[0]:.2f} s, second {wt[1]:.2f} s (wall, whole command): "
-              f"{w_rate / 1e6:.2f} M samples/s; woven / Mitsuba = {w_rate / m_rate:.2f} "
-              f"(issue 9 asks >= 0.5)")
+        print(
+            f"woven render: first {wt[0]:.2f} s, second {wt[1]:.2f} s (wall, whole command): "
+            f"{w_rate / 1e6:.2f} M samples/s; woven / Mitsuba = {w_rate / m_rate:.2f} "
+            f"(issue 9 asks >= 0.5)"
+        )
     return 0
 
 

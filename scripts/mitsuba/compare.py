@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import scenes as sc  # noqa: E402
+import scenes as sc
 
 REPO = Path(__file__).resolve().parents[2]
 DEFAULT_SCENES = ["diffuse-plane", "roughplastic-plane", "furnace-sphere"]
@@ -64,19 +64,21 @@ def pick_variant(mi, wanted: str | None) -> str:
         if v not in mi.variants():
             errors.append(f"{v}: not in this build ({', '.join(mi.variants())})")
             continue
-        r = subprocess.run([sys.executable, "-c", PROBE.format(v=v)], capture_output=True,
-                           text=True)
+        r = subprocess.run(
+            [sys.executable, "-c", PROBE.format(v=v)], check=False, capture_output=True, text=True
+        )
         if r.returncode == 0:
             mi.set_variant(v)
             return v
-        tail = (r.stderr.strip().splitlines() or ["(no message)"])
+        tail = r.stderr.strip().splitlines() or ["(no message)"]
         errors.append(f"{v}: a test render failed ({r.returncode}): {tail[0][:200]}")
         print(f"note: Mitsuba variant {v} does not work here: {tail[0][:200]}", file=sys.stderr)
     raise SystemExit("no Mitsuba variant works:\n  " + "\n  ".join(errors))
 
 
-def render_mitsuba(mi, scene: sc.Scene, seeds: list[int], spp: int, out: Path,
-                   width=None, height=None) -> np.ndarray:
+def render_mitsuba(
+    mi, scene: sc.Scene, seeds: list[int], spp: int, out: Path, width=None, height=None
+) -> np.ndarray:
     s = mi.load_dict(sc.mitsuba_dict(scene, mi, width=width, height=height, spp=spp))
     imgs = []
     for seed in seeds:
@@ -98,15 +100,24 @@ def read_exr(mi, path: Path) -> np.ndarray:
     return arr[..., :3]
 
 
-def render_woven(cmd: str, scene: sc.Scene, seeds: list[int], spp: int, out: Path,
-                 mi) -> np.ndarray:
+def render_woven(
+    cmd: str, scene: sc.Scene, seeds: list[int], spp: int, out: Path, mi
+) -> np.ndarray:
     imgs = []
     for seed in seeds:
         path = out / f"{scene.name}-s{seed}.exr"
-        argv = shlex.split(cmd) + ["render", str(scene.path), "-o", str(path),
-                                   "--seed", str(seed), "--spp", str(spp)]
+        argv = shlex.split(cmd) + [
+            "render",
+            str(scene.path),
+            "-o",
+            str(path),
+            "--seed",
+            str(seed),
+            "--spp",
+            str(spp),
+        ]
         t0 = time.time()
-        r = subprocess.run(argv, cwd=REPO, capture_output=True, text=True)
+        r = subprocess.run(argv, cwd=REPO, check=False, capture_output=True, text=True)
         if r.returncode != 0:
             raise SystemExit(f"`{shlex.join(argv)}` failed ({r.returncode}):\n{r.stderr[-3000:]}")
         print(f"  woven {scene.name} seed {seed}: {time.time() - t0:.1f} s", flush=True)
@@ -121,20 +132,25 @@ def local_se(se: np.ndarray) -> np.ndarray:
     degrees of freedom, and the max keeps the jumps at silhouettes (never smaller than its own)."""
     v = np.pad(se**2, ((1, 1), (1, 1), (0, 0)), mode="edge")
     h, w = se.shape[:2]
-    box = sum(v[i:i + h, j:j + w] for i in range(3) for j in range(3)) / 9.0
+    box = sum(v[i : i + h, j : j + w] for i in range(3) for j in range(3)) / 9.0
     return np.maximum(se, np.sqrt(box))
 
 
 def stats(a: np.ndarray, b: np.ndarray, tol: float, mask: np.ndarray | None = None) -> dict:
     """a: reference stack (K, H, W, 3) or exact image (H, W, 3); b: stack (K', H, W, 3).
     `mask` (H, W): only these pixels count in the per-pixel figures."""
+
     def mean_se(x):
         if x.ndim == 3:
             return x, np.zeros_like(x), np.full(1, x.mean()), 0.0
         k = x.shape[0]
         per_seed = x.reshape(k, -1).mean(axis=1)
-        return (x.mean(axis=0), x.std(axis=0, ddof=1) / np.sqrt(k), per_seed,
-                per_seed.std(ddof=1) / np.sqrt(k))
+        return (
+            x.mean(axis=0),
+            x.std(axis=0, ddof=1) / np.sqrt(k),
+            per_seed,
+            per_seed.std(ddof=1) / np.sqrt(k),
+        )
 
     ma, sa, ga, gsa = mean_se(a)
     mb, sb, gb, gsb = mean_se(b)
@@ -161,7 +177,8 @@ def stats(a: np.ndarray, b: np.ndarray, tol: float, mask: np.ndarray | None = No
     glob_ok = abs(gdiff) <= K_SIGMA * gse + tol * abs(gmean_a) + ABS_FLOOR
     frac = float(ok.mean())
     return {
-        "mean_ref": float(gmean_a), "mean_test": float(gmean_b),
+        "mean_ref": float(gmean_a),
+        "mean_test": float(gmean_b),
         "mean_rel_diff": float(gdiff / gmean_a) if gmean_a else float("nan"),
         "mean_diff_z": float(gdiff / gse) if gse > 0 else float("nan"),
         "pixel_rel_diff_mean_abs": float(np.mean(np.abs(d[lit]) / np.abs(ma[lit]))),
@@ -175,33 +192,54 @@ def stats(a: np.ndarray, b: np.ndarray, tol: float, mask: np.ndarray | None = No
 
 
 def row(label: str, s: dict) -> str:
-    return (f"{label:<44} {s['mean_ref']:>9.5f} {s['mean_test']:>9.5f} "
-            f"{100 * s['mean_rel_diff']:>+8.3f}% {s['mean_diff_z']:>+7.1f} "
-            f"{100 * s['pixel_rel_diff_mean_abs']:>7.3f}% {s['rms_z']:>6.2f} {s['max_abs_z']:>6.1f} "
-            f"{100 * s['pixels_within']:>7.2f}% {'PASS' if s['pass'] else 'FAIL'}")
+    return (
+        f"{label:<54} {s['mean_ref']:>9.5f} {s['mean_test']:>9.5f} "
+        f"{100 * s['mean_rel_diff']:>+8.3f}% {s['mean_diff_z']:>+7.1f} "
+        f"{100 * s['pixel_rel_diff_mean_abs']:>7.3f}% {s['rms_z']:>6.2f} {s['max_abs_z']:>6.1f} "
+        f"{100 * s['pixels_within']:>7.2f}% {'PASS' if s['pass'] else 'FAIL'}"
+    )
 
 
-HEADER = (f"{'comparison (ref -> test)':<44} {'ref mean':>9} {'test mean':>9} {'rel diff':>9} "
-          f"{'z':>7} {'|px rel|':>8} {'rms z':>6} {'max|z|':>6} {'within':>8} result")
+HEADER = (
+    f"{'comparison (ref -> test)':<54} {'ref mean':>9} {'test mean':>9} {'rel diff':>9} "
+    f"{'z':>7} {'|px rel|':>8} {'rms z':>6} {'max|z|':>6} {'within':>8} result"
+)
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("scenes", nargs="*", help="scene files (default: scenes/compare/{%s}.toml)"
-                    % ",".join(DEFAULT_SCENES))
+    ap = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument(
+        "scenes",
+        nargs="*",
+        help=f"scene files (default: scenes/compare/{{{','.join(DEFAULT_SCENES)}}}.toml)",
+    )
     ap.add_argument("--variant", help="Mitsuba variant (default: llvm_ad_rgb, else scalar_rgb)")
     ap.add_argument("--seeds", type=int, default=8, help="independent renders per scene [8]")
     ap.add_argument("--spp", type=int, help="samples per pixel per render (default: the file's)")
-    ap.add_argument("--grid", type=int, default=8,
-                    help="analytic sub-pixel grid per axis (1 = pixel centres) [8]")
-    ap.add_argument("--out", type=Path, default=REPO / "woven-out" / "mitsuba",
-                    help="output folder for EXRs and results.json [woven-out/mitsuba]")
+    ap.add_argument(
+        "--grid",
+        type=int,
+        default=8,
+        help="analytic sub-pixel grid per axis (1 = pixel centres) [8]",
+    )
+    ap.add_argument(
+        "--out",
+        type=Path,
+        default=REPO / "woven-out" / "mitsuba",
+        help="output folder for EXRs and results.json [woven-out/mitsuba]",
+    )
     g = ap.add_mutually_exclusive_group()
-    g.add_argument("--woven", metavar="CMD",
-                   help="the woven binary or command, e.g. target/release/woven")
-    g.add_argument("--woven-dir", type=Path, metavar="DIR",
-                   help="compare woven EXRs already rendered, DIR/<scene>-s<seed>.exr")
+    g.add_argument(
+        "--woven", metavar="CMD", help="the woven binary or command, e.g. target/release/woven"
+    )
+    g.add_argument(
+        "--woven-dir",
+        type=Path,
+        metavar="DIR",
+        help="compare woven EXRs already rendered, DIR/<scene>-s<seed>.exr",
+    )
     args = ap.parse_args()
     if args.seeds < 2:
         ap.error("--seeds must be at least 2 (the error estimate needs a spread)")
@@ -215,7 +253,8 @@ def main() -> int:
     print(f"Mitsuba {mi.__version__}, variant {variant}")
 
     paths = [Path(p) for p in args.scenes] or [
-        REPO / "scenes" / "compare" / f"{n}.toml" for n in DEFAULT_SCENES]
+        REPO / "scenes" / "compare" / f"{n}.toml" for n in DEFAULT_SCENES
+    ]
     (args.out / "mitsuba").mkdir(parents=True, exist_ok=True)
     wdir = args.out / "woven"
     if args.woven:
@@ -232,10 +271,12 @@ def main() -> int:
         seeds = [scene.seed + k for k in range(args.seeds)]
         t0 = time.time()
         m = render_mitsuba(mi, scene, seeds, spp, args.out / "mitsuba")
-        print(f"{scene.name}: Mitsuba {len(seeds)} x {scene.width}x{scene.height} x {spp} spp "
-              f"in {time.time() - t0:.1f} s; mean pixel {m.mean():.6f}", flush=True)
-        r = results[scene.name] = {"mitsuba_mean": float(m.mean()), "spp": spp,
-                                   "seeds": len(seeds)}
+        print(
+            f"{scene.name}: Mitsuba {len(seeds)} x {scene.width}x{scene.height} x {spp} spp "
+            f"in {time.time() - t0:.1f} s; mean pixel {m.mean():.6f}",
+            flush=True,
+        )
+        r = results[scene.name] = {"mitsuba_mean": float(m.mean()), "spp": spp, "seeds": len(seeds)}
         # Analytic reference (the exact image, float64). For roughplastic two: one with woven's
         # exact Smith G1 (what woven must match) and one with Mitsuba's approximation.
         tol_rough = TOL_FLOAT32
@@ -282,8 +323,9 @@ def main() -> int:
     if diffuse is not None:
         scene = sc.load_scene(diffuse)
         w_, h_ = 128, 80
-        m = render_mitsuba(mi, scene, [1000 + k for k in range(args.seeds)], scene.spp,
-                           None, width=w_, height=h_)
+        m = render_mitsuba(
+            mi, scene, [1000 + k for k in range(args.seeds)], scene.spp, None, width=w_, height=h_
+        )
         variants = {
             "right (row 0 top, fov horizontal, centres)": {},
             "rows flipped (row 0 at the bottom)": {"flip_rows": True},
@@ -317,22 +359,32 @@ def main() -> int:
     for ln in lines:
         print(ln)
     print()
-    print(f"z: difference of the image means over its standard error; within: pixels with "
-          f"|d| <= {K_SIGMA:g} se + tol*|ref| (pass needs >= {100 * PIXEL_PASS_FRACTION:g} % "
-          f"and |mean d| <= {K_SIGMA:g} se + tol*mean); tol = {TOL_FLOAT32:g} (float32), "
-          "plus the largest effect of Mitsuba's approximate Smith G1 where the exact one is compared "
-          "with it (measured on the scene's analytic images)")
+    print(
+        f"z: difference of the image means over its standard error; within: pixels with "
+        f"|d| <= {K_SIGMA:g} se + tol*|ref| (pass needs >= {100 * PIXEL_PASS_FRACTION:g} % "
+        f"and |mean d| <= {K_SIGMA:g} se + tol*mean); tol = {TOL_FLOAT32:g} (float32), "
+        "plus the largest effect of Mitsuba's approximate Smith G1 where the exact one is compared "
+        "with it (measured on the scene's analytic images)"
+    )
     results["variant"] = variant
     results["mitsuba_version"] = mi.__version__
     (args.out / "results.json").write_text(json.dumps(results, indent=2) + "\n")
     print(f"results: {args.out / 'results.json'}; EXRs under {args.out}")
 
-    must_pass = [v for name, r in results.items() if isinstance(r, dict) and name != "conventions"
-                 for k, v in r.items() if isinstance(v, dict) and "pass" in v]
+    must_pass = [
+        v
+        for name, r in results.items()
+        if isinstance(r, dict) and name != "conventions"
+        for k, v in r.items()
+        if isinstance(v, dict) and "pass" in v
+    ]
     if conv:
         must_pass.append(conv["right (row 0 top, fov horizontal, centres)"])
-        wrong = [v for k, v in conv.items() if k not in (
-            "right (row 0 top, fov horizontal, centres)", "pixel-centre rays only")]
+        wrong = [
+            v
+            for k, v in conv.items()
+            if k not in ("right (row 0 top, fov horizontal, centres)", "pixel-centre rays only")
+        ]
         if any(v["pass"] for v in wrong):
             print("a WRONG convention passed: the convention check cannot tell them apart")
             return 1

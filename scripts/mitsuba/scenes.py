@@ -80,13 +80,21 @@ def load_material_file(path: Path) -> Material:
     if not isinstance(fiber, dict):
         raise _err(path, "fiber", "missing: a [fiber] table is required")
     if fiber.get("model", "rough") != "rough":
-        raise _err(path, "fiber.model", f"{fiber.get('model')!r}: only \"rough\" maps to roughplastic")
+        raise _err(
+            path, "fiber.model", f'{fiber.get("model")!r}: only "rough" maps to roughplastic'
+        )
     if fiber.get("normalization", "paper") != "none":
-        raise _err(path, "fiber.normalization",
-                   f"{fiber.get('normalization', 'paper')!r}: only \"none\" is plain Torrance-Sparrow")
+        raise _err(
+            path,
+            "fiber.normalization",
+            f'{fiber.get("normalization", "paper")!r}: only "none" is plain Torrance-Sparrow',
+        )
     if float(fiber.get("diffuse", 0.0)) != 0.0:
-        raise _err(path, "fiber.diffuse",
-                   f"{fiber['diffuse']}: woven's rho0/pi is not roughplastic's diffuse layer; use 0")
+        raise _err(
+            path,
+            "fiber.diffuse",
+            f"{fiber['diffuse']}: woven's rho0/pi is not roughplastic's diffuse layer; use 0",
+        )
     eta = fiber.get("eta")
     if not isinstance(eta, (int, float)):
         raise _err(path, "fiber.eta", f"{eta!r}: a constant refractive index is required")
@@ -105,8 +113,9 @@ def load_scene(path: str | Path) -> Scene:
     for name, m in doc.get("material", {}).items():
         t = m.get("type")
         if t == "diffuse":
-            materials[name] = Material("diffuse", reflectance=_vec3(path, m, "reflectance",
-                                                                    f"material.{name}."))
+            materials[name] = Material(
+                "diffuse", reflectance=_vec3(path, m, "reflectance", f"material.{name}.")
+            )
         elif t == "woven":
             if set(m) - {"type", "material"}:
                 raise _err(path, f"material.{name}", "only `material` is translated for woven")
@@ -117,8 +126,12 @@ def load_scene(path: str | Path) -> Scene:
     for k, light in enumerate(doc.get("light", [])):
         t = light.get("type")
         if t == "point":
-            points.append((_vec3(path, light, "position", f"light[{k}]."),
-                           _vec3(path, light, "intensity", f"light[{k}].")))
+            points.append(
+                (
+                    _vec3(path, light, "position", f"light[{k}]."),
+                    _vec3(path, light, "intensity", f"light[{k}]."),
+                )
+            )
         elif t == "environment":
             if "file" in light:
                 raise _err(path, f"light[{k}].file", "only a constant radiance is translated")
@@ -131,12 +144,22 @@ def load_scene(path: str | Path) -> Scene:
         if mat not in materials:
             raise _err(path, f"shape[{k}].material", f"{mat!r} is not a [material.NAME]")
         if t == "rectangle":
-            rects.append((_vec3(path, s, "corner", f"shape[{k}]."),
-                          _vec3(path, s, "edge_u", f"shape[{k}]."),
-                          _vec3(path, s, "edge_v", f"shape[{k}]."), materials[mat]))
+            rects.append(
+                (
+                    _vec3(path, s, "corner", f"shape[{k}]."),
+                    _vec3(path, s, "edge_u", f"shape[{k}]."),
+                    _vec3(path, s, "edge_v", f"shape[{k}]."),
+                    materials[mat],
+                )
+            )
         elif t == "sphere":
-            spheres.append((_vec3(path, s, "center", f"shape[{k}]."), float(s.get("radius", 1.0)),
-                            materials[mat]))
+            spheres.append(
+                (
+                    _vec3(path, s, "center", f"shape[{k}]."),
+                    float(s.get("radius", 1.0)),
+                    materials[mat],
+                )
+            )
         else:
             raise _err(path, f"shape[{k}].type", f"{t!r}: only rectangle and sphere")
     return Scene(
@@ -145,55 +168,85 @@ def load_scene(path: str | Path) -> Scene:
         target=_vec3(path, cam, "target", "camera."),
         up=_vec3(path, cam, "up", "camera."),
         fov_deg=float(cam["fov_deg"]),
-        width=int(film["width"]), height=int(film["height"]),
-        spp=int(film.get("spp", 64)), seed=int(film.get("seed", 0)),
+        width=int(film["width"]),
+        height=int(film["height"]),
+        spp=int(film.get("spp", 64)),
+        seed=int(film.get("seed", 0)),
         max_depth=int(integ.get("max_depth", 16)),
         hide_emitters=bool(integ.get("hide_emitters", False)),
-        point_lights=points, env_radiance=env, rectangles=rects, spheres=spheres)
+        point_lights=points,
+        env_radiance=env,
+        rectangles=rects,
+        spheres=spheres,
+    )
 
 
 # ----------------------------------------------------------------------------------------------
 # Mitsuba 3
 
 
-def mitsuba_dict(scene: Scene, mi, width: int | None = None, height: int | None = None,
-                 spp: int | None = None) -> dict:
+def mitsuba_dict(
+    scene: Scene, mi, width: int | None = None, height: int | None = None, spp: int | None = None
+) -> dict:
     """The Mitsuba 3 scene dict of `scene` (a variant must be set on `mi` already)."""
     T = mi.ScalarTransform4f
 
     def bsdf(m: Material) -> dict:
         if m.kind == "diffuse":
-            return {"type": "diffuse",
-                    "reflectance": {"type": "rgb", "value": m.reflectance.tolist()}}
-        # roughplastic with no diffuse layer is plain Torrance-Sparrow: F(eta; h.wi) D G / 4 cos cos.
-        # ext_ior defaults to air (1.000277): set it to vacuum so eta = int_ior exactly, as in woven.
-        return {"type": "roughplastic", "distribution": "beckmann", "alpha": m.alpha,
-                "int_ior": m.eta, "ext_ior": 1.0, "nonlinear": False,
-                "diffuse_reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}}
+            return {
+                "type": "diffuse",
+                "reflectance": {"type": "rgb", "value": m.reflectance.tolist()},
+            }
+        # roughplastic without a diffuse layer is plain Torrance-Sparrow, F(eta; h.wi) D G / 4 cos
+        # cos. ext_ior defaults to air (1.000277): vacuum makes eta = int_ior exactly, as in woven.
+        return {
+            "type": "roughplastic",
+            "distribution": "beckmann",
+            "alpha": m.alpha,
+            "int_ior": m.eta,
+            "ext_ior": 1.0,
+            "nonlinear": False,
+            "diffuse_reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]},
+        }
 
     d = {
         "type": "scene",
-        "integrator": {"type": "path", "max_depth": scene.max_depth,
-                       "hide_emitters": scene.hide_emitters},
+        "integrator": {
+            "type": "path",
+            "max_depth": scene.max_depth,
+            "hide_emitters": scene.hide_emitters,
+        },
         "sensor": {
             "type": "perspective",
-            "fov": scene.fov_deg, "fov_axis": "x",
-            "to_world": T().look_at(origin=scene.origin.tolist(), target=scene.target.tolist(),
-                                    up=scene.up.tolist()),
+            "fov": scene.fov_deg,
+            "fov_axis": "x",
+            "to_world": T().look_at(
+                origin=scene.origin.tolist(), target=scene.target.tolist(), up=scene.up.tolist()
+            ),
             "sampler": {"type": "independent", "sample_count": spp or scene.spp},
-            "film": {"type": "hdrfilm", "width": width or scene.width,
-                     "height": height or scene.height, "rfilter": {"type": "box"},
-                     "pixel_format": "rgb", "component_format": "float32"},
+            "film": {
+                "type": "hdrfilm",
+                "width": width or scene.width,
+                "height": height or scene.height,
+                "rfilter": {"type": "box"},
+                "pixel_format": "rgb",
+                "component_format": "float32",
+            },
         },
     }
     for k, (pos, inten) in enumerate(scene.point_lights):
-        d[f"point{k}"] = {"type": "point", "position": pos.tolist(),
-                          "intensity": {"type": "rgb", "value": inten.tolist()}}
+        d[f"point{k}"] = {
+            "type": "point",
+            "position": pos.tolist(),
+            "intensity": {"type": "rgb", "value": inten.tolist()},
+        }
     if scene.env_radiance is not None:
-        d["env"] = {"type": "constant",
-                    "radiance": {"type": "rgb", "value": scene.env_radiance.tolist()}}
+        d["env"] = {
+            "type": "constant",
+            "radiance": {"type": "rgb", "value": scene.env_radiance.tolist()},
+        }
     for k, (c, eu, ev, m) in enumerate(scene.rectangles):
-        # Mitsuba's rectangle is [-1, 1]^2 in z = 0 with normal +z; map it onto corner + s eu + t ev.
+        # Mitsuba's rectangle is [-1, 1]^2 in z = 0, normal +z; map it onto corner + s eu + t ev.
         n = np.cross(eu, ev)
         n = n / np.linalg.norm(n)
         centre = c + 0.5 * eu + 0.5 * ev
@@ -209,9 +262,16 @@ def mitsuba_dict(scene: Scene, mi, width: int | None = None, height: int | None 
 # Analytic reference (numpy, float64)
 
 
-def camera_rays(scene: Scene, grid: int, width: int | None = None, height: int | None = None,
-                flip_rows: bool = False, flip_cols: bool = False, shift: float = 0.0,
-                fov_axis: str = "x"):
+def camera_rays(
+    scene: Scene,
+    grid: int,
+    width: int | None = None,
+    height: int | None = None,
+    flip_rows: bool = False,
+    flip_cols: bool = False,
+    shift: float = 0.0,
+    fov_axis: str = "x",
+):
     """Unit ray directions, shape (H, W, grid*grid, 3), for the convention of woven's [film].
 
     `grid` = 1 is the pixel centre; otherwise a regular grid of grid x grid sub-pixel positions.
@@ -227,8 +287,8 @@ def camera_rays(scene: Scene, grid: int, width: int | None = None, height: int |
     t = math.tan(math.radians(scene.fov_deg) / 2)
     tx, ty = (t, t * h / w) if fov_axis == "x" else (t * w / h, t)
     sub = (np.arange(grid) + 0.5) / grid + shift
-    x = (np.arange(w)[None, :, None, None] + sub[None, None, :, None])  # film x, left to right
-    y = (np.arange(h)[:, None, None, None] + sub[None, None, None, :])  # film y, top to bottom
+    x = np.arange(w)[None, :, None, None] + sub[None, None, :, None]  # film x, left to right
+    y = np.arange(h)[:, None, None, None] + sub[None, None, None, :]  # film y, top to bottom
     x = np.broadcast_to(x, (h, w, grid, grid)).reshape(h, w, grid * grid)
     y = np.broadcast_to(y, (h, w, grid, grid)).reshape(h, w, grid * grid)
     if flip_cols:
@@ -253,7 +313,7 @@ def smith_g1_woven(cos_t: np.ndarray, alpha: float) -> np.ndarray:
         big = a > 30
         af = np.where(big, 1.0, a)
         ec = _erfc(af)
-        lam = 0.5 * (np.exp(-af**2) / (af * math.sqrt(math.pi)) - ec)
+        lam = 0.5 * (np.exp(-(af**2)) / (af * math.sqrt(math.pi)) - ec)
         s1 = (1 - 0.5 * ec) / (1 + lam)
     return np.where(big, 1.0, s1)
 
@@ -297,8 +357,9 @@ def brdf(m: Material, wi: np.ndarray, wo: np.ndarray, g1: str = "woven") -> np.n
     return np.repeat(f[..., None], 3, axis=-1)
 
 
-def analytic_image(scene: Scene, grid: int = 8, g1: str = "woven", coverage: bool = False,
-                   **ray_kw) -> np.ndarray:
+def analytic_image(
+    scene: Scene, grid: int = 8, g1: str = "woven", coverage: bool = False, **ray_kw
+) -> np.ndarray:
     """Pixel means (H, W, 3) of direct lighting: point lights on rectangles, and for a constant
     environment the furnace identity (a diffuse convex shape under uniform radiance L reflects
     rho * L; rays that miss see L unless emitters are hidden)."""
@@ -307,7 +368,7 @@ def analytic_image(scene: Scene, grid: int = 8, g1: str = "woven", coverage: boo
     t_best = np.full(dirs.shape[:-1], np.inf)
     out = np.zeros(dirs.shape[:-1] + (3,))
     hit_any = np.zeros(dirs.shape[:-1], dtype=bool)
-    for (c, eu, ev, m) in scene.rectangles:
+    for c, eu, ev, m in scene.rectangles:
         n = np.cross(eu, ev)
         n /= np.linalg.norm(n)
         denom = dirs @ n
@@ -340,7 +401,7 @@ def analytic_image(scene: Scene, grid: int = 8, g1: str = "woven", coverage: boo
         out = np.where(hit[..., None], radiance, out)
         t_best = np.where(hit, t, t_best)
         hit_any |= hit
-    for (c, rad, m) in scene.spheres:
+    for c, rad, m in scene.spheres:
         oc = o - c
         b = dirs @ oc
         disc = b * b - (oc @ oc - rad * rad)
@@ -349,8 +410,10 @@ def analytic_image(scene: Scene, grid: int = 8, g1: str = "woven", coverage: boo
         if scene.point_lights:
             raise SceneError(f"{scene.path}: no analytic point-light term for spheres")
         if m.kind != "diffuse" or scene.env_radiance is None:
-            raise SceneError(f"{scene.path}: the sphere's analytic value needs a diffuse "
-                             "material and a constant environment")
+            raise SceneError(
+                f"{scene.path}: the sphere's analytic value needs a diffuse "
+                "material and a constant environment"
+            )
         out = np.where(hit[..., None], m.reflectance * scene.env_radiance, out)
         t_best = np.where(hit, t, t_best)
         hit_any |= hit

@@ -22,7 +22,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-import scenes as sc  # noqa: E402
+import scenes as sc
 
 
 def stand_in(argv: list[str]) -> int:
@@ -34,11 +34,13 @@ def stand_in(argv: list[str]) -> int:
     ap.add_argument("--defect", choices=["bias", "flip-rows", "shift"])
     a = ap.parse_args(argv)
     import mitsuba as mi
+
     mi.set_variant("scalar_rgb" if "scalar_rgb" in mi.variants() else mi.variants()[0])
     scene = sc.load_scene(a.scene)
     d = sc.mitsuba_dict(scene, mi, spp=a.spp)
     if a.defect == "shift":  # half a pixel to the right: turn the camera by fov/(2 width)
         import math
+
         ang = scene.fov_deg / scene.width / 2
         f = scene.target - scene.origin
         u = scene.up / np.linalg.norm(scene.up)
@@ -46,9 +48,12 @@ def stand_in(argv: list[str]) -> int:
         r /= np.linalg.norm(r)
         t = scene.origin + f + r * np.linalg.norm(f) * math.tan(math.radians(ang))
         d["sensor"]["to_world"] = mi.ScalarTransform4f().look_at(
-            origin=scene.origin.tolist(), target=t.tolist(), up=scene.up.tolist())
-    img = np.array(mi.render(mi.load_dict(d), spp=a.spp or scene.spp, seed=a.seed + 1_000_003),
-                   dtype=np.float32)[..., :3]
+            origin=scene.origin.tolist(), target=t.tolist(), up=scene.up.tolist()
+        )
+    img = np.array(
+        mi.render(mi.load_dict(d), spp=a.spp or scene.spp, seed=a.seed + 1_000_003),
+        dtype=np.float32,
+    )[..., :3]
     if a.defect == "bias":
         img *= 1.01
     elif a.defect == "flip-rows":
@@ -66,16 +71,26 @@ def main() -> int:
     for defect, want in cases:
         # compare.py appends `render SCENE -o ...`; a defect goes in before it
         woven = f"{me} render-with {defect}" if defect else me
-        argv = [sys.executable, str(HERE / "compare.py"), "--seeds", "4", "--out",
-                str(HERE.parents[1] / "target" / "mitsuba-selftest" / (defect or "none")),
-                "--woven", woven, str(HERE.parents[1] / "scenes" / "compare" / "diffuse-plane.toml"),
-                str(HERE.parents[1] / "scenes" / "compare" / "roughplastic-plane.toml")]
-        r = subprocess.run(argv, capture_output=True, text=True)
+        argv = [
+            sys.executable,
+            str(HERE / "compare.py"),
+            "--seeds",
+            "4",
+            "--out",
+            str(HERE.parents[1] / "target" / "mitsuba-selftest" / (defect or "none")),
+            "--woven",
+            woven,
+            str(HERE.parents[1] / "scenes" / "compare" / "diffuse-plane.toml"),
+            str(HERE.parents[1] / "scenes" / "compare" / "roughplastic-plane.toml"),
+        ]
+        r = subprocess.run(argv, check=False, capture_output=True, text=True)
         got = r.returncode
         lines = [ln for ln in r.stdout.splitlines() if "-> woven" in ln]
         verdict = "as expected" if got == want else "UNEXPECTED"
-        print(f"stand-in with defect {defect or 'none'}: compare.py exit {got} "
-              f"(want {want}): {verdict}")
+        print(
+            f"stand-in with defect {defect or 'none'}: compare.py exit {got} "
+            f"(want {want}): {verdict}"
+        )
         for ln in lines:
             print("    " + ln)
         if got != want:
