@@ -25,7 +25,7 @@ if [ ! -x "$VENV/bin/python" ]; then
 fi
 if ! "$VENV/bin/python" -c "import mitsuba, numpy; assert mitsuba.__version__ == '$MITSUBA_VERSION'" 2>/dev/null; then
   echo "installing mitsuba==$MITSUBA_VERSION drjit==$DRJIT_VERSION numpy into $VENV"
-  "$VENV/bin/pip" install -q --disable-pip-version-check \
+  "$VENV/bin/pip" install -q --disable-pip-version-check --timeout 30 --retries 2 \
       "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION" numpy \
     || skip "pip could not install mitsuba==$MITSUBA_VERSION (no PyPI, or no wheel for this platform)"
 fi
