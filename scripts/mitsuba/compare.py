@@ -100,6 +100,29 @@ def read_exr(mi, path: Path) -> np.ndarray:
     return arr[..., :3]
 
 
+def brdf_vs_woven_eval(cmd: str, scene: sc.Scene, material: sc.Material) -> float:
+    """The analytic BRDF (numpy) against `woven eval` (woven's exact model) at 256 pixels'
+    directions: the largest relative difference. Shows the analytic image is woven's model."""
+    wi, wo = sc.plane_pixel_directions(scene, 256)
+    lines = ["theta_i,phi_i,theta_r,phi_r"]
+    for a, b in zip(wi, wo):
+        lines.append(
+            f"{np.arccos(a[2])!r},{np.arctan2(a[1], a[0])!r},"
+            f"{np.arccos(b[2])!r},{np.arctan2(b[1], b[0])!r}".replace("np.float64(", "").replace(
+                ")", ""
+            )
+        )
+    argv = shlex.split(cmd) + ["eval", "-m", str(material.source), "-i", "-"]
+    r = subprocess.run(
+        argv, cwd=REPO, check=False, capture_output=True, text=True, input="\n".join(lines) + "\n"
+    )
+    if r.returncode != 0:
+        raise SystemExit(f"`{shlex.join(argv)}` failed ({r.returncode}):\n{r.stderr[-3000:]}")
+    ev = np.array([float(ln.split(",")[-1]) for ln in r.stdout.strip().splitlines()[1:]])
+    f = sc.brdf(material, wi, wo)[:, 0]
+    return float(np.max(np.abs(f - ev) / np.maximum(np.abs(ev), 1e-300)))
+
+
 def render_woven(
     cmd: str, scene: sc.Scene, seeds: list[int], spp: int, out: Path, mi
 ) -> np.ndarray:
@@ -310,6 +333,13 @@ def main() -> int:
             r["analytic_vs_mitsuba"] = s
         # woven
         w = None
+        if args.woven and has_rough:
+            mat = next(mt for *_, mt in scene.rectangles if mt.kind == "roughplastic")
+            err = brdf_vs_woven_eval(args.woven, scene, mat)
+            r["analytic_brdf_vs_woven_eval_max_rel"] = err
+            print(f"{scene.name}: analytic BRDF vs `woven eval` at 256 pixels: max rel {err:.1e}")
+            if err > 1e-9:
+                raise SystemExit(f"the analytic BRDF is not woven's model (max rel {err:.1e})")
         if args.woven:
             w = render_woven(args.woven, scene, seeds, spp, wdir, mi)
         elif args.woven_dir:

@@ -44,6 +44,7 @@ class Material:
     reflectance: np.ndarray | None = None  # diffuse
     alpha: float = 0.0  # roughplastic: Beckmann alpha = 2 * roughness
     eta: float = 1.0
+    source: Path | None = None  # the woven material file, for `woven eval`
 
 
 @dataclass
@@ -101,7 +102,7 @@ def load_material_file(path: Path) -> Material:
     roughness = fiber.get("roughness")
     if not isinstance(roughness, (int, float)):
         raise _err(path, "fiber.roughness", f"{roughness!r}: a number is required")
-    return Material("roughplastic", alpha=2.0 * float(roughness), eta=float(eta))
+    return Material("roughplastic", alpha=2.0 * float(roughness), eta=float(eta), source=path)
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -299,6 +300,27 @@ def camera_rays(
     sy = (1 - 2 * y / h) * ty
     d = f + sx[..., None] * r + sy[..., None] * u
     return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def plane_pixel_directions(scene: Scene, n: int, seed: int = 0):
+    """Light and view directions (local frame of the first rectangle: z = normal, x along edge_u)
+    at the pixel centres of `n` random pixels that see the rectangle: (wi, wo), each (n, 3)."""
+    c, eu, ev, _ = scene.rectangles[0]
+    nrm = np.cross(eu, ev)
+    nrm /= np.linalg.norm(nrm)
+    ex = eu / np.linalg.norm(eu)
+    to_local = np.stack([ex, np.cross(nrm, ex), nrm])
+    d = camera_rays(scene, 1)[:, :, 0].reshape(-1, 3)
+    t = ((c - scene.origin) @ nrm) / (d @ nrm)
+    p = scene.origin + t[:, None] * d
+    s_ = (p - c) @ eu / (eu @ eu)
+    v_ = (p - c) @ ev / (ev @ ev)
+    hit = np.flatnonzero((t > 0) & (s_ >= 0) & (s_ <= 1) & (v_ >= 0) & (v_ <= 1))
+    pick = np.random.default_rng(seed).choice(hit, size=min(n, hit.size), replace=False)
+    pos = scene.point_lights[0][0]
+    wi = pos - p[pick]
+    wi /= np.linalg.norm(wi, axis=-1, keepdims=True)
+    return wi @ to_local.T, (-d[pick]) @ to_local.T
 
 
 _erfc = np.vectorize(math.erfc, otypes=[np.float64])
