@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# CI step: woven against Mitsuba 3 on issue 9's comparison scenes (docs/mitsuba.md).
+#
+#   bash scripts/mitsuba/ci.sh            # from anywhere; exit 0 = passed or skipped
+#
+# Installs Mitsuba 3 from PyPI into a virtual environment (MITSUBA_VENV, default
+# target/mitsuba-venv), Debian's libllvm19 when it can (root and apt-get) so the fast LLVM
+# variant runs (without it compare.py falls back to scalar_rgb), then runs compare.py:
+# Mitsuba vs the analytic images always, and Mitsuba vs `woven render` when the woven binary
+# has a `render` command (built here with cargo build --release).
+# Skips, with a message and exit 0, when python3, its venv module or the PyPI packages cannot be
+# had. Fails (exit 1) when a comparison fails.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+MITSUBA_VERSION=3.9.1
+DRJIT_VERSION=1.5.0
+VENV=${MITSUBA_VENV:-target/mitsuba-venv}
+
+skip() { printf 'SKIP (Mitsuba comparison): %s\n' "$*"; exit 0; }
+
+command -v python3 >/dev/null 2>&1 || skip "no python3 on this machine"
+if [ ! -x "$VENV/bin/python" ]; then
+  python3 -m venv "$VENV" 2>/dev/null || { rm -rf "$VENV"; skip "python3 -m venv failed (Debian: apt-get install python3-venv)"; }
+fi
+if ! "$VENV/bin/python" -c "import mitsuba, numpy; assert mitsuba.__version__ == '$MITSUBA_VERSION'" 2>/dev/null; then
+  echo "installing mitsuba==$MITSUBA_VERSION drjit==$DRJIT_VERSION numpy into $VENV"
+  "$VENV/bin/pip" install -q --disable-pip-version-check --timeout 30 --retries 2 \
+      "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION" numpy \
+    || skip "pip could not install mitsuba==$MITSUBA_VERSION (no PyPI, or no wheel for this platform)"
+fi
+
+# Dr.Jit's LLVM backend loads a system libLLVM >= 16 at run time (Debian 12: libllvm19).
+if ! ldconfig -p 2>/dev/null | grep -Eq 'libLLVM(-1[6-9]|-[2-9][0-9]|\.so\.(1[6-9]|[2-9][0-9]))'; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    echo "installing libllvm19 (for Mitsuba's llvm_ad_rgb variant)"
+    { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19; } >/dev/null 2>&1 \
+      || echo "note: libllvm19 could not be installed; Mitsuba runs its scalar_rgb variant (slower)"
+  else
+    echo "note: no libLLVM >= 16 found and no root to install one; Mitsuba runs scalar_rgb (slower)"
+  fi
+fi
+
+args=()
+WOVEN_BIN=${WOVEN_BIN:-}
+if [ -z "$WOVEN_BIN" ]; then
+  cargo build --release --locked -q -p woven-cli
+  WOVEN_BIN="${CARGO_TARGET_DIR:-target}/release/woven"
+fi
+if "$WOVEN_BIN" render --help >/dev/null 2>&1; then
+  args+=(--woven "$WOVEN_BIN")
+else
+  echo "note: $WOVEN_BIN has no \`render\` command yet: comparing Mitsuba with the analytic images only"
+fi
+
+exec "$VENV/bin/python" scripts/mitsuba/compare.py --out target/mitsuba-compare "${args[@]}" "$@"
