@@ -55,7 +55,7 @@ mod sampler;
 
 pub use options::{
     grid_of, value_count, TableOptions, MAX_VALUES, N_H_NARROW_LOBE, N_H_SMOOTH, N_H_WIDE_LOBE,
-    N_THETA_ISOTROPIC,
+    N_PHI_RENDER, N_THETA_ISOTROPIC, N_THETA_RENDER,
 };
 
 use crate::material::Material;
