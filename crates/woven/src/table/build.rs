@@ -65,7 +65,8 @@ impl Table {
                 wavelength_nm,
                 None,
                 None,
-            ));
+            )
+            .with_exact(model));
         }
         // f and ∂f/∂ρ0 in one pass (`Model::eval_affine`).
         let [values, body] =
@@ -80,7 +81,8 @@ impl Table {
             wavelength_nm,
             None,
             Some(super::Colour::new(material, body)),
-        ))
+        )
+        .with_exact(model))
     }
 }
 

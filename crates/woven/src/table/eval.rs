@@ -74,6 +74,9 @@ impl Table {
         if s.z <= 0.0 || v.z <= 0.0 {
             return 0.0;
         }
+        if let Some(model) = self.exact_at(s, v) {
+            return model.eval(s, v);
+        }
         let half = Half::of(s, v);
         let (axis, other) = half.split(s, v);
         let fold = Fold::of(self.symmetry, axis);
@@ -90,6 +93,10 @@ impl Table {
     pub fn eval_dyed<const N: usize>(&self, s: Vec3, v: Vec3, albedos: &[Albedos; N]) -> [f64; N] {
         if s.z <= 0.0 || v.z <= 0.0 {
             return [0.0; N];
+        }
+        if let Some(model) = self.exact_at(s, v) {
+            let affine = model.eval_affine(s, v);
+            return albedos.map(|a| affine.at(a.diffuse, a.interreflection).max(0.0));
         }
         let half = Half::of(s, v);
         let (axis, other) = half.split(s, v);
@@ -232,6 +239,9 @@ impl Table {
     pub(crate) fn eval_folded(&self, s: Vec3, v: Vec3) -> f64 {
         if s.z <= 0.0 || v.z <= 0.0 {
             return 0.0;
+        }
+        if let Some(model) = self.exact_at(s, v) {
+            return model.eval(s, v);
         }
         match Half::of(s, v) {
             Half::Light => self.eval_half(Half::Light, s, v),

@@ -202,7 +202,12 @@ impl Table {
         let material = crate::material::Material::from_toml_str(text, origin)
             .map_err(|e| err(&format!("its recorded material does not parse: {e}")))?;
         let colour = (parts == 2).then(|| super::Colour::new(&material, body));
-        Ok(Table::assemble(
+        // Single-orientation yarns keep the exact model for near-forward pairs
+        // (`FORWARD_EXACT`); the material was checked as it parsed, so it builds.
+        let model = material
+            .build(wavelength_nm)
+            .map_err(|e| err(&format!("its recorded material does not build: {e}")))?;
+        let table = Table::assemble(
             symmetry,
             Axis {
                 lo: 0.0,
@@ -220,7 +225,8 @@ impl Table {
             wavelength_nm,
             Some(cell_pdf),
             colour,
-        ))
+        );
+        Ok(table.with_exact(&model))
     }
 
     /// Loads a table file.

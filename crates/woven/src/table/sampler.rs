@@ -201,7 +201,9 @@ impl Sampler {
         }
         // The node's density in this cell over the map's Jacobian.
         let pdf = self.density(node, iy, ix, dt) / j;
-        let f = if Half::of(s, v) == Half::Light {
+        let f = if let Some(model) = table.exact_at(s, v) {
+            model.eval(s, v)
+        } else if Half::of(s, v) == Half::Light {
             table.eval_at(Half::Light, located, Query::new(s, v))
         } else {
             table.eval_folded(s, v)
