@@ -5,8 +5,7 @@
 /// width ½, in `u = x − centre`, evaluated by Estrin's scheme (a short dependency chain, unlike
 /// Horner or Clenshaw). The coefficients are the piece's Chebyshev interpolant at 40 nodes,
 /// computed in 50-digit arithmetic (mpmath, `scripts/fit_erfcx.py`) and converted to powers of
-/// `u`; relative error below
-/// 1e-15 (tested against `libm`).
+/// `u`; relative error below 1e-15 (tested against `libm`).
 ///
 /// Outside `[0, ERFCX_MAX)` it falls back to `libm` (`exp(x²)` overflows beyond `x ≈ 26.6`).
 #[inline]
