@@ -43,6 +43,15 @@ fn bench_presets(c: &mut Criterion) {
                     .sum::<f64>()
             })
         });
+        // The BRDF as an affine function of the albedos (one pass, both parts), for colour.
+        group.bench_function(format!("{name}/exact_affine"), |b| {
+            b.iter(|| {
+                pairs
+                    .iter()
+                    .map(|&(s, v)| model.eval_affine(black_box(s), black_box(v)).fixed)
+                    .sum::<f64>()
+            })
+        });
     }
     group.finish();
 }

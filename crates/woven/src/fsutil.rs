@@ -69,7 +69,7 @@ pub enum WriteStep {
     Rename,
 }
 
-/// The one atomic writer: what [`atomic_write`] (the library's files) and the command line's
+/// The one atomic writer: what `atomic_write` (the library's files) and the command line's
 /// outputs use. `write` fills a buffered temporary file `.NAME.PID-N.tmp` in `path`'s folder;
 /// when it returns `Ok`, the file is flushed, synced and renamed onto `path`, and `write`'s value
 /// returned. On any error the temporary file is removed and an existing `path` is untouched.

@@ -71,6 +71,27 @@ pub fn sweep_grid(azimuths_deg: &[f64], tilts_deg: &[f64]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The readings of `model` over [`sweep_grid`]`(azimuths_deg, tilts_deg)`, in that order,
+/// computed over all cores (rayon); `progress` is called once per reading, from any thread.
+pub fn sweep(
+    model: &Model,
+    azimuths_deg: &[f64],
+    tilts_deg: &[f64],
+    progress: impl Fn() + Sync,
+) -> Vec<Reading> {
+    use rayon::prelude::*;
+    sweep_grid(azimuths_deg, tilts_deg)
+        .par_iter()
+        // One reading costs up to a few milliseconds for cloth: small tasks balance the cores.
+        .with_max_len(4)
+        .map(|&(a, t)| {
+            let r = read(model, a, t);
+            progress();
+            r
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

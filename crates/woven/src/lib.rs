@@ -61,6 +61,7 @@
 //! - [`export`]: export to other programs' formats (MERL).
 //! - [`math`]: vectors, special functions, quadrature and interpolation.
 //! - [`error`]: the one error type, [`Error`].
+//! - [`figures`]: the data of the paper's Figs. 3–5 and 8–10 (the command line draws them).
 //! - [`fsutil`]: files written atomically (a temporary file renamed into place).
 
 mod albedo;
@@ -70,6 +71,8 @@ pub mod directions;
 pub mod error;
 pub mod export;
 pub mod fiber;
+#[cfg(feature = "serde")]
+pub mod figures;
 pub mod fsutil;
 pub mod gonio;
 pub mod material;

@@ -4,8 +4,8 @@
 /// `erfcx(x) = exp(x²) erfc(x)`. On `[0, ERFCX_MAX)`: one polynomial of degree 15 per piece of
 /// width ½, in `u = x − centre`, evaluated by Estrin's scheme (a short dependency chain, unlike
 /// Horner or Clenshaw). The coefficients are the piece's Chebyshev interpolant at 40 nodes,
-/// computed in 50-digit arithmetic (mpmath) and converted to powers of `u`; relative error below
-/// 1e-15 (tested against `libm`).
+/// computed in 50-digit arithmetic (mpmath, `scripts/fit_erfcx.py`) and converted to powers of
+/// `u`; relative error below 1e-15 (tested against `libm`).
 ///
 /// Outside `[0, ERFCX_MAX)` it falls back to `libm` (`exp(x²)` overflows beyond `x ≈ 26.6`).
 #[inline]

@@ -151,6 +151,17 @@ impl<'a> CrossSection<'a> {
         (lo, hi)
     }
 
+    /// The widest sampling panel: [`MAX_PANEL`] for a single profile; for slope averages
+    /// (`COARSE_PANELS`) up to twice that where the lobe is wide enough (`1.5 α`) for 10 nodes to
+    /// stay far below the averages' own error.
+    fn max_panel(&self) -> f64 {
+        if self.panel_widths == COARSE_PANELS {
+            (1.5 * self.fiber.lobe_width(0.0)).clamp(MAX_PANEL, 2.0 * MAX_PANEL)
+        } else {
+            MAX_PANEL
+        }
+    }
+
     fn sample_g(&mut self) {
         let (lo, hi) = self.facing_range();
         let (c, w) = (self.theta_peak, self.peak_width);
@@ -174,7 +185,7 @@ impl<'a> CrossSection<'a> {
             edges.push(hi - d);
         }
         // No panel wider than MAX_PANEL: a wide lobe (rough fibers) is not one polynomial.
-        panel_edges(&mut edges, lo, hi, MAX_PANEL);
+        panel_edges(&mut edges, lo, hi, self.max_panel());
         let mut g = std::mem::take(&mut self.g);
         g.resample(&edges, |t| self.g_direct(t));
         self.g = g;

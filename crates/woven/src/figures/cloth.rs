@@ -8,23 +8,23 @@
 //!
 //! - Fig. 8, sateen: masking and shadowing are strong with the weft in the plane and negligible
 //!   with the warp. Measured by [`masking_factors`]: the library's slope-averaged yarn BRDF
-//!   `f_θ` over the same with masking switched off ([`woven::yarn::Yarn::slope_averaged_unmasked`]), for the visible yarn.
+//!   `f_θ` over the same with masking switched off ([`Yarn::slope_averaged_unmasked`]), for the visible yarn.
 //!   The figure also draws the weft curve with masking off, dashed.
 //! - Fig. 9, belt cloth: the 45° curve equals the warp curve. Measured by
 //!   [`max_relative_difference`] (our preset is not fitted to the paper's data: the caption says
 //!   how close it gets).
 //! - Fig. 10, silk: the same in all three directions (Eq. (22) is isotropic): the same measure.
 
+use super::words::{short, Summary};
 use super::{Figure, FigureId, LegendCorner, Series, YScale};
-use crate::goniometer::{self, HALF_ANGLE_DEG};
-use crate::summary::{short, Summary};
-use anyhow::{bail, Context, Result};
+use crate::cloth::weave_axes;
+use crate::error::{Error, Result};
+use crate::fiber::Fiber;
+use crate::gonio::{self as goniometer, HALF_ANGLE_DEG};
+use crate::material::Material;
+use crate::yarn::Yarn;
 use rayon::prelude::*;
 use std::f64::consts::FRAC_PI_2;
-use woven::cloth::weave_axes;
-use woven::fiber::Fiber;
-use woven::material::Material;
-use woven::yarn::Yarn;
 
 /// Wavelength of Figs. 8–10, nm.
 pub const WAVELENGTH_NM: f64 = 550.0;
@@ -68,9 +68,7 @@ pub struct GonioCurves {
 
 /// Computes the goniometer curves of `material` at tilts `k · tilt_step_deg`.
 pub fn gonio_curves(material: &Material, tilt_step_deg: f64) -> Result<GonioCurves> {
-    let model = material
-        .build(WAVELENGTH_NM)
-        .context("building the material for the goniometer figure")?;
+    let model = material.build(WAVELENGTH_NM)?;
     let tilts = tilts(tilt_step_deg);
     let azimuths = AZIMUTHS.map(|(a, _)| a);
     let readings = goniometer::sweep(&model, &azimuths, &tilts, || {});
@@ -110,12 +108,22 @@ pub struct Masking {
 /// yarn, radians: the weft (`x`, 0) when `γ ≥ ½`, else the warp (`y`, π/2).
 fn visible_yarn(material: &Material) -> Result<(Yarn, f64)> {
     let Some(params) = material.yarn else {
-        bail!("a flat fiber surface has no yarns to mask one another");
+        return Err(Error::invalid(
+            "yarn",
+            "none (a flat fiber surface)",
+            "yarns, to mask one another",
+        ));
     };
     if params.isotropic || params.twist_std > 0.0 {
-        bail!(
-            "the masking reference needs yarns of one fiber orientation (no twist, not isotropic)"
-        );
+        return Err(Error::invalid(
+            "yarn",
+            if params.isotropic {
+                "isotropic"
+            } else {
+                "twisted"
+            },
+            "yarns of one fiber orientation (no twist, not isotropic) for the masking reference",
+        ));
     }
     let fiber = Fiber::new(&material.fiber, WAVELENGTH_NM)?;
     let phi_y = if material.weft_fraction() >= 0.5 {
@@ -169,7 +177,11 @@ pub const CAPTION_TILTS: [f64; 2] = [42.0, 30.0];
 /// Fig. 8, 9 or 10 with curves sampled every `tilt_step_deg` degrees.
 pub fn figure(id: FigureId, tilt_step_deg: f64) -> Result<Figure> {
     let Some((preset, number)) = preset_of(id) else {
-        bail!("{id:?} is not a goniometer figure");
+        return Err(Error::invalid(
+            "figure",
+            format!("{id:?}"),
+            "a goniometer figure (Fig. 8, 9 or 10)",
+        ));
     };
     let material = Material::preset(preset)?;
     let curves = gonio_curves(&material, tilt_step_deg)?;
@@ -201,8 +213,8 @@ pub fn figure(id: FigureId, tilt_step_deg: f64) -> Result<Figure> {
             short(yarn.interreflection),
             short(yarn.interreflection_albedo),
             match fiber.normalization {
-                woven::fiber::Normalization::Paper => "paper",
-                woven::fiber::Normalization::None => "none",
+                crate::fiber::Normalization::Paper => "paper",
+                crate::fiber::Normalization::None => "none",
             }
         ),
     ];
