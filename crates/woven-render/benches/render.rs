@@ -3,6 +3,9 @@
 //!
 //! `cargo bench -p woven-render --bench render`
 
+// criterion_group! and criterion_main! generate undocumented items.
+#![allow(missing_docs)]
+
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::path::Path;
 use woven::table::TableOptions;
