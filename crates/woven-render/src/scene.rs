@@ -13,7 +13,7 @@ use crate::geometry::{Mesh, Primitive};
 use crate::light::{Environment, Light};
 use crate::material::{Diffuse, SurfaceMaterial};
 use crate::shapes::{self, Cloth};
-use crate::woven_material::{TableGrid, WovenMaterial, WovenSpec};
+use crate::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSpec};
 use crate::{Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -360,14 +360,21 @@ enum RawMaterial {
         material: String,
         pattern: Option<RawPattern>,
         #[serde(default = "default_yarns")]
-        yarns_per_unit: f64,
+        yarns_per_unit: RawYarns,
         weft_color: Option<[f64; 3]>,
         warp_color: Option<[f64; 3]>,
     },
 }
 
-fn default_yarns() -> f64 {
-    40.0
+fn default_yarns() -> RawYarns {
+    RawYarns::Same(40.0)
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawYarns {
+    Same(f64),
+    PerAxis([f64; 2]),
 }
 
 #[derive(Deserialize)]
@@ -745,11 +752,14 @@ impl SceneDescription {
                     };
                     MaterialDesc::Woven(Box::new(WovenSpec {
                         material: woven,
-                        yarns_per_unit: c.positive(
-                            &format!("{key}.yarns_per_unit"),
-                            at,
-                            yarns_per_unit,
-                        )?,
+                        yarns_per_unit: {
+                            let ykey = format!("{key}.yarns_per_unit");
+                            let [nu, nv] = match yarns_per_unit {
+                                RawYarns::Same(n) => [n, n],
+                                RawYarns::PerAxis(p) => p,
+                            };
+                            [c.positive(&ykey, at, nu)?, c.positive(&ykey, at, nv)?]
+                        },
                         weft_color: color("weft_color", weft_color)?,
                         warp_color: color("warp_color", warp_color)?,
                     }))
@@ -930,8 +940,8 @@ pub struct PrimInfo {
 
 impl Scene {
     /// Builds the scene: tabulates woven materials (`grid`), loads meshes and environment maps,
-    /// builds the BVH. `on_table` is called with each woven material's name before its table is
-    /// built; `progress` receives the table build's `(done, total)`.
+    /// builds the BVH. `on_table` is called with a woven material's name before a table is
+    /// built for it (materials sharing a yarn share its table); `progress` receives the table build's `(done, total)`.
     ///
     /// # Errors
     /// Files that cannot be read; materials the model library refuses.
@@ -952,6 +962,7 @@ impl Scene {
         // Materials used by some shape, in name order.
         let mut index_of = BTreeMap::new();
         let mut materials: Vec<Box<dyn SurfaceMaterial>> = Vec::new();
+        let mut cache = TableCache::default();
         for (name, m) in &desc.materials {
             if !desc.shapes.iter().any(|(_, n)| n == name) {
                 continue;
@@ -960,10 +971,13 @@ impl Scene {
                 MaterialDesc::Diffuse { reflectance } => Box::new(Diffuse {
                     reflectance: *reflectance,
                 }),
-                MaterialDesc::Woven(spec) => {
-                    on_table(name);
-                    Box::new(WovenMaterial::build(spec, grid, progress)?)
-                }
+                MaterialDesc::Woven(spec) => Box::new(WovenMaterial::build(
+                    spec,
+                    grid,
+                    &mut cache,
+                    &|| on_table(name),
+                    progress,
+                )?),
             };
             index_of.insert(name.clone(), materials.len());
             materials.push(built);

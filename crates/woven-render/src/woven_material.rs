@@ -2,12 +2,13 @@
 //! pattern deciding, point by point, whether the weft or the warp lies on top.
 //!
 //! **Interface** (kept small: the lead reworks the inside for colour tables and a disk cache):
-//! a [`WovenSpec`] says what to render, [`WovenMaterial::build`] tabulates it once, and the
+//! a [`WovenSpec`] says what to render, [`WovenMaterial::build`] tabulates it once (a
+//! [`TableCache`] shares tables between materials of one scene), and the
 //! result is a [`SurfaceMaterial`]. Everything else is private.
 //!
 //! **What renders.**
 //! - A material with a weave *pattern*: at surface parameters `(u, v)` the pattern cell
-//!   `(⌊v·n⌋, ⌊u·n⌋)`, `n = yarns_per_unit`, says which yarn family is on top. A weft cell
+//!   `(⌊v·n_v⌋, ⌊u·n_u⌋)`, `[n_u, n_v] = yarns_per_unit`, says which yarn family is on top. A weft cell
 //!   renders the BRDF of the material's yarn with `weft_fraction = 1` (its yarns along `x`, the
 //!   surface's `u`); a warp cell the same yarn turned 90° about the normal (along `y`, `v`).
 //!   Far away, cells average to the paper's γ-mix (MODEL.md §2.7), which the γ-mix is by
@@ -30,6 +31,8 @@
 use crate::color::Rgb;
 use crate::material::{MaterialSample, ShadingPoint, SurfaceMaterial};
 use crate::Result;
+use std::collections::HashMap;
+use std::sync::Arc;
 use woven::bsdf::Bsdf;
 use woven::material::{Material, Weave};
 use woven::table::{Table, TableOptions};
@@ -44,8 +47,8 @@ pub const WAVELENGTH_NM: f64 = 550.0;
 pub struct WovenSpec {
     /// The material (its `weave` may hold the pattern the scene chose).
     pub material: Material,
-    /// Pattern cells per unit of `u` and of `v` (> 0); unused without a pattern.
-    pub yarns_per_unit: f64,
+    /// Pattern cells per unit of `u` and per unit of `v` (each > 0); unused without a pattern.
+    pub yarns_per_unit: [f64; 2],
     /// The weft's dyed albedo per channel; `None`: the material's own (grey).
     pub weft_color: Option<Rgb>,
     /// The warp's dyed albedo per channel; `None`: the material's own (grey).
@@ -67,40 +70,60 @@ pub struct WovenMaterial {
     layout: Layout,
     weft_scale: Rgb,
     warp_scale: Rgb,
-    yarns_per_unit: f64,
+    yarns_per_unit: [f64; 2],
 }
+
+/// Tables built so far, by the self-contained TOML of the material tabulated: materials that
+/// share a yarn (the same preset in two weaves) share its table.
+#[derive(Default)]
+pub struct TableCache(HashMap<String, Arc<Table>>);
 
 enum Layout {
     /// The macro BRDF, weft along `u`; the colour is the γ-mix of the two scales.
-    Macro { table: Table, weft_fraction: f64 },
+    Macro {
+        table: Arc<Table>,
+        weft_fraction: f64,
+    },
     /// One yarn family per pattern cell.
-    Pattern { pattern: Pattern, yarn: Table },
+    Pattern { pattern: Pattern, yarn: Arc<Table> },
 }
 
 impl WovenMaterial {
-    /// Tabulates `spec` (this takes seconds to a minute: see `woven tabulate`). `progress` gets
-    /// `(done, total)` nodes as the build proceeds.
+    /// Tabulates `spec` (this takes seconds to a minute: see `woven tabulate`), reusing a table
+    /// in `cache` when one of the same material exists. `on_build` is called before a table is
+    /// built; `progress` gets `(done, total)` nodes as the build proceeds.
     ///
     /// # Errors
     /// An invalid material or grid ([`woven::Error`]).
     pub fn build(
         spec: &WovenSpec,
         grid: &TableGrid,
+        cache: &mut TableCache,
+        on_build: &dyn Fn(),
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<WovenMaterial> {
-        let tabulate = |material: &Material| -> Result<Table> {
+        let mut tabulate = |material: &Material| -> Result<Arc<Table>> {
+            let key = material.to_self_contained_toml_string();
+            if let Some(t) = cache.0.get(&key) {
+                return Ok(Arc::clone(t));
+            }
+            on_build();
             let model: Model = material.build(WAVELENGTH_NM)?;
             let options = match grid {
                 TableGrid::Default => TableOptions::for_model(&model),
                 TableGrid::Custom(o) => *o,
             };
-            Ok(Table::build(&model, material, &options, progress)?)
+            let table = Arc::new(Table::build(&model, material, &options, progress)?);
+            cache.0.insert(key, Arc::clone(&table));
+            Ok(table)
         };
         let layout = match &spec.material.weave {
             Some(Weave::Pattern { pattern, .. }) => {
                 // The yarn family alone: all weft (γ = 1), yarns along x.
                 let mut single = spec.material.clone();
                 single.weave = Some(Weave::WeftFraction(1.0));
+                // The name is not part of what a table holds.
+                single.name = None;
                 Layout::Pattern {
                     pattern: pattern.clone(),
                     yarn: tabulate(&single)?,
@@ -139,8 +162,8 @@ impl WovenMaterial {
             ),
             Layout::Pattern { pattern, yarn } => {
                 let (u, v) = (
-                    at.uv[0] * self.yarns_per_unit,
-                    at.uv[1] * self.yarns_per_unit,
+                    at.uv[0] * self.yarns_per_unit[0],
+                    at.uv[1] * self.yarns_per_unit[1],
                 );
                 // Cells per unit → pattern repeats: the pattern is cols × rows cells.
                 let weft = if u.is_finite() && v.is_finite() {

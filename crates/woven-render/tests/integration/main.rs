@@ -4,6 +4,7 @@
 mod analytic;
 mod scene_file;
 mod strategies;
+mod woven_surfaces;
 
 use std::path::Path;
 use woven::table::TableOptions;
