@@ -7,6 +7,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use woven::table::TableOptions;
 use woven_render::output::{self, Format};
 use woven_render::render::{render, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription, EXAMPLE_SCENE, SHOWCASE_SCENE};
@@ -67,6 +68,11 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub threads: Option<u32>,
+
+    /// Build woven tables on a coarse grid: seconds instead of tens of seconds per material, for
+    /// previews (highlights lose detail).
+    #[arg(long)]
+    pub draft_tables: bool,
 
     /// Exposure of the PNG in stops: values are scaled by 2^EV before the sRGB curve.
     #[arg(long, value_name = "EV", default_value_t = 0.0, allow_hyphen_values = true,
@@ -141,7 +147,19 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             b.set(done as u64, total as u64);
         }
     };
-    let scene = Scene::build(&desc, &TableGrid::Default, &on_table, &progress)?;
+    let grid = if args.draft_tables {
+        TableGrid::Custom(TableOptions {
+            n_theta: 16,
+            n_phi: 7,
+            n_h: 31,
+            n_h_isotropic: 61,
+            azimuth_nodes: 60,
+            ..TableOptions::default()
+        })
+    } else {
+        TableGrid::Default
+    };
+    let scene = Scene::build(&desc, &grid, &on_table, &progress)?;
     if let Some(b) = table_bar.lock().unwrap_or_else(|e| e.into_inner()).take() {
         b.finish();
     }
