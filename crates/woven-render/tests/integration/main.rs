@@ -2,6 +2,7 @@
 //! image validity and scene-file errors. One binary (STYLE.md).
 
 mod analytic;
+mod files;
 mod scene_file;
 mod strategies;
 mod woven_surfaces;
