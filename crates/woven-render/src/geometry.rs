@@ -6,11 +6,6 @@
 use std::f64::consts::PI;
 use woven::Vec3;
 
-/// How far a spawned ray starts from its surface, relative to the scene's scale (metres per
-/// metre of distance from the origin, plus an absolute floor): avoids re-hitting the surface
-/// through rounding, small enough to stay invisible at the showcase's scale.
-pub const RAY_EPSILON: f64 = 1e-6;
-
 /// A ray `o + t d`, `d` unit.
 #[derive(Clone, Copy, Debug)]
 pub struct Ray {

@@ -159,3 +159,58 @@ fn pattern_cells_average_to_the_macro_brdf() {
     }
     assert!(worst > 0.0);
 }
+
+/// `sample`, `eval` and `pdf` of a patterned woven material agree in weft and warp cells: the
+/// drawn `f` is `eval(wi, wo)` and the drawn density is `pdf(wi, wo)`; the warp cell is the
+/// weft cell turned 90° about the normal.
+#[test]
+fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
+    let spec = WovenSpec {
+        material: Material::preset("polyester-sateen").unwrap(),
+        yarns_per_unit: [2.0, 2.0],
+        weft_color: None,
+        warp_color: None,
+    };
+    let mut spec = spec;
+    spec.material.weave = Some(Weave::Pattern {
+        spec: woven::material::PatternSpec::Name("plain".into()),
+        pattern: woven::weave::Pattern::plain().unwrap(),
+    });
+    let m = WovenMaterial::build(
+        &spec,
+        &TableGrid::Custom(tiny()),
+        &mut TableCache::default(),
+        &|| {},
+        &|_, _| {},
+    )
+    .unwrap();
+    // Plain weave, 2 cells per unit: cell (0, 0) is warp, cell (0, 1) weft.
+    let warp = ShadingPoint { uv: [0.25, 0.25] };
+    let weft = ShadingPoint { uv: [0.75, 0.25] };
+    let turn = |d: Vec3| Vec3::new(-d.y, d.x, d.z);
+    let mut rng = woven::math::rng::SplitMix(9);
+    let mut drawn = 0;
+    for _ in 0..200 {
+        let wo = rng.direction(1.4);
+        for at in [&warp, &weft] {
+            let Some(s) = m.sample(wo, at, rng.uniform(), rng.uniform()) else {
+                continue;
+            };
+            drawn += 1;
+            let f = m.eval(s.wi, wo, at).0[0];
+            let pdf = m.pdf(s.wi, wo, at);
+            assert!(
+                (s.f.0[0] - f).abs() <= 1e-9 * f.max(1e-9),
+                "{} vs {f}",
+                s.f.0[0]
+            );
+            assert!((s.pdf - pdf).abs() <= 1e-6 * pdf, "{} vs {pdf}", s.pdf);
+        }
+        // A warp cell sees the weft cell's BRDF turned by 90°.
+        let wi = rng.direction(1.4);
+        let a = m.eval(turn(wi), turn(wo), &warp).0[0];
+        let b = m.eval(wi, wo, &weft).0[0];
+        assert!((a - b).abs() <= 1e-9 * b.max(1e-9), "warp {a} vs weft {b}");
+    }
+    assert!(drawn > 300, "only {drawn} draws succeeded");
+}
