@@ -158,3 +158,45 @@ fn diffuse_sphere_in_a_furnace_is_half_grey() {
         "furnace mean {mean} vs 0.5 (standard error {se})"
     );
 }
+
+/// Mitsuba's depth: `max_depth = 1` shows emitters only (the sphere is black, the sky 1);
+/// `hide_emitters` blacks out the directly seen sky but keeps its light on the sphere (0.5).
+#[test]
+fn depth_one_shows_emitters_only_and_hide_emitters_hides_them() {
+    let scene = |integrator: &str| {
+        format!(
+            r#"
+            [camera]
+            origin = [0, 0, 4]
+            target = [0, 0, 0]
+            up = [0, 1, 0]
+            fov_deg = 40
+            [film]
+            width = 8
+            height = 8
+            spp = 16
+            [integrator]
+            {integrator}
+            [[light]]
+            type = "environment"
+            radiance = [1, 1, 1]
+            [[shape]]
+            type = "sphere"
+            center = [0, 0, 0]
+            radius = 1
+            material = "grey"
+            [material.grey]
+            type = "diffuse"
+            reflectance = [0.5, 0.5, 0.5]
+            "#
+        )
+    };
+    let emitters_only = render_text(&scene("max_depth = 1"));
+    assert_eq!(emitters_only.at(4, 4).0, [0.0; 3]);
+    assert_eq!(emitters_only.at(0, 0).0, [1.0; 3]);
+    let hidden = render_text(&scene("max_depth = 2\nhide_emitters = true"));
+    assert_eq!(hidden.at(0, 0).0, [0.0; 3]);
+    let centre = hidden.at(4, 4).0[0];
+    let se = hidden.std_error[4 * 8 + 4].0[0];
+    assert!((centre - 0.5).abs() < 5.0 * se + 1e-6, "{centre} ± {se}");
+}
