@@ -1,7 +1,8 @@
 //! `woven`: evaluate and plot the Yang–Ikeuchi woven-cloth reflectance model.
 //!
 //! This file only declares the command line and dispatches; each subcommand lives in
-//! [`commands`], and bare `woven` runs [`commands::default_job`]. Exit status: 0 on success, 2 for usage errors (reported by clap), 1 for any
+//! [`commands`]; bare `woven` renders the built-in showcase ([`commands::render`]), and
+//! `woven gonio` without `--material` runs the goniometer job of [`commands::default_job`]. Exit status: 0 on success, 2 for usage errors (reported by clap), 1 for any
 //! other error.
 
 mod args;
@@ -25,9 +26,12 @@ use std::process::ExitCode;
     about = "Evaluate, plot, tabulate and export the Yang–Ikeuchi woven-cloth reflectance model",
     long_about = "Evaluate, plot, tabulate and export the Yang–Ikeuchi woven-cloth reflectance model.
 
-Run without a command, woven does its main job on the built-in polyester-sateen preset: the \
-paper's virtual goniometer, written to woven-out/ as CSV (gonio-polyester-sateen.csv) and as \
-the paper's Figure 8 (fig8.svg, fig8.png), with a short summary.
+Run without a command, woven renders its built-in showcase (the paper's three fabrics in \
+plain, twill and satin weaves; what `woven render` does without a scene file) to woven-out/ as \
+showcase.exr and showcase.png. `woven gonio` without --material runs the paper's virtual \
+goniometer on the polyester-sateen preset, written to woven-out/ as CSV \
+(gonio-polyester-sateen.csv) and as the paper's Figure 8 (fig8.svg, fig8.png), with a short \
+summary.
 
 Materials are built-in presets (list them with `woven materials`) or TOML files (see the \
 `woven` library's `material` module); --material takes either. Angles in files are radians; options that take degrees end in `-deg`. Directions use the cloth's local frame: z is \
@@ -39,7 +43,9 @@ Exit status: 0 on success, 1 on an error, 2 on a command-line usage error.",
   woven materials
   woven eval --material polyester.toml --input dirs.csv --output brdf.csv
   woven albedo --material silk --theta-deg 0:80:20
+  woven gonio
   woven gonio --material belt-cloth -o belt.csv
+  woven render --example > scene.toml && woven render scene.toml --spp 16
   woven tabulate --material belt-cloth -o belt.wtab --report
   woven eval --table belt.wtab --input dirs.csv --output brdf.csv
   woven export --material silk --format merl -o silk.binary
@@ -64,13 +70,14 @@ enum Command {
     Plot(commands::plot::PlotArgs),
     Tabulate(commands::tabulate::TabulateArgs),
     Export(commands::export::ExportArgs),
+    Render(commands::render::RenderArgs),
 }
 
 fn main() -> ExitCode {
     // Usage errors print clap's message and exit with status 2; --help and --version exit 0.
     let cli = Cli::parse();
     let result = match &cli.command {
-        None => commands::default_job::run(),
+        None => commands::render::run(&commands::render::RenderArgs::default()),
         Some(Command::Eval(args)) => commands::eval::run(args),
         Some(Command::Albedo(args)) => commands::albedo::run(args),
         Some(Command::Gonio(args)) => commands::gonio::run(args),
@@ -78,6 +85,7 @@ fn main() -> ExitCode {
         Some(Command::Plot(args)) => commands::plot::run(args),
         Some(Command::Tabulate(args)) => commands::tabulate::run(args),
         Some(Command::Export(args)) => commands::export::run(args),
+        Some(Command::Render(args)) => commands::render::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

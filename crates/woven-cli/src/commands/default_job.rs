@@ -1,4 +1,4 @@
-//! Bare `woven`, no command: the main job on the built-in default material.
+//! The goniometer job: `woven gonio` without `--material` (bare `woven` did this before it rendered).
 //!
 //! The paper's virtual goniometer (§4, Fig. 8; docs/spec.md §4) for the `polyester-sateen` preset:
 //! the readings as CSV (what `woven gonio --material polyester-sateen` prints) and Figure 8 as
@@ -78,8 +78,8 @@ fn summary(readings: &[Reading], n_tilts: usize, seconds: f64) -> String {
     // Writing into a String cannot fail.
     let _ = writeln!(
         out,
-        "woven — the Yang–Ikeuchi woven-cloth BRDF. No command given, so the main job ran on the \
-         built-in `{PRESET}` preset at {DEFAULT_WAVELENGTH_NM} nm: the paper's virtual \
+        "woven — the Yang–Ikeuchi woven-cloth BRDF. `woven gonio` without --material: the \
+         goniometer job ran on the built-in `{PRESET}` preset at {DEFAULT_WAVELENGTH_NM} nm: the paper's virtual \
          goniometer (§4, Fig. 8), light and sensor 90° apart, the sample tilted by t (light at \
          θi = 45° + t, sensor at θr = 45° − t) with the weft, the diagonal or the warp in the \
          plane of light and sensor. Done in {seconds:.1} s.\n"

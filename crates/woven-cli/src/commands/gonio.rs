@@ -1,6 +1,9 @@
 //! `woven gonio`: the paper's virtual goniometer (docs/spec.md §4) as a CSV table.
 
-use crate::args::{parse_degrees_in, Interval, MaterialArgs};
+use crate::args::{
+    material_help, parse_degrees_in, parse_finite, Interval, MaterialArgs, MaterialSource,
+    DEFAULT_WAVELENGTH_NM,
+};
 use crate::goniometer::{self, Reading};
 use crate::io;
 use crate::progress::Progress;
@@ -21,15 +24,28 @@ plane, A = 90° the warp (y).
 
 Prints CSV with the header `azimuth_deg,tilt_deg,theta_i,theta_r,radiance`: A and t in degrees \
 as given, θi and θr in radians, and the radiance f(s, v)·cos θi (sr⁻¹) for unit irradiance. \
-Rows run over the tilts for each azimuth in turn, computed in parallel.",
+Rows run over the tilts for each azimuth in turn, computed in parallel.
+
+Without --material (and without -o) it runs the main goniometer job: the polyester-sateen \
+preset on the paper's grid, written to woven-out/ as CSV (gonio-polyester-sateen.csv) and as \
+the paper's Figure 8 (fig8.svg, fig8.png), with a short summary; --azimuth-deg and --tilt-deg \
+then keep their defaults.",
     after_help = "Examples:
+  woven gonio
   woven gonio --material polyester-sateen
   woven gonio -m belt-cloth --azimuth-deg 0,45,90 --tilt-deg -42:42:3 -o belt.csv
   woven gonio -m my-cloth.toml --azimuth-deg 30 --tilt-deg -44:44:0.5 --wavelength-nm 450"
 )]
 pub struct GonioArgs {
-    #[command(flatten)]
-    pub material: MaterialArgs,
+    /// Absent: the main job (see above).
+    #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
+          help = material_help())]
+    pub material: Option<MaterialSource>,
+
+    /// Wavelength at which the material is evaluated, in nanometres.
+    #[arg(long, value_name = "NM", default_value_t = DEFAULT_WAVELENGTH_NM,
+          value_parser = parse_finite)]
+    pub wavelength_nm: f64,
 
     /// Sample azimuths A in degrees, each in [-360, 360]: a comma list, one angle, or a range
     /// START:STOP:STEP. 0 = the weft (x) in the plane of light and sensor, 90 = the warp (y).
@@ -82,7 +98,21 @@ pub const HEADER: &str = "azimuth_deg,tilt_deg,theta_i,theta_r,radiance";
 
 /// Runs `woven gonio`.
 pub fn run(args: &GonioArgs) -> Result<()> {
-    let model = args.material.build()?;
+    let Some(material) = &args.material else {
+        if args.output.is_some() {
+            anyhow::bail!(
+                "-o needs --material: without it, `woven gonio` runs the main job, which writes \
+                 its files to {}/",
+                super::default_job::OUT_DIR
+            );
+        }
+        return super::default_job::run();
+    };
+    let model = MaterialArgs {
+        material: material.clone(),
+        wavelength_nm: args.wavelength_nm,
+    }
+    .build()?;
     let (azimuths, tilts) = (&args.azimuth_deg.0, &args.tilt_deg.0);
     let bar = Progress::new(
         Some((azimuths.len() * tilts.len()) as u64),

@@ -8,4 +8,5 @@ pub mod gonio;
 pub mod materials;
 pub mod plot;
 pub mod plot_hemisphere;
+pub mod render;
 pub mod tabulate;

@@ -1,0 +1,85 @@
+//! Renderer throughput: camera samples per second on small scenes (criterion reports
+//! elements/s = samples/s).
+//!
+//! `cargo bench -p woven-render --bench render`
+
+// criterion_group! and criterion_main! generate undocumented items.
+#![allow(missing_docs)]
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use std::path::Path;
+use woven::table::TableOptions;
+use woven_render::render::{render, RenderOptions};
+use woven_render::scene::{Scene, SceneDescription};
+use woven_render::woven_material::TableGrid;
+
+/// The issue's scene (ii) at 64 × 64, 16 spp: a flat woven fiber plane (Mitsuba's
+/// `roughplastic` equivalent) under a point light, direct lighting; and the same plane diffuse.
+fn scene(material: &str) -> String {
+    format!(
+        r#"
+        [camera]
+        origin = [0, -2.5, 2.5]
+        target = [0, 0, 0]
+        up = [0, 0, 1]
+        fov_deg = 45
+        [film]
+        width = 64
+        height = 64
+        spp = 16
+        [integrator]
+        max_depth = 2
+        [[light]]
+        type = "point"
+        position = [0.4, 0.5, 1.5]
+        intensity = [10, 10, 10]
+        [[shape]]
+        type = "rectangle"
+        corner = [-1, -1, 0]
+        edge_u = [2, 0, 0]
+        edge_v = [0, 2, 0]
+        material = "plane"
+        {material}
+        "#
+    )
+}
+
+fn bench(c: &mut Criterion) {
+    let dir = std::env::temp_dir().join(format!("woven-render-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("fiber.toml"),
+        "[fiber]\neta = 1.6\nroughness = 0.1\ndiffuse = 0\nnormalization = \"none\"\n",
+    )
+    .unwrap();
+    let cases = [
+        (
+            "diffuse plane",
+            "[material.plane]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]",
+        ),
+        (
+            "woven fiber plane",
+            "[material.plane]\ntype = \"woven\"\nmaterial = \"fiber.toml\"",
+        ),
+    ];
+    let grid = TableGrid::Custom(TableOptions {
+        n_theta: 24,
+        n_h_isotropic: 81,
+        ..TableOptions::default()
+    });
+    let mut group = c.benchmark_group("render");
+    group.sample_size(10);
+    for (name, material) in cases {
+        let desc = SceneDescription::from_str(&scene(material), name, Path::new(&dir)).unwrap();
+        let scene = Scene::build(&desc, &grid, &|_| {}, &|_, _| {}).unwrap();
+        group.throughput(Throughput::Elements(64 * 64 * 16));
+        group.bench_function(name, |b| {
+            b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
+        });
+    }
+    group.finish();
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,85 @@
+//! Linear RGB triples: radiance, throughput, reflectance.
+
+use std::ops::{Add, AddAssign, Div, Mul, MulAssign};
+
+/// A linear RGB value (the renderer works in linear sRGB primaries; see docs/render.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Rgb(pub [f64; 3]);
+
+impl Rgb {
+    /// Black.
+    pub const BLACK: Rgb = Rgb([0.0; 3]);
+    /// White (1, 1, 1).
+    pub const WHITE: Rgb = Rgb([1.0; 3]);
+
+    /// A grey of value `v`.
+    pub const fn grey(v: f64) -> Rgb {
+        Rgb([v, v, v])
+    }
+
+    /// The largest channel.
+    pub fn max(self) -> f64 {
+        self.0[0].max(self.0[1]).max(self.0[2])
+    }
+
+    /// Rec. 709 luminance.
+    pub fn luminance(self) -> f64 {
+        0.2126 * self.0[0] + 0.7152 * self.0[1] + 0.0722 * self.0[2]
+    }
+
+    /// Whether every channel is 0.
+    pub fn is_black(self) -> bool {
+        self.0 == [0.0; 3]
+    }
+
+    /// Whether every channel is finite and non-negative.
+    pub fn is_valid(self) -> bool {
+        self.0.iter().all(|c| c.is_finite() && *c >= 0.0)
+    }
+}
+
+impl Add for Rgb {
+    type Output = Rgb;
+    fn add(self, o: Rgb) -> Rgb {
+        Rgb([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
+    }
+}
+
+impl AddAssign for Rgb {
+    fn add_assign(&mut self, o: Rgb) {
+        *self = *self + o;
+    }
+}
+
+impl Mul for Rgb {
+    type Output = Rgb;
+    fn mul(self, o: Rgb) -> Rgb {
+        Rgb([self.0[0] * o.0[0], self.0[1] * o.0[1], self.0[2] * o.0[2]])
+    }
+}
+
+impl MulAssign for Rgb {
+    fn mul_assign(&mut self, o: Rgb) {
+        *self = *self * o;
+    }
+}
+
+impl Mul<f64> for Rgb {
+    type Output = Rgb;
+    fn mul(self, k: f64) -> Rgb {
+        Rgb([self.0[0] * k, self.0[1] * k, self.0[2] * k])
+    }
+}
+
+impl MulAssign<f64> for Rgb {
+    fn mul_assign(&mut self, k: f64) {
+        *self = *self * k;
+    }
+}
+
+impl Div<f64> for Rgb {
+    type Output = Rgb;
+    fn div(self, k: f64) -> Rgb {
+        self * (1.0 / k)
+    }
+}

@@ -1,0 +1,552 @@
+//! Rays, surface hits and the primitives: spheres, rectangles, cylinders and triangles.
+//!
+//! Every primitive is one-sided: its normal `ng` says which side reflects (and, for an emitter,
+//! emits); a ray arriving from behind sees black. World space is right-handed, lengths in metres.
+
+use std::f64::consts::PI;
+use woven::Vec3;
+
+/// A ray `o + t d`, `d` unit.
+#[derive(Clone, Copy, Debug)]
+pub struct Ray {
+    /// Origin.
+    pub o: Vec3,
+    /// Direction, unit.
+    pub d: Vec3,
+}
+
+impl Ray {
+    /// The point at distance `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> Vec3 {
+        self.o + self.d * t
+    }
+}
+
+/// Where a ray meets a surface, with the differential geometry a shading frame needs.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    /// Distance along the ray.
+    pub t: f64,
+    /// The point.
+    pub p: Vec3,
+    /// Geometric normal, unit; the reflecting side.
+    pub ng: Vec3,
+    /// Shading normal, unit (interpolated on meshes; `ng` elsewhere), on `ng`'s side.
+    pub ns: Vec3,
+    /// Surface parameters `(u, v)`.
+    pub uv: [f64; 2],
+    /// `∂p/∂u` (need not be unit or orthogonal to anything).
+    pub dpdu: Vec3,
+    /// `∂p/∂v`.
+    pub dpdv: Vec3,
+    /// Index of the primitive in the scene.
+    pub prim: usize,
+}
+
+/// A primitive's shape.
+#[derive(Clone, Debug)]
+pub enum Primitive {
+    /// A sphere; normals outward; `u = φ/2π` around `+z`, `v = θ/π` from `+z`.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius, > 0.
+        radius: f64,
+    },
+    /// The parallelogram `corner + a·edge_u + b·edge_v`, `a, b ∈ [0, 1]`; `uv = (a, b)`,
+    /// normal `edge_u × edge_v`.
+    Rectangle {
+        /// A corner.
+        corner: Vec3,
+        /// First edge (the `u` direction).
+        edge_u: Vec3,
+        /// Second edge (the `v` direction).
+        edge_v: Vec3,
+    },
+    /// An open cylinder tube around `axis` from `base`; normals outward; `u` around
+    /// (`φ/2π` from `frame_x` toward `axis × frame_x`), `v` along (`0` at `base`, `1` at
+    /// `base + axis`).
+    Cylinder {
+        /// Centre of the base circle.
+        base: Vec3,
+        /// From the base centre to the top centre.
+        axis: Vec3,
+        /// Radius, > 0.
+        radius: f64,
+    },
+    /// Triangle `index` of mesh `mesh`.
+    Triangle {
+        /// Mesh index in the scene.
+        mesh: usize,
+        /// Triangle index in the mesh.
+        index: usize,
+    },
+}
+
+/// An indexed triangle mesh with per-vertex uv and (optional) normals.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals (same length as `positions`), or empty for flat shading.
+    pub normals: Vec<Vec3>,
+    /// Per-vertex uv (same length as `positions`), or empty (uv = 0).
+    pub uvs: Vec<[f64; 2]>,
+    /// Triangles as vertex indices, counter-clockwise seen from the reflecting side.
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// Two unit vectors orthogonal to unit `n` and to each other (Duff et al. 2017).
+pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1f64.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+/// The cylinder's reference direction for `u = 0`: perpendicular to the axis.
+pub fn cylinder_frame(axis: Vec3) -> (Vec3, Vec3) {
+    orthonormal_basis(axis.normalize())
+}
+
+impl Primitive {
+    /// The axis-aligned bounds `(min, max)`.
+    pub fn bounds(&self, meshes: &[Mesh]) -> (Vec3, Vec3) {
+        let mut lo = Vec3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
+        let mut hi = lo * -1.0;
+        let mut grow = |p: Vec3| {
+            lo = Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z));
+            hi = Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z));
+        };
+        match *self {
+            Primitive::Sphere { center, radius } => {
+                let r = Vec3::new(radius, radius, radius);
+                grow(center - r);
+                grow(center + r);
+            }
+            Primitive::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+            } => {
+                for p in [
+                    corner,
+                    corner + edge_u,
+                    corner + edge_v,
+                    corner + edge_u + edge_v,
+                ] {
+                    grow(p);
+                }
+            }
+            Primitive::Cylinder { base, axis, radius } => {
+                // The bounds of the two end discs (a loose but safe box).
+                let r = Vec3::new(radius, radius, radius);
+                for c in [base, base + axis] {
+                    grow(c - r);
+                    grow(c + r);
+                }
+            }
+            Primitive::Triangle { mesh, index } => {
+                let m = &meshes[mesh];
+                for &i in &m.indices[index] {
+                    grow(m.positions[i as usize]);
+                }
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The nearest hit with `t ∈ (t_min, t_max)`, from either side (the caller decides what the
+    /// back side means).
+    pub fn intersect(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        meshes: &[Mesh],
+        prim: usize,
+    ) -> Option<Hit> {
+        match *self {
+            Primitive::Sphere { center, radius } => {
+                let oc = ray.o - center;
+                let b = oc.dot(ray.d);
+                // c computed as (|oc| − r)(|oc| + r) keeps precision for far origins.
+                let l = oc.length();
+                let c = (l - radius) * (l + radius);
+                let disc = b * b - c;
+                if disc < 0.0 {
+                    return None;
+                }
+                let sq = disc.sqrt();
+                let mut t = -b - sq;
+                if t <= t_min {
+                    t = -b + sq;
+                }
+                if t <= t_min || t >= t_max {
+                    return None;
+                }
+                let p = ray.at(t);
+                let n = (p - center).normalize();
+                let phi = {
+                    let a = n.y.atan2(n.x);
+                    if a < 0.0 {
+                        a + 2.0 * PI
+                    } else {
+                        a
+                    }
+                };
+                let theta = n.z.clamp(-1.0, 1.0).acos();
+                let (sp, cp) = phi.sin_cos();
+                let (st, ct) = theta.sin_cos();
+                let dpdu = Vec3::new(
+                    -2.0 * PI * radius * st * sp,
+                    2.0 * PI * radius * st * cp,
+                    0.0,
+                );
+                let dpdv = Vec3::new(
+                    PI * radius * ct * cp,
+                    PI * radius * ct * sp,
+                    -PI * radius * st,
+                );
+                Some(Hit {
+                    t,
+                    p,
+                    ng: n,
+                    ns: n,
+                    uv: [phi / (2.0 * PI), theta / PI],
+                    dpdu,
+                    dpdv,
+                    prim,
+                })
+            }
+            Primitive::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+            } => {
+                let n = edge_u.cross(edge_v);
+                let denom = n.dot(ray.d);
+                if denom == 0.0 {
+                    return None;
+                }
+                let t = n.dot(corner - ray.o) / denom;
+                if t <= t_min || t >= t_max {
+                    return None;
+                }
+                let p = ray.at(t);
+                let d = p - corner;
+                // Solve d = a·eu + b·ev in the plane (Cramer's rule with the normal).
+                let nn = n.dot(n);
+                let a = d.cross(edge_v).dot(n) / nn;
+                let b = edge_u.cross(d).dot(n) / nn;
+                if !(0.0..=1.0).contains(&a) || !(0.0..=1.0).contains(&b) {
+                    return None;
+                }
+                let nu = n.normalize();
+                Some(Hit {
+                    t,
+                    p,
+                    ng: nu,
+                    ns: nu,
+                    uv: [a, b],
+                    dpdu: edge_u,
+                    dpdv: edge_v,
+                    prim,
+                })
+            }
+            Primitive::Cylinder { base, axis, radius } => {
+                let len = axis.length();
+                let w = axis * (1.0 / len);
+                let (fx, fy) = orthonormal_basis(w);
+                // Local coordinates of the ray: (x, y) across the axis, z along it.
+                let o = ray.o - base;
+                let (ox, oy, oz) = (o.dot(fx), o.dot(fy), o.dot(w));
+                let (dx, dy, dz) = (ray.d.dot(fx), ray.d.dot(fy), ray.d.dot(w));
+                let a = dx * dx + dy * dy;
+                if a == 0.0 {
+                    return None;
+                }
+                let b = ox * dx + oy * dy;
+                let c = ox * ox + oy * oy - radius * radius;
+                let disc = b * b - a * c;
+                if disc < 0.0 {
+                    return None;
+                }
+                let sq = disc.sqrt();
+                for t in [(-b - sq) / a, (-b + sq) / a] {
+                    if t <= t_min || t >= t_max {
+                        continue;
+                    }
+                    let z = oz + t * dz;
+                    if z < 0.0 || z > len {
+                        continue;
+                    }
+                    let (x, y) = (ox + t * dx, oy + t * dy);
+                    let mut phi = y.atan2(x);
+                    if phi < 0.0 {
+                        phi += 2.0 * PI;
+                    }
+                    let n = (fx * x + fy * y) * (1.0 / radius);
+                    let n = n.normalize();
+                    let dpdu = (fx * -y + fy * x) * (2.0 * PI);
+                    return Some(Hit {
+                        t,
+                        p: ray.at(t),
+                        ng: n,
+                        ns: n,
+                        uv: [phi / (2.0 * PI), z / len],
+                        dpdu,
+                        dpdv: axis,
+                        prim,
+                    });
+                }
+                None
+            }
+            Primitive::Triangle { mesh, index } => {
+                let m = &meshes[mesh];
+                let [i0, i1, i2] = m.indices[index].map(|i| i as usize);
+                let (p0, p1, p2) = (m.positions[i0], m.positions[i1], m.positions[i2]);
+                // Möller–Trumbore.
+                let e1 = p1 - p0;
+                let e2 = p2 - p0;
+                let pv = ray.d.cross(e2);
+                let det = e1.dot(pv);
+                if det == 0.0 || !det.is_finite() {
+                    return None;
+                }
+                let inv = 1.0 / det;
+                let tv = ray.o - p0;
+                let b1 = tv.dot(pv) * inv;
+                if !(0.0..=1.0).contains(&b1) {
+                    return None;
+                }
+                let qv = tv.cross(e1);
+                let b2 = ray.d.dot(qv) * inv;
+                if b2 < 0.0 || b1 + b2 > 1.0 {
+                    return None;
+                }
+                let t = e2.dot(qv) * inv;
+                if t <= t_min || t >= t_max {
+                    return None;
+                }
+                let b0 = 1.0 - b1 - b2;
+                let ng = e1.cross(e2).normalize();
+                let (uv0, uv1, uv2) = if m.uvs.is_empty() {
+                    ([0.0, 0.0], [1.0, 0.0], [0.0, 1.0])
+                } else {
+                    (m.uvs[i0], m.uvs[i1], m.uvs[i2])
+                };
+                let uv = [
+                    b0 * uv0[0] + b1 * uv1[0] + b2 * uv2[0],
+                    b0 * uv0[1] + b1 * uv1[1] + b2 * uv2[1],
+                ];
+                // ∂p/∂u, ∂p/∂v from the uv differences (pbrt's construction).
+                let (du1, dv1) = (uv1[0] - uv0[0], uv1[1] - uv0[1]);
+                let (du2, dv2) = (uv2[0] - uv0[0], uv2[1] - uv0[1]);
+                let d = du1 * dv2 - dv1 * du2;
+                let (dpdu, dpdv) = if d.abs() < 1e-12 {
+                    // Degenerate uv: any frame in the plane.
+                    orthonormal_basis(ng)
+                } else {
+                    let r = 1.0 / d;
+                    ((e1 * dv2 - e2 * dv1) * r, (e2 * du1 - e1 * du2) * r)
+                };
+                let ns = if m.normals.is_empty() {
+                    ng
+                } else {
+                    let n = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
+                    let l = n.length();
+                    if l > 0.0 && l.is_finite() {
+                        // The shading normal stays on the reflecting side of the geometry.
+                        let n = n * (1.0 / l);
+                        if n.dot(ng) > 0.0 {
+                            n
+                        } else {
+                            ng
+                        }
+                    } else {
+                        ng
+                    }
+                };
+                Some(Hit {
+                    t,
+                    p: ray.at(t),
+                    ng,
+                    ns,
+                    uv,
+                    dpdu,
+                    dpdv,
+                    prim,
+                })
+            }
+        }
+    }
+}
+
+/// The local shading frame at a hit: tangent `x` along `∂p/∂u` (the weft), `z` the shading
+/// normal, `y = z × x` (along `∂p/∂v` for a right-handed parameterization).
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    /// Tangent (weft, `u`).
+    pub x: Vec3,
+    /// Bitangent (warp, `v`).
+    pub y: Vec3,
+    /// Shading normal.
+    pub z: Vec3,
+}
+
+impl Frame {
+    /// The frame of a hit: `∂p/∂u` made orthogonal to the shading normal (Gram–Schmidt); an
+    /// arbitrary tangent where `∂p/∂u` vanishes (a sphere's poles).
+    pub fn from_hit(hit: &Hit) -> Frame {
+        let z = hit.ns;
+        let t = hit.dpdu - z * z.dot(hit.dpdu);
+        let l = t.length();
+        let x = if l > 1e-12 * hit.dpdu.length().max(1e-300) && l.is_finite() {
+            t * (1.0 / l)
+        } else {
+            // ∂p/∂u vanishes: fall back on ∂p/∂v, else any tangent.
+            let t2 = hit.dpdv - z * z.dot(hit.dpdv);
+            let l2 = t2.length();
+            if l2 > 0.0 && l2.is_finite() {
+                (t2 * (1.0 / l2)).cross(z)
+            } else {
+                orthonormal_basis(z).0
+            }
+        };
+        Frame {
+            x,
+            y: z.cross(x),
+            z,
+        }
+    }
+
+    /// A world direction in the local frame.
+    #[inline]
+    pub fn to_local(&self, d: Vec3) -> Vec3 {
+        Vec3::new(d.dot(self.x), d.dot(self.y), d.dot(self.z))
+    }
+
+    /// A local direction in world space.
+    #[inline]
+    pub fn to_world(&self, d: Vec3) -> Vec3 {
+        self.x * d.x + self.y * d.y + self.z * d.z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ray(o: [f64; 3], d: [f64; 3]) -> Ray {
+        Ray {
+            o: Vec3::new(o[0], o[1], o[2]),
+            d: Vec3::new(d[0], d[1], d[2]).normalize(),
+        }
+    }
+
+    #[test]
+    fn sphere_hit_from_outside_has_outward_normal_and_uv() {
+        let s = Primitive::Sphere {
+            center: Vec3::new(0.0, 0.0, 0.0),
+            radius: 2.0,
+        };
+        let h = s
+            .intersect(
+                &ray([5.0, 0.0, 0.0], [-1.0, 0.0, 0.0]),
+                0.0,
+                f64::INFINITY,
+                &[],
+                0,
+            )
+            .unwrap();
+        assert!((h.t - 3.0).abs() < 1e-12 && (h.ng.x - 1.0).abs() < 1e-12);
+        assert!((h.uv[0] - 0.0).abs() < 1e-12 && (h.uv[1] - 0.5).abs() < 1e-12);
+        // ∂p/∂u points along +y at φ = 0 (counter-clockwise about +z), length 2π r.
+        assert!((h.dpdu.y - 4.0 * PI).abs() < 1e-9);
+    }
+
+    #[test]
+    fn rectangle_uv_and_bounds() {
+        let r = Primitive::Rectangle {
+            corner: Vec3::new(-1.0, -1.0, 0.0),
+            edge_u: Vec3::new(2.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 2.0, 0.0),
+        };
+        let h = r
+            .intersect(
+                &ray([0.5, 0.0, 3.0], [0.0, 0.0, -1.0]),
+                0.0,
+                f64::INFINITY,
+                &[],
+                0,
+            )
+            .unwrap();
+        assert!((h.uv[0] - 0.75).abs() < 1e-12 && (h.uv[1] - 0.5).abs() < 1e-12);
+        assert!((h.ng.z - 1.0).abs() < 1e-12);
+        assert!(r
+            .intersect(
+                &ray([1.5, 0.0, 3.0], [0.0, 0.0, -1.0]),
+                0.0,
+                f64::INFINITY,
+                &[],
+                0
+            )
+            .is_none());
+    }
+
+    #[test]
+    fn cylinder_hit_and_frame() {
+        let c = Primitive::Cylinder {
+            base: Vec3::new(0.0, 0.0, 0.0),
+            axis: Vec3::new(0.0, 0.0, 2.0),
+            radius: 0.5,
+        };
+        let h = c
+            .intersect(
+                &ray([3.0, 0.1, 1.0], [-1.0, 0.0, 0.0]),
+                0.0,
+                f64::INFINITY,
+                &[],
+                0,
+            )
+            .unwrap();
+        assert!((h.p.x * h.p.x + h.p.y * h.p.y - 0.25).abs() < 1e-9);
+        assert!(h.ng.dot(Vec3::new(h.p.x, h.p.y, 0.0)) > 0.0);
+        assert!((h.uv[1] - 0.5).abs() < 1e-12);
+        let f = Frame::from_hit(&h);
+        // The frame is orthonormal and right-handed; y runs along the axis here.
+        assert!((f.x.cross(f.y).dot(f.z) - 1.0).abs() < 1e-12);
+        assert!(f.y.z.abs() > 0.999);
+    }
+
+    #[test]
+    fn triangle_barycentric_uv() {
+        let mesh = Mesh {
+            positions: vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            normals: vec![],
+            uvs: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
+            indices: vec![[0, 1, 2]],
+        };
+        let t = Primitive::Triangle { mesh: 0, index: 0 };
+        let h = t
+            .intersect(
+                &ray([0.25, 0.5, 1.0], [0.0, 0.0, -1.0]),
+                0.0,
+                f64::INFINITY,
+                &[mesh],
+                0,
+            )
+            .unwrap();
+        assert!((h.uv[0] - 0.25).abs() < 1e-12 && (h.uv[1] - 0.5).abs() < 1e-12);
+        assert!((h.dpdu.x - 1.0).abs() < 1e-12 && (h.dpdv.y - 1.0).abs() < 1e-12);
+    }
+}

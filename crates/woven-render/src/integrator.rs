@@ -1,0 +1,188 @@
+//! The path tracer: unidirectional, next-event estimation and BSDF sampling combined by
+//! multiple importance sampling (power heuristic), Russian roulette — Mitsuba 3's `path`
+//! integrator, transcribed to this renderer's types.
+//!
+//! **Depth** has Mitsuba's meaning: `max_depth = 1` shows emitters only, `2` direct lighting,
+//! and so on; light sampling at a vertex happens only when a further vertex is allowed.
+//! **Russian roulette** from depth `rr_depth` (5 by default) continues with probability
+//! `min(max channel of the throughput, 0.95)`. **Emitters**: one light is chosen uniformly per
+//! light sample; point lights are deltas (no MIS, never hit); a rectangle light's surface
+//! reflects nothing; surfaces are one-sided — a ray meeting a back face ends there, black.
+
+use crate::color::Rgb;
+use crate::geometry::{Frame, Hit, Ray};
+use crate::light::Light;
+use crate::material::ShadingPoint;
+use crate::rng::Sampler;
+use crate::scene::{Scene, Strategy};
+use woven::Vec3;
+
+/// The offset of a spawned ray's origin from its surface, relative to the point's magnitude
+/// (with an absolute floor of the same value): enough to leave the surface after rounding.
+const OFFSET: f64 = 1e-7;
+
+/// The power heuristic (β = 2) weight of a strategy with density `a` against one with `b`.
+#[inline]
+fn power(a: f64, b: f64) -> f64 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 && (a2 + b2).is_finite() {
+        a2 / (a2 + b2)
+    } else if a.is_infinite() {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// A ray leaving `hit` in world direction `d`, its origin pushed off the surface to `d`'s side.
+#[inline]
+fn spawn(hit: &Hit, d: Vec3) -> Ray {
+    let scale = OFFSET * (1.0 + hit.p.x.abs().max(hit.p.y.abs()).max(hit.p.z.abs()));
+    let side = if d.dot(hit.ng) >= 0.0 { 1.0 } else { -1.0 };
+    Ray {
+        o: hit.p + hit.ng * (scale * side),
+        d,
+    }
+}
+
+/// The radiance arriving at the camera along `ray`.
+pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
+    let settings = &scene.integrator;
+    let max_depth = settings.max_depth.unwrap_or(u32::MAX);
+    let n_lights = scene.lights.len();
+    let pick = if n_lights > 0 {
+        1.0 / n_lights as f64
+    } else {
+        0.0
+    };
+    let use_lights = settings.strategy != Strategy::Bsdf && n_lights > 0;
+
+    let mut l = Rgb::BLACK;
+    let mut beta = Rgb::WHITE;
+    // The density of the BSDF draw that produced `ray` (∞ for the camera ray: its emitter hits
+    // count in full).
+    let mut prev_pdf = f64::INFINITY;
+    let mut depth: u32 = 0;
+
+    loop {
+        let hit = scene.accel.intersect(&ray, 0.0, f64::INFINITY);
+        // Emission found along the ray, weighted against light sampling.
+        let emitted = |le: Rgb, light_pdf: f64| -> Rgb {
+            if depth == 0 {
+                if settings.hide_emitters {
+                    Rgb::BLACK
+                } else {
+                    le
+                }
+            } else {
+                match settings.strategy {
+                    Strategy::Bsdf => le,
+                    Strategy::Light => Rgb::BLACK,
+                    Strategy::Mis => le * power(prev_pdf, light_pdf),
+                }
+            }
+        };
+        let Some(hit) = hit else {
+            if let Some(e) = scene.environment {
+                if let Light::Environment(env) = &scene.lights[e] {
+                    let le = env.radiance(ray.d);
+                    if !le.is_black() {
+                        l += beta * emitted(le, pick * env.pdf(ray.d));
+                    }
+                }
+            }
+            break;
+        };
+        // One-sided surfaces: the back side is black and ends the path.
+        let cos_front = -ray.d.dot(hit.ng);
+        if cos_front <= 0.0 {
+            break;
+        }
+        let info = scene.prim_info[hit.prim];
+        if let Some(li) = info.light {
+            if let Light::Rectangle {
+                edge_u,
+                edge_v,
+                radiance,
+                ..
+            } = &scene.lights[li]
+            {
+                let area = edge_u.cross(*edge_v).length();
+                let light_pdf = pick * hit.t * hit.t / (cos_front * area);
+                l += beta * emitted(*radiance, light_pdf);
+            }
+        }
+        let Some(mi) = info.material else {
+            break;
+        };
+        if depth + 1 >= max_depth {
+            break;
+        }
+        let material = &scene.materials[mi];
+        let frame = Frame::from_hit(&hit);
+        let wo = frame.to_local(-ray.d);
+        if wo.z <= 0.0 {
+            // Seen below the shading normal's horizon: nothing reflects toward the viewer.
+            break;
+        }
+        let at = ShadingPoint { uv: hit.uv };
+
+        // Next-event estimation.
+        if use_lights {
+            let k = ((sampler.uniform() * n_lights as f64) as usize).min(n_lights - 1);
+            let (u1, u2) = sampler.next2();
+            if let Some(ls) = scene.lights[k].sample(hit.p, u1, u2) {
+                let wi = frame.to_local(ls.wi);
+                if wi.z > 0.0 && ls.wi.dot(hit.ng) > 0.0 && !ls.radiance.is_black() {
+                    let f = material.eval(wi, wo, &at);
+                    if !f.is_black() {
+                        let shadow = spawn(&hit, ls.wi);
+                        let t_max = if ls.distance.is_finite() {
+                            // Stop short of the light's own surface.
+                            (ls.distance - shadow.o.dot(ls.wi) + hit.p.dot(ls.wi)) * (1.0 - 1e-7)
+                        } else {
+                            f64::INFINITY
+                        };
+                        if !scene.accel.occluded(&shadow, 0.0, t_max) {
+                            let light_pdf = pick * ls.pdf;
+                            let w = if ls.delta || settings.strategy == Strategy::Light {
+                                1.0
+                            } else {
+                                power(light_pdf, material.pdf(wi, wo, &at))
+                            };
+                            l += beta * f * ls.radiance * (wi.z * w / light_pdf);
+                        }
+                    }
+                }
+            }
+        }
+
+        // BSDF sampling: the next direction.
+        let (u1, u2) = sampler.next2();
+        let Some(s) = material.sample(wo, &at, u1, u2) else {
+            break;
+        };
+        let wi = frame.to_world(s.wi);
+        if wi.dot(hit.ng) <= 0.0 || s.pdf.is_nan() || s.pdf <= 0.0 {
+            // Below the geometric surface: a one-sided surface transmits nothing.
+            break;
+        }
+        beta *= s.f * (s.wi.z / s.pdf);
+        prev_pdf = s.pdf;
+        depth += 1;
+
+        // Russian roulette.
+        if depth >= settings.rr_depth {
+            let q = beta.max().min(0.95);
+            if sampler.uniform() >= q {
+                break;
+            }
+            beta *= 1.0 / q;
+        }
+        if beta.is_black() || !beta.is_valid() {
+            break;
+        }
+        ray = spawn(&hit, wi);
+    }
+    l
+}

@@ -1,0 +1,91 @@
+//! Surface materials: what a renderer asks of a BRDF at a shading point.
+//!
+//! Directions are unit vectors in the local shading frame ([`Frame`](crate::geometry::Frame)):
+//! `z` the shading normal, `x` along `∂p/∂u` (the weft), `y` along `∂p/∂v` (the warp), both
+//! pointing away from the surface. `wi` points toward the light (the paper's `s`), `wo` toward
+//! the viewer (`v`). [`SurfaceMaterial::eval`] is the BRDF `f(wi, wo)` per channel in sr⁻¹,
+//! *without* the cosine. Camera paths know `wo` and draw `wi`, so [`SurfaceMaterial::sample`]
+//! draws `wi` for a given `wo`, and [`SurfaceMaterial::pdf`] is the density of that draw.
+
+use crate::color::Rgb;
+use std::f64::consts::{FRAC_1_PI, PI};
+use woven::Vec3;
+
+/// What a material may read at a shading point besides the directions.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ShadingPoint {
+    /// The surface parameters `(u, v)` at the point.
+    pub uv: [f64; 2],
+}
+
+/// A direction drawn by [`SurfaceMaterial::sample`].
+#[derive(Clone, Copy, Debug)]
+pub struct MaterialSample {
+    /// The drawn direction toward the light, local frame, `wi.z > 0`.
+    pub wi: Vec3,
+    /// `f(wi, wo)`, sr⁻¹ per channel.
+    pub f: Rgb,
+    /// The density `wi` was drawn with, per unit solid angle, > 0.
+    pub pdf: f64,
+}
+
+/// A reflecting surface as the path tracer uses it. Implementations are `Send + Sync` and
+/// allocate nothing per call.
+pub trait SurfaceMaterial: Send + Sync {
+    /// The BRDF `f(wi, wo)`, sr⁻¹ per channel, without the cosine; 0 when either direction is
+    /// below the surface.
+    fn eval(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> Rgb;
+
+    /// Draws `wi` for the viewer direction `wo` from two uniforms in `[0, 1)`. `None` when no
+    /// direction results (`wo` below the surface, or a rejected draw).
+    fn sample(&self, wo: Vec3, at: &ShadingPoint, u1: f64, u2: f64) -> Option<MaterialSample>;
+
+    /// The density per unit solid angle with which [`sample`](Self::sample) draws `wi` for `wo`.
+    fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64;
+}
+
+/// A Lambertian reflector: `f = ρ/π`.
+#[derive(Clone, Copy, Debug)]
+pub struct Diffuse {
+    /// The reflectance `ρ` per channel, each in `[0, 1]`.
+    pub reflectance: Rgb,
+}
+
+/// A cosine-weighted direction on the upper hemisphere (Malley's method), and its density.
+pub fn sample_cosine(u1: f64, u2: f64) -> (Vec3, f64) {
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    let z = (1.0 - u1).max(0.0).sqrt();
+    (Vec3::new(r * phi.cos(), r * phi.sin(), z), z * FRAC_1_PI)
+}
+
+impl SurfaceMaterial for Diffuse {
+    fn eval(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> Rgb {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            Rgb::BLACK
+        } else {
+            self.reflectance * FRAC_1_PI
+        }
+    }
+
+    fn sample(&self, wo: Vec3, _: &ShadingPoint, u1: f64, u2: f64) -> Option<MaterialSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let (wi, pdf) = sample_cosine(u1, u2);
+        // A draw on the horizon has density 0: reject it rather than divide by it.
+        (pdf > 0.0).then_some(MaterialSample {
+            wi,
+            f: self.reflectance * FRAC_1_PI,
+            pdf,
+        })
+    }
+
+    fn pdf(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> f64 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            0.0
+        } else {
+            wi.z * FRAC_1_PI
+        }
+    }
+}

@@ -1,0 +1,165 @@
+//! Rendering a scene into an image: tiles over all cores, a progress bar, per-pixel means.
+
+use crate::color::Rgb;
+use crate::integrator;
+use crate::rng::Sampler;
+use crate::scene::Scene;
+use crate::{Error, Result};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// Tile side, pixels: small enough to balance the cores, large enough to amortize the overhead.
+pub const TILE: usize = 16;
+
+/// How to run a render.
+#[derive(Clone, Debug, Default)]
+pub struct RenderOptions {
+    /// Worker threads; `None`: all cores (rayon's global pool).
+    pub threads: Option<usize>,
+    /// Whether to draw a progress bar on standard error (hidden when it is not a terminal).
+    pub progress: bool,
+}
+
+/// A rendered image: linear RGB per pixel, row 0 at the top.
+#[derive(Clone, Debug)]
+pub struct Image {
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// The pixel values: the plain mean of each pixel's samples (a box filter).
+    pub pixels: Vec<Rgb>,
+    /// The standard error of each pixel's mean (sample standard deviation / √spp).
+    pub std_error: Vec<Rgb>,
+    /// Samples whose radiance came out NaN, infinite or negative; they were counted as black.
+    pub invalid_samples: u64,
+    /// Samples per pixel.
+    pub spp: usize,
+    /// Wall time of the render, seconds.
+    pub seconds: f64,
+}
+
+impl Image {
+    /// The pixel at column `x`, row `y`.
+    pub fn at(&self, x: usize, y: usize) -> Rgb {
+        self.pixels[y * self.width + x]
+    }
+
+    /// Camera samples per second.
+    pub fn samples_per_second(&self) -> f64 {
+        (self.width * self.height * self.spp) as f64 / self.seconds.max(1e-9)
+    }
+}
+
+/// Renders `scene` with its film settings.
+///
+/// # Errors
+/// [`Error::InvalidSetting`] for zero threads or when the thread pool cannot start.
+pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Image> {
+    match options.threads {
+        None => Ok(render_in_pool(scene, options)),
+        Some(n) => {
+            if n == 0 {
+                return Err(Error::InvalidSetting {
+                    name: "threads".into(),
+                    value: "0".into(),
+                    expected: "at least 1".into(),
+                });
+            }
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| Error::InvalidSetting {
+                    name: "threads".into(),
+                    value: n.to_string(),
+                    expected: format!("a thread count the system can start ({e})"),
+                })?;
+            Ok(pool.install(|| render_in_pool(scene, options)))
+        }
+    }
+}
+
+fn render_in_pool(scene: &Scene, options: &RenderOptions) -> Image {
+    let film = &scene.film;
+    let (w, h, spp) = (film.width, film.height, film.spp);
+    let tiles_x = w.div_ceil(TILE);
+    let tiles_y = h.div_ceil(TILE);
+    let total = (w * h * spp) as u64;
+    let bar = if options.progress {
+        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "rendering {bar:30} {percent:>3}%  {human_pos}/{human_len} samples  {per_sec}  eta {eta}",
+            )
+            .expect("a valid template")
+            .progress_chars("=> "),
+        );
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let invalid = AtomicU64::new(0);
+    let start = Instant::now();
+
+    let tiles: Vec<Vec<(usize, Rgb, Rgb)>> = (0..tiles_x * tiles_y)
+        .into_par_iter()
+        .map(|t| {
+            let (tx, ty) = (t % tiles_x, t / tiles_x);
+            let mut out = Vec::with_capacity(TILE * TILE);
+            let mut bad = 0;
+            for y in ty * TILE..((ty + 1) * TILE).min(h) {
+                for x in tx * TILE..((tx + 1) * TILE).min(w) {
+                    let pixel = (y * w + x) as u64;
+                    let mut sum = Rgb::BLACK;
+                    let mut sum_sq = Rgb::BLACK;
+                    for s in 0..spp {
+                        let mut sampler = Sampler::new(film.seed, pixel, s as u64);
+                        let (dx, dy) = sampler.next2();
+                        let ray = scene.camera.ray(x as f64 + dx, y as f64 + dy);
+                        let mut l = integrator::radiance(scene, ray, &mut sampler);
+                        if !l.is_valid() {
+                            // Guard: a NaN, infinite or negative sample counts as black.
+                            bad += 1;
+                            l = Rgb::BLACK;
+                        }
+                        sum += l;
+                        sum_sq += l * l;
+                    }
+                    let n = spp as f64;
+                    let mean = sum / n;
+                    let var = if spp > 1 {
+                        Rgb(std::array::from_fn(|c| {
+                            ((sum_sq.0[c] - sum.0[c] * mean.0[c]) / (n - 1.0)).max(0.0)
+                        }))
+                    } else {
+                        Rgb::BLACK
+                    };
+                    let se = Rgb(var.0.map(|v| (v / n).sqrt()));
+                    out.push((y * w + x, mean, se));
+                }
+            }
+            invalid.fetch_add(bad, Ordering::Relaxed);
+            bar.inc((out.len() * spp) as u64);
+            out
+        })
+        .collect();
+    bar.finish_and_clear();
+
+    let mut pixels = vec![Rgb::BLACK; w * h];
+    let mut std_error = vec![Rgb::BLACK; w * h];
+    for (i, mean, se) in tiles.into_iter().flatten() {
+        pixels[i] = mean;
+        std_error[i] = se;
+    }
+    Image {
+        width: w,
+        height: h,
+        pixels,
+        std_error,
+        invalid_samples: invalid.into_inner(),
+        spp,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}

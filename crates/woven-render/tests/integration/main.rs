@@ -1,0 +1,39 @@
+//! Integration tests of the renderer: analytic images, furnaces, sampling-strategy agreement,
+//! image validity and scene-file errors. One binary (STYLE.md).
+
+mod analytic;
+mod files;
+mod scene_file;
+mod strategies;
+mod woven_surfaces;
+
+use std::path::Path;
+use woven::table::TableOptions;
+use woven_render::render::{render, Image, RenderOptions};
+use woven_render::scene::{Scene, SceneDescription};
+use woven_render::woven_material::TableGrid;
+
+/// A coarse table grid: builds in about a second, accurate enough for agreement tests that
+/// compare the renderer with itself.
+pub fn coarse_grid() -> TableGrid {
+    TableGrid::Custom(TableOptions {
+        n_theta: 12,
+        n_phi: 7,
+        n_h: 31,
+        n_h_isotropic: 61,
+        ..TableOptions::default()
+    })
+}
+
+/// Parses, builds and renders scene text.
+pub fn render_text(text: &str) -> Image {
+    let desc = SceneDescription::from_str(text, "<test>", Path::new(".")).unwrap();
+    let scene = Scene::build(&desc, &coarse_grid(), &|_| {}, &|_, _| {}).unwrap();
+    let image = render(&scene, &RenderOptions::default()).unwrap();
+    assert_eq!(
+        image.invalid_samples, 0,
+        "NaN, infinite or negative samples"
+    );
+    assert!(image.pixels.iter().all(|p| p.is_valid()));
+    image
+}

@@ -1,0 +1,103 @@
+//! Scene-file errors name the file, the key and the line; unknown keys are errors.
+
+use std::path::Path;
+use woven_render::scene::{SceneDescription, EXAMPLE_SCENE, SHOWCASE_SCENE};
+use woven_render::Error;
+
+fn error_of(text: &str) -> (String, String, Option<usize>, String) {
+    match SceneDescription::from_str(text, "scene.toml", Path::new(".")) {
+        Err(Error::Scene {
+            path,
+            key,
+            line,
+            message,
+        }) => (path, key, line, message),
+        Err(e) => panic!("not a scene error: {e}"),
+        Ok(_) => panic!("accepted:\n{text}"),
+    }
+}
+
+const MINIMAL: &str = r#"
+[camera]
+origin = [0, -3, 1]
+target = [0, 0, 0]
+fov_deg = 40
+"#;
+
+#[test]
+fn unknown_keys_are_rejected_with_file_key_and_line() {
+    let text = format!("{MINIMAL}[film]\nwidth = 64\nwidht = 32\n");
+    let (path, key, line, message) = error_of(&text);
+    assert_eq!(path, "scene.toml");
+    assert_eq!(key, "widht");
+    assert_eq!(line, Some(8));
+    assert!(message.contains("unknown field"), "{message}");
+
+    let text = format!(
+        "{MINIMAL}[[shape]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\ncolour = 3\n"
+    );
+    let (_, key, line, message) = error_of(&text);
+    assert!(message.contains("colour"), "{message}");
+    assert!(
+        line.is_some_and(|l| (6..=11).contains(&l)),
+        "{key} {line:?}"
+    );
+
+    let (_, key, _, _) = error_of(&format!("{MINIMAL}[lights]\n"));
+    assert_eq!(key, "lights");
+}
+
+#[test]
+fn invalid_values_name_the_key_and_line() {
+    let text = format!(
+        "{MINIMAL}[[shape]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = -1\nmaterial = \"m\"\n[material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n"
+    );
+    let (_, key, line, message) = error_of(&text);
+    assert_eq!(key, "shape[0].radius");
+    assert_eq!(line, Some(6));
+    assert!(
+        message.contains("-1") && message.contains("> 0"),
+        "{message}"
+    );
+
+    let text = format!(
+        "{MINIMAL}[[shape]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"nope\"\n"
+    );
+    let (_, key, _, message) = error_of(&text);
+    assert_eq!(key, "shape[0].material");
+    assert!(message.contains("nope"), "{message}");
+
+    let text =
+        format!("{MINIMAL}[material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 1.5, 0.5]\n");
+    let (_, key, line, message) = error_of(&text);
+    assert_eq!(key, "material.m.reflectance");
+    assert_eq!(line, Some(6));
+    assert!(message.contains("[0, 1]"), "{message}");
+
+    let text = MINIMAL.replace("fov_deg = 40", "fov_deg = 180");
+    let (_, key, line, _) = error_of(&text);
+    assert_eq!((key.as_str(), line), ("camera.fov_deg", Some(2)));
+
+    let text = format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"velvet\"\n");
+    let (_, key, _, message) = error_of(&text);
+    assert_eq!(key, "material.m.material");
+    assert!(message.contains("velvet"), "{message}");
+
+    let text = format!(
+        "{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"silk\"\npattern = \"satin-4\"\n"
+    );
+    let (_, key, _, _) = error_of(&text);
+    assert_eq!(key, "material.m.pattern");
+
+    let (_, key, line, message) = error_of("[camera]\norigin = [0, 0, 1]\nfov_deg = 4 0\n");
+    assert_eq!((key.as_str(), line), ("fov_deg", Some(3)), "{message}");
+}
+
+/// The scenes the crate ships parse.
+#[test]
+fn example_and_showcase_scenes_parse() {
+    for text in [EXAMPLE_SCENE, SHOWCASE_SCENE] {
+        let desc = SceneDescription::from_str(text, "<builtin>", Path::new(".")).unwrap();
+        assert!(!desc.shapes.is_empty() && !desc.lights.is_empty());
+    }
+}

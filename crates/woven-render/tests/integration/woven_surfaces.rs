@@ -1,0 +1,294 @@
+//! Woven surfaces: the rendered image against the table it renders, and the pattern's cells
+//! averaging to the macro BRDF.
+
+use std::path::Path;
+use woven::material::{Material, Weave};
+use woven::table::{Table, TableOptions};
+use woven::Vec3;
+use woven_render::camera::Camera;
+use woven_render::material::{ShadingPoint, SurfaceMaterial};
+use woven_render::render::{render, RenderOptions};
+use woven_render::scene::{Scene, SceneDescription};
+use woven_render::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSpec};
+
+/// A very coarse grid (about a second per table for a single-orientation yarn): the tests here
+/// compare the renderer with the same tables, so the grid's accuracy does not matter.
+fn tiny() -> TableOptions {
+    TableOptions {
+        n_theta: 8,
+        n_phi: 5,
+        n_h: 17,
+        n_h_isotropic: 33,
+        ..TableOptions::default()
+    }
+}
+
+/// A sateen rectangle (all warp, strongly anisotropic) under a point light with no environment:
+/// every pixel equals the table's `f(s, v) · I cos θ_i / r²` averaged over the pixel, with the
+/// weft along the rectangle's `edge_u` (world `x`) — the frame convention end to end.
+#[test]
+fn woven_rectangle_pixels_equal_the_table_times_the_irradiance() {
+    let (w, h) = (16, 12);
+    let origin = Vec3::new(0.3, -2.0, 1.6);
+    let light = Vec3::new(-0.6, 0.8, 1.2);
+    let text = format!(
+        r#"
+        [camera]
+        origin = [{}, {}, {}]
+        target = [0, 0, 0]
+        fov_deg = 50
+        [film]
+        width = {w}
+        height = {h}
+        spp = 64
+        [integrator]
+        max_depth = 2
+        [[light]]
+        type = "point"
+        position = [{}, {}, {}]
+        intensity = [3, 3, 3]
+        [[shape]]
+        type = "rectangle"
+        corner = [-1, -1, 0]
+        edge_u = [2, 0, 0]
+        edge_v = [0, 2, 0]
+        material = "cloth"
+        [material.cloth]
+        type = "woven"
+        material = "polyester-sateen"
+        "#,
+        origin.x, origin.y, origin.z, light.x, light.y, light.z
+    );
+    let desc = SceneDescription::from_str(&text, "<test>", Path::new(".")).unwrap();
+    let scene = Scene::build(&desc, &TableGrid::Custom(tiny()), &|_| {}, &|_, _| {}).unwrap();
+    let image = render(&scene, &RenderOptions::default()).unwrap();
+    assert_eq!(image.invalid_samples, 0);
+
+    let material = Material::preset("polyester-sateen").unwrap();
+    let model = material.build(550.0).unwrap();
+    let table = Table::build(&model, &material, &tiny(), &|_, _| {}).unwrap();
+    let camera = Camera::new(origin, Vec3::new(0.0, 0.0, 0.0), Vec3::Z, 50.0, w, h);
+    let n = 24;
+    let mut checked = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let (mut expected, mut covered) = (0.0, 0);
+            for a in 0..n {
+                for b in 0..n {
+                    let ray = camera.ray(
+                        x as f64 + (a as f64 + 0.5) / n as f64,
+                        y as f64 + (b as f64 + 0.5) / n as f64,
+                    );
+                    let t = -ray.o.z / ray.d.z;
+                    let p = ray.o + ray.d * t;
+                    if ray.d.z >= 0.0 || p.x.abs() > 1.0 || p.y.abs() > 1.0 {
+                        continue;
+                    }
+                    covered += 1;
+                    let d = light - p;
+                    let r2 = d.dot(d);
+                    let s = d * (1.0 / r2.sqrt());
+                    let v = ray.d * -1.0;
+                    expected += table.eval(s, v) * 3.0 * s.z / r2 / (n * n) as f64;
+                }
+            }
+            if covered != n * n {
+                continue;
+            }
+            let got = image.at(x, y).0[0];
+            let se = image.std_error[y * w + x].0[0];
+            let tol = 5.0 * se + 0.02 * expected + 1e-6;
+            assert!(
+                (got - expected).abs() <= tol,
+                "pixel ({x}, {y}): rendered {got} vs table {expected} (tolerance {tol})"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > w * h / 3, "only {checked} pixels checked");
+}
+
+/// Far away, the pattern's cells average to the macro BRDF: a 2/1 twill (γ = 1/3) of the
+/// sateen's yarn, evaluated over whole pattern repeats, equals the material with
+/// `weft_fraction = 1/3` (the paper's γ-mix) within the two tables' interpolation error.
+#[test]
+fn pattern_cells_average_to_the_macro_brdf() {
+    let mut twill = Material::preset("polyester-sateen").unwrap();
+    twill.weave = Some(Weave::Pattern {
+        spec: woven::material::PatternSpec::Name("twill-2/1".into()),
+        pattern: woven::weave::Pattern::from_name("twill-2/1").unwrap(),
+    });
+    let mut mixed = Material::preset("polyester-sateen").unwrap();
+    mixed.weave = Some(Weave::WeftFraction(1.0 / 3.0));
+    let grid = TableGrid::Custom(tiny());
+    let mut cache = TableCache::default();
+    let build = |m: Material, cache: &mut TableCache| {
+        let spec = WovenSpec {
+            material: m,
+            yarns_per_unit: [3.0, 3.0],
+            weft_color: None,
+            warp_color: None,
+        };
+        WovenMaterial::build(&spec, &grid, cache, &|| {}, &|_, _| {}).unwrap()
+    };
+    let pattern = build(twill, &mut cache);
+    let macro_brdf = build(mixed, &mut cache);
+    let mut rng = woven::math::rng::SplitMix(5);
+    let mut worst: f64 = 0.0;
+    for _ in 0..40 {
+        let wi = rng.direction(1.2);
+        let wo = rng.direction(1.2);
+        // One pattern repeat is 1 × 1 in uv here (3 cells per unit, a 3 × 3 pattern): cell
+        // centres sample each cell once.
+        let mut mean = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                let at = ShadingPoint {
+                    uv: [(i as f64 + 0.5) / 3.0, (j as f64 + 0.5) / 3.0],
+                };
+                mean += pattern.eval(wi, wo, &at).0[0] / 9.0;
+            }
+        }
+        let want = macro_brdf.eval(wi, wo, &ShadingPoint::default()).0[0];
+        let err = (mean - want).abs() / want.max(0.05);
+        worst = worst.max(err);
+        assert!(
+            err < 0.08,
+            "wi {wi:?} wo {wo:?}: cell average {mean} vs macro {want}"
+        );
+    }
+    assert!(worst > 0.0);
+}
+
+/// `sample`, `eval` and `pdf` of a patterned woven material agree in weft and warp cells: the
+/// drawn `f` is `eval(wi, wo)` and the drawn density is `pdf(wi, wo)`; the warp cell is the
+/// weft cell turned 90° about the normal.
+#[test]
+fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
+    let spec = WovenSpec {
+        material: Material::preset("polyester-sateen").unwrap(),
+        yarns_per_unit: [2.0, 2.0],
+        weft_color: None,
+        warp_color: None,
+    };
+    let mut spec = spec;
+    spec.material.weave = Some(Weave::Pattern {
+        spec: woven::material::PatternSpec::Name("plain".into()),
+        pattern: woven::weave::Pattern::plain().unwrap(),
+    });
+    let m = WovenMaterial::build(
+        &spec,
+        &TableGrid::Custom(tiny()),
+        &mut TableCache::default(),
+        &|| {},
+        &|_, _| {},
+    )
+    .unwrap();
+    // Plain weave, 2 cells per unit: cell (0, 0) is warp, cell (0, 1) weft.
+    let warp = ShadingPoint { uv: [0.25, 0.25] };
+    let weft = ShadingPoint { uv: [0.75, 0.25] };
+    let turn = |d: Vec3| Vec3::new(-d.y, d.x, d.z);
+    let mut rng = woven::math::rng::SplitMix(9);
+    let mut drawn = 0;
+    for _ in 0..200 {
+        let wo = rng.direction(1.4);
+        for at in [&warp, &weft] {
+            let Some(s) = m.sample(wo, at, rng.uniform(), rng.uniform()) else {
+                continue;
+            };
+            drawn += 1;
+            let f = m.eval(s.wi, wo, at).0[0];
+            let pdf = m.pdf(s.wi, wo, at);
+            assert!(
+                (s.f.0[0] - f).abs() <= 1e-9 * f.max(1e-9),
+                "{} vs {f}",
+                s.f.0[0]
+            );
+            assert!((s.pdf - pdf).abs() <= 1e-6 * pdf, "{} vs {pdf}", s.pdf);
+        }
+        // A warp cell sees the weft cell's BRDF turned by 90°.
+        let wi = rng.direction(1.4);
+        let a = m.eval(turn(wi), turn(wo), &warp).0[0];
+        let b = m.eval(wi, wo, &weft).0[0];
+        assert!((a - b).abs() <= 1e-9 * b.max(1e-9), "warp {a} vs weft {b}");
+    }
+    assert!(drawn > 300, "only {drawn} draws succeeded");
+}
+
+/// A flat woven rectangle seen from afar (about 40 pattern cells per pixel) renders as the
+/// macro BRDF of the same material: 4 × 4-pixel blocks agree within the noise plus the two
+/// tables' interpolation error, and random sample positions leave no moiré (a structured
+/// difference would break the per-block bound).
+#[test]
+fn a_distant_patterned_rectangle_renders_as_the_macro_brdf() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = |pattern: &str| {
+        format!(
+            r#"
+            [camera]
+            origin = [0, -2.5, 2.5]
+            target = [0, 0, 0]
+            fov_deg = 45
+            [film]
+            width = 16
+            height = 16
+            spp = 256
+            [integrator]
+            max_depth = 2
+            [[light]]
+            type = "point"
+            position = [0.4, 0.5, 1.5]
+            intensity = [10, 10, 10]
+            [[shape]]
+            type = "rectangle"
+            corner = [-1, -1, 0]
+            edge_u = [2, 0, 0]
+            edge_v = [0, 2, 0]
+            material = "cloth"
+            [material.cloth]
+            type = "woven"
+            material = "{pattern}"
+            yarns_per_unit = 500
+            "#
+        )
+    };
+    let mut twill = Material::preset("polyester-sateen").unwrap();
+    twill.weave = Some(Weave::Pattern {
+        spec: woven::material::PatternSpec::Name("twill-2/1".into()),
+        pattern: woven::weave::Pattern::from_name("twill-2/1").unwrap(),
+    });
+    let mut mixed = Material::preset("polyester-sateen").unwrap();
+    mixed.weave = Some(Weave::WeftFraction(1.0 / 3.0));
+    let images: Vec<_> = [("twill.toml", twill), ("mixed.toml", mixed)]
+        .into_iter()
+        .map(|(file, m)| {
+            std::fs::write(dir.path().join(file), m.to_toml_string()).unwrap();
+            let desc = SceneDescription::from_str(&scene(file), "<test>", dir.path()).unwrap();
+            let scene =
+                Scene::build(&desc, &TableGrid::Custom(tiny()), &|_| {}, &|_, _| {}).unwrap();
+            render(&scene, &RenderOptions::default()).unwrap()
+        })
+        .collect();
+    let (a, b) = (&images[0], &images[1]);
+    let mut compared = 0;
+    for by in 0..4 {
+        for bx in 0..4 {
+            let (mut ma, mut mb, mut var) = (0.0, 0.0, 0.0);
+            for y in by * 4..by * 4 + 4 {
+                for x in bx * 4..bx * 4 + 4 {
+                    let i = y * 16 + x;
+                    ma += a.pixels[i].0[0] / 16.0;
+                    mb += b.pixels[i].0[0] / 16.0;
+                    var += (a.std_error[i].0[0].powi(2) + b.std_error[i].0[0].powi(2)) / 256.0;
+                }
+            }
+            let tol = 4.5 * var.sqrt() + 0.03 * mb;
+            assert!(
+                (ma - mb).abs() <= tol,
+                "block ({bx}, {by}): pattern {ma} vs macro {mb} (tolerance {tol})"
+            );
+            compared += (mb > 0.0) as usize;
+        }
+    }
+    assert!(compared >= 6, "only {compared} lit blocks");
+}
