@@ -951,6 +951,21 @@ impl Scene {
         on_table: &dyn Fn(&str),
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<Scene> {
+        Scene::build_with(desc, grid, TableCache::default(), on_table, progress)
+    }
+
+    /// [`build`](Self::build) with the tables of `cache` (e.g. [`TableCache::with_disk`], so that
+    /// tables built on an earlier run are loaded, not built).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build).
+    pub fn build_with(
+        desc: &SceneDescription,
+        grid: &TableGrid,
+        mut cache: TableCache,
+        on_table: &dyn Fn(&str),
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Scene> {
         let camera = Camera::new(
             desc.camera.origin,
             desc.camera.target,
@@ -962,7 +977,6 @@ impl Scene {
         // Materials used by some shape, in name order.
         let mut index_of = BTreeMap::new();
         let mut materials: Vec<Box<dyn SurfaceMaterial>> = Vec::new();
-        let mut cache = TableCache::default();
         for (name, m) in &desc.materials {
             if !desc.shapes.iter().any(|(_, n)| n == name) {
                 continue;

@@ -11,7 +11,7 @@ use woven::table::TableOptions;
 use woven_render::output::{self, Format};
 use woven_render::render::{render, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription, EXAMPLE_SCENE, SHOWCASE_SCENE};
-use woven_render::woven_material::TableGrid;
+use woven_render::woven_material::{TableCache, TableGrid};
 
 /// The folder images go to when `-o` is not given, relative to the current directory.
 pub const OUT_DIR: &str = "woven-out";
@@ -74,6 +74,11 @@ pub struct RenderArgs {
     #[arg(long)]
     pub draft_tables: bool,
 
+    /// Build every woven table anew and keep none (default: tables are kept in the user's cache
+    /// folder, `$XDG_CACHE_HOME/woven` or `~/.cache/woven`, and loaded on later runs).
+    #[arg(long)]
+    pub no_cache: bool,
+
     /// Exposure of the PNG in stops: values are scaled by 2^EV before the sRGB curve.
     #[arg(long, value_name = "EV", default_value_t = 0.0, allow_hyphen_values = true,
           value_parser = parse_finite)]
@@ -135,7 +140,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // Tables: one per woven material, built on first use.
     let table_bar = std::sync::Mutex::new(None::<Progress>);
     let on_table = |name: &str| {
-        eprintln!("building the table of material `{name}` (tens of seconds, once per run)…");
+        eprintln!("building the table of material `{name}` (seconds; kept for later runs)…");
         let mut bar = table_bar.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(b) = bar.take() {
             b.finish();
@@ -159,7 +164,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     } else {
         TableGrid::Default
     };
-    let scene = Scene::build(&desc, &grid, &on_table, &progress)?;
+    let cache = if args.no_cache {
+        TableCache::default()
+    } else {
+        match woven::table::cache::Cache::user() {
+            Ok(disk) => TableCache::with_disk(disk),
+            Err(e) => {
+                eprintln!("note: tables are not cached ({e})");
+                TableCache::default()
+            }
+        }
+    };
+    let scene = Scene::build_with(&desc, &grid, cache, &on_table, &progress)?;
     if let Some(b) = table_bar.lock().unwrap_or_else(|e| e.into_inner()).take() {
         b.finish();
     }

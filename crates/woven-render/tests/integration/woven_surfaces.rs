@@ -292,3 +292,94 @@ fn a_distant_patterned_rectangle_renders_as_the_macro_brdf() {
     }
     assert!(compared >= 6, "only {compared} lit blocks");
 }
+
+/// Shot cloth: the weft and the warp each render in their own dye. Each channel of a dyed woven
+/// material is the BRDF of the material with that channel's albedos (ρ0 = the dye, ρ in
+/// proportion), evaluated by a table built for the dyed material on the same grid; the white
+/// sheen is not tinted.
+#[test]
+fn dyed_weft_and_warp_are_the_dyed_materials() {
+    let mut plain = Material::preset("polyester-sateen").unwrap();
+    plain.weave = Some(Weave::Pattern {
+        spec: woven::material::PatternSpec::Name("plain".into()),
+        pattern: woven::weave::Pattern::plain().unwrap(),
+    });
+    let (red, blue) = ([0.7, 0.1, 0.02], [0.03, 0.2, 0.6]);
+    let spec = WovenSpec {
+        material: plain.clone(),
+        yarns_per_unit: [2.0, 2.0],
+        weft_color: Some(woven_render::color::Rgb(red)),
+        warp_color: Some(woven_render::color::Rgb(blue)),
+    };
+    let m = WovenMaterial::build(
+        &spec,
+        &TableGrid::Custom(tiny()),
+        &mut TableCache::default(),
+        &|| {},
+        &|_, _| {},
+    )
+    .unwrap();
+    let own = woven::table::Albedos::of(&plain);
+    // The yarn alone, dyed with one channel's albedos: the reference table.
+    let reference = |c: f64| {
+        let mut d = plain.yarn_family();
+        d.fiber.diffuse = c;
+        d.yarn.as_mut().unwrap().interreflection_albedo =
+            (own.interreflection * c / own.diffuse).min(1.0);
+        Table::build(&d.build(550.0).unwrap(), &d, &tiny(), &|_, _| {}).unwrap()
+    };
+    let weft_refs = red.map(reference);
+    let warp_refs = blue.map(reference);
+    let warp = ShadingPoint { uv: [0.25, 0.25] };
+    let weft = ShadingPoint { uv: [0.75, 0.25] };
+    let turn = |d: Vec3| Vec3::new(d.y, -d.x, d.z);
+    let mut rng = woven::math::rng::SplitMix(12);
+    for _ in 0..300 {
+        let (wi, wo) = (rng.direction(1.45), rng.direction(1.45));
+        let (fw, fv) = (m.eval(wi, wo, &weft), m.eval(wi, wo, &warp));
+        for k in 0..3 {
+            let want_w = weft_refs[k].eval(wi, wo);
+            let want_v = warp_refs[k].eval(turn(wi), turn(wo));
+            assert!(
+                (fw.0[k] - want_w).abs() <= 1e-4 * want_w.max(1e-2),
+                "weft channel {k}: {} vs {want_w}",
+                fw.0[k]
+            );
+            assert!(
+                (fv.0[k] - want_v).abs() <= 1e-4 * want_v.max(1e-2),
+                "warp channel {k}: {} vs {want_v}",
+                fv.0[k]
+            );
+        }
+    }
+}
+
+/// With a disk cache, a table is built once: a second scene (a new in-memory cache) loads it.
+#[test]
+fn tables_are_kept_on_disk_between_runs() {
+    let dir = std::env::temp_dir().join(format!("woven-render-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let spec = WovenSpec {
+        material: Material::preset("polyester-sateen").unwrap(),
+        yarns_per_unit: [1.0, 1.0],
+        weft_color: None,
+        warp_color: None,
+    };
+    let builds = std::sync::atomic::AtomicUsize::new(0);
+    for _ in 0..2 {
+        let mut cache = TableCache::with_disk(woven::table::cache::Cache::new(&dir));
+        WovenMaterial::build(
+            &spec,
+            &TableGrid::Custom(tiny()),
+            &mut cache,
+            &|| {
+                builds.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            },
+            &|_, _| {},
+        )
+        .unwrap();
+    }
+    assert_eq!(builds.into_inner(), 1, "the second run rebuilt the table");
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
