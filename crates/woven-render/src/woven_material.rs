@@ -243,7 +243,7 @@ impl WovenMaterial {
     fn family_sample(yarn: &Table, warp: bool, wo: Vec3, u1: f64, u2: f64) -> Option<Vec3> {
         let wo_t = if warp { to_warp(wo) } else { wo };
         let drawn = yarn.sample(wo_t, u1, u2)?;
-        if drawn.v.z <= 0.0 || !(drawn.pdf > 0.0) {
+        if drawn.v.z <= 0.0 || drawn.pdf.is_nan() || drawn.pdf <= 0.0 {
             return None;
         }
         Some(if warp { from_warp(drawn.v) } else { drawn.v })
