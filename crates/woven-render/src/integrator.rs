@@ -56,6 +56,13 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         0.0
     };
     let use_lights = settings.strategy != Strategy::Bsdf && n_lights > 0;
+    // Whether a ray can meet an emitter (point lights cannot be hit): otherwise a BSDF draw
+    // whose vertex may only add emission (the last one) is not made.
+    let hittable = scene.environment.is_some()
+        || scene
+            .lights
+            .iter()
+            .any(|l| matches!(l, Light::Rectangle { .. }));
 
     let mut l = Rgb::BLACK;
     let mut beta = Rgb::WHITE;
@@ -157,7 +164,10 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
             }
         }
 
-        // BSDF sampling: the next direction.
+        // BSDF sampling: the next direction. At the last vertex it can only find emission.
+        if depth + 2 >= max_depth && !hittable {
+            break;
+        }
         let (u1, u2) = sampler.next2();
         let Some(s) = material.sample(wo, &at, u1, u2) else {
             break;

@@ -238,15 +238,16 @@ impl WovenMaterial {
         }
     }
 
-    /// Draws `wi` for `wo` from one yarn family's table (roles swapped: module docs).
+    /// Draws `wi` for `wo` from one yarn family's table (roles swapped: module docs), with its
+    /// density.
     #[inline]
-    fn family_sample(yarn: &Table, warp: bool, wo: Vec3, u1: f64, u2: f64) -> Option<Vec3> {
+    fn family_sample(yarn: &Table, warp: bool, wo: Vec3, u1: f64, u2: f64) -> Option<(Vec3, f64)> {
         let wo_t = if warp { to_warp(wo) } else { wo };
-        let drawn = yarn.sample(wo_t, u1, u2)?;
-        if drawn.v.z <= 0.0 || drawn.pdf.is_nan() || drawn.pdf <= 0.0 {
+        let (wi, pdf) = yarn.sample_direction(wo_t, u1, u2)?;
+        if wi.z <= 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        Some(if warp { from_warp(drawn.v) } else { drawn.v })
+        Some((if warp { from_warp(wi) } else { wi }, pdf))
     }
 }
 
@@ -312,25 +313,26 @@ impl SurfaceMaterial for WovenMaterial {
         if wo.z <= 0.0 {
             return None;
         }
-        let wi = match &self.layout {
+        let (wi, pdf) = match &self.layout {
             Layout::Flat { table, .. } => Self::family_sample(table, false, wo, u1, u2)?,
             Layout::Macro {
                 yarn,
                 weft_fraction: g,
             } => {
-                // The weft's lobe with probability γ, u1 reused within its share.
+                // The weft's lobe with probability γ, u1 reused within its share; the density
+                // is the mixture's.
                 let (warp, u1) = if u1 < *g {
                     (false, u1 / g)
                 } else {
                     (true, (u1 - g) / (1.0 - g))
                 };
-                Self::family_sample(yarn, warp, wo, u1.min(1.0 - f64::EPSILON), u2)?
+                let (wi, _) = Self::family_sample(yarn, warp, wo, u1.min(1.0 - f64::EPSILON), u2)?;
+                (wi, self.pdf(wi, wo, at))
             }
             Layout::Pattern { pattern, yarn } => {
                 Self::family_sample(yarn, self.warp_on_top(pattern, at), wo, u1, u2)?
             }
         };
-        let pdf = self.pdf(wi, wo, at);
         (pdf > 0.0 && pdf.is_finite()).then(|| MaterialSample {
             wi,
             f: self.eval(wi, wo, at),

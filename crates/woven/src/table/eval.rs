@@ -301,6 +301,21 @@ pub(crate) fn locate_axis(theta: &Axis, phi: &Axis, d: Vec3) -> Incidence {
     (it, wt, ip, wp)
 }
 
+impl Table {
+    /// [`sample`](Bsdf::sample) without the BRDF value: the drawn `v` and its density, for a
+    /// caller that evaluates `f` itself (a renderer sampling `wi` for a given `wo` with the roles
+    /// swapped, or with other albedos). Deterministic in `(u1, u2)`, the same draw as `sample`.
+    #[inline]
+    pub fn sample_direction(&self, s: Vec3, u1: f64, u2: f64) -> Option<(Vec3, f64)> {
+        if s.z <= 0.0 {
+            return None;
+        }
+        let fold = Fold::of(self.symmetry, s);
+        let (vf, pdf, _) = self.sampler.sample::<false>(self, fold.apply(s), u1, u2)?;
+        Some((fold.undo(vf), pdf))
+    }
+}
+
 impl Bsdf for Table {
     #[inline]
     fn eval(&self, s: Vec3, v: Vec3) -> f64 {
@@ -323,7 +338,7 @@ impl Bsdf for Table {
         }
         let fold = Fold::of(self.symmetry, s);
         let sf = fold.apply(s);
-        let (vf, pdf, f) = self.sampler.sample(self, sf, u1, u2)?;
+        let (vf, pdf, f) = self.sampler.sample::<true>(self, sf, u1, u2)?;
         let v = fold.undo(vf);
         Some(BsdfSample {
             v,

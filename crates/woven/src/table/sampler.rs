@@ -178,7 +178,7 @@ impl Sampler {
 
     /// Samples a folded `v` for folded `s`: `(v, pdf, f)`, with `f` the table's value there
     /// (computed from the sampled coordinates, without re-deriving them from `v`).
-    pub(crate) fn sample(
+    pub(crate) fn sample<const WITH_F: bool>(
         &self,
         table: &Table,
         s: Vec3,
@@ -201,6 +201,9 @@ impl Sampler {
         }
         // The node's density in this cell over the map's Jacobian.
         let pdf = self.density(node, iy, ix, dt) / j;
+        if !WITH_F {
+            return (pdf > 0.0 && pdf.is_finite()).then_some((v, pdf, 0.0));
+        }
         let f = if let Some(model) = table.exact_at(s, v) {
             model.eval(s, v)
         } else if Half::of(s, v) == Half::Light {
