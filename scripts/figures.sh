@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's speed and table figures, from one run on the machine at hand (about 15 minutes on
+# The README's speed and table figures, from one run on the machine at hand (about 17 minutes on
 # two idle cores). Prints each figure with the command behind it; nothing is written outside
 # target/ and $OUT (default: a temporary folder).
 set -euo pipefail
@@ -12,8 +12,8 @@ cargo build --release --locked -p woven-cli -q
 woven=target/release/woven
 
 echo
-echo "== criterion: cargo bench -p woven (fiber, cloth, table) and -p woven-cli (eval)"
-cargo bench --locked -p woven -p woven-cli 2>&1 | grep -E "^[a-z_]+/|time:|thrpt:" | tee "$OUT/bench.txt"
+echo "== criterion: cargo bench -p woven (fiber, cloth, table), -p woven-cli (eval), -p woven-render (render)"
+cargo bench --locked -p woven -p woven-cli -p woven-render 2>&1 | grep -E "^[a-z_]+/|time:|thrpt:" | tee "$OUT/bench.txt"
 
 echo
 echo "== tables: woven tabulate -m M -o M.wtab --report (wall time, file size, accuracy by band)"
@@ -44,6 +44,23 @@ TIMEFORMAT="   eval exact belt-cloth, 10^3 rows: %R s wall, %U s user"
 time $woven eval -m belt-cloth --input "$OUT/dirs1k.csv" -o "$OUT/b.csv"
 TIMEFORMAT="   eval exact silk, 10^3 rows: %R s wall, %U s user"
 time $woven eval -m silk --input "$OUT/dirs1k.csv" -o "$OUT/s.csv"
-TIMEFORMAT="   woven gonio (the goniometer job; bare woven now renders): %R s wall"
+TIMEFORMAT="   woven gonio (the goniometer job): %R s wall"
 (cd "$OUT" && time "$OLDPWD/$woven" gonio > /dev/null)
+
+echo
+echo "== bare woven: the showcase render, with a cold table cache (tables built) and a warm one"
+TIMEFORMAT="   bare woven, cold cache: %R s wall"
+(cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$OLDPWD/$woven")
+TIMEFORMAT="   bare woven, warm cache: %R s wall"
+(cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$OLDPWD/$woven")
+cp "$OUT/woven-out/showcase.png" "$OUT/showcase.png"
+
+echo
+echo "== woven render against Mitsuba 3 (scene (ii), 512x512, 64 spp; needs scripts/mitsuba/ci.sh's venv)"
+venv=${MITSUBA_VENV:-target/mitsuba-venv}
+if [ -x "$venv/bin/python" ]; then
+  "$venv/bin/python" scripts/mitsuba/bench.py --woven "$woven"
+else
+  echo "   (skipped: no Mitsuba venv at $venv; run bash scripts/mitsuba/ci.sh first)"
+fi
 echo "results in $OUT"
