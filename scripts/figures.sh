@@ -13,7 +13,7 @@ woven=target/release/woven
 
 echo
 echo "== criterion: cargo bench -p woven (fiber, cloth, table), -p woven-cli (eval), -p woven-render (render)"
-cargo bench --locked -p woven -p woven-cli -p woven-render 2>&1 | grep -E "^[a-z_]+/|time:|thrpt:" | tee "$OUT/bench.txt"
+cargo bench --locked -p woven -p woven-cli -p woven-render 2>&1 | grep -E "^[a-z_0-9]+/|time:|thrpt:" | tee "$OUT/bench.txt"
 
 echo
 echo "== tables: woven tabulate -m M -o M.wtab --report (wall time, file size, accuracy by band)"

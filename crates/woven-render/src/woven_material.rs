@@ -170,9 +170,8 @@ impl WovenMaterial {
         on_build: &dyn Fn(),
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<WovenMaterial> {
-        // The yarn alone, weft along x; its name is not part of what a table holds.
-        let mut yarn_material = spec.material.yarn_family();
-        yarn_material.name = spec.material.name.clone();
+        // The yarn alone, weft along x (named as the material, for the cache's file name).
+        let yarn_material = spec.material.yarn_family();
         let model = yarn_material.build(WAVELENGTH_NM)?;
         let options = match grid {
             TableGrid::Default => TableOptions::for_render(&model),
