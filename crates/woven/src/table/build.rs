@@ -53,24 +53,17 @@ impl Table {
             material: material.clone(),
             wavelength_nm,
         });
-        if !options.colour {
-            let [values] = pool.install(|| tabulate::<1>(model, theta, phi, t, options, progress));
-            return Ok(Table::assemble(
-                symmetry,
-                theta,
-                phi,
-                t,
-                values,
-                provenance,
-                wavelength_nm,
-                None,
-                None,
-            )
-            .with_exact(model));
-        }
-        // f and ∂f/∂ρ0 in one pass (`Model::eval_affine`).
-        let [values, body] =
-            pool.install(|| tabulate::<2>(model, theta, phi, t, options, progress));
+        let own = super::Albedos::of(material);
+        // `f`, and with `colour` `∂f/∂ρ0` in the same pass (`Model::eval_affine`).
+        let (values, colour) = if options.colour {
+            let [values, body] =
+                pool.install(|| tabulate::<2>(model, own, theta, phi, t, options, progress));
+            (values, Some(super::Colour::new(material, body)))
+        } else {
+            let [values] =
+                pool.install(|| tabulate::<1>(model, own, theta, phi, t, options, progress));
+            (values, None)
+        };
         Ok(Table::assemble(
             symmetry,
             theta,
@@ -80,16 +73,17 @@ impl Table {
             provenance,
             wavelength_nm,
             None,
-            Some(super::Colour::new(material, body)),
+            colour,
         )
         .with_exact(model))
     }
 }
 
-/// The node values of `model` on the grid `(theta, phi, t)`, on the current rayon pool: `f`
-/// (`K = 1`), or `f` and `∂f/∂ρ0` (`K = 2`, [`Model::eval_affine`]).
+/// The node values of `model` (whose albedos are `own`) on the grid `(theta, phi, t)`, on the
+/// current rayon pool: `f` (`K = 1`), or `f` and `∂f/∂ρ0` (`K = 2`, [`Model::eval_affine`]).
 fn tabulate<const K: usize>(
     model: &Model,
+    own: super::Albedos,
     theta: Axis,
     phi: Axis,
     t: Axis,
@@ -113,7 +107,6 @@ fn tabulate<const K: usize>(
                         parts(model.eval(s, v), 0.0)
                     } else {
                         let affine = model.eval_affine(s, v);
-                        let own = super::Albedos::of_model(model);
                         parts(
                             affine.at(own.diffuse, own.interreflection),
                             affine.per_diffuse,
@@ -172,27 +165,43 @@ fn tabulate<const K: usize>(
     })
 }
 
-/// The intermediate table `F₀` of a build: the first model's values as a [`Table`] (for the
-/// grid and the look-up), and each model's values.
+/// The intermediate table `F₀` of a build: `f` as a [`Table`] (for the grid and the look-up),
+/// and with `K = 2` `∂f/∂ρ0` on the same nodes.
 struct Stage<const K: usize> {
     table: Table,
-    values: [Vec<f32>; K],
+    rest: Vec<Vec<f32>>,
 }
 
 impl<const K: usize> Stage<K> {
     fn new(theta: Axis, phi: Axis, t: Axis, values: [Vec<f32>; K], model: &Model) -> Stage<K> {
+        let mut parts = values.into_iter();
         let table = Table::assemble(
             Symmetry::Mirror,
             theta,
             phi,
             t,
-            values[0].clone(),
+            parts.next().unwrap_or_default(),
             None,
             model.fiber().wavelength_nm(),
             Some(Vec::new()),
             None,
         );
-        Stage { table, values }
+        Stage {
+            table,
+            rest: parts.collect(),
+        }
+    }
+
+    /// The `K` node arrays, `f` first.
+    #[inline]
+    fn arrays(&self) -> [&[f32]; K] {
+        std::array::from_fn(|k| {
+            if k == 0 {
+                self.table.values()
+            } else {
+                self.rest[k - 1].as_slice()
+            }
+        })
     }
 }
 
@@ -255,7 +264,7 @@ impl Azimuth {
             o.z,
         );
         let (s, v) = self.half.join(self.axis, o);
-        let arrays = f0.values.each_ref().map(|v| v.as_slice());
+        let arrays = f0.arrays();
         let f = if Half::of(s, v) == self.half {
             f0.table
                 .interpolate(self.half, self.located, Query::new(self.axis, o), arrays)
@@ -263,11 +272,9 @@ impl Azimuth {
             f0.table.eval_arrays(s, v, arrays)
         };
         // `f` is never negative; `∂f/∂ρ0` may be (the sheen's loss to `ζ = 1 − ρ0`).
-        let mut k = 0;
-        f.map(|x| {
-            k += 1;
-            self.weight * if k == 1 { x.max(0.0) } else { x }
-        })
+        let mut f = f.map(|x| self.weight * x);
+        f[0] = f[0].max(0.0);
+        f
     }
 }
 

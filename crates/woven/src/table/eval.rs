@@ -98,17 +98,10 @@ impl Table {
             let affine = model.eval_affine(s, v);
             return albedos.map(|a| affine.at(a.diffuse, a.interreflection).max(0.0));
         }
-        let half = Half::of(s, v);
-        let (axis, other) = half.split(s, v);
-        let fold = Fold::of(self.symmetry, axis);
-        let (axis, other) = (fold.apply(axis), fold.apply(other));
-        let located = locate_axis(&self.theta, &self.phi, axis);
-        let q = Query::new(axis, other);
         let Some(colour) = &self.colour else {
-            let f = self.eval_at(half, located, q);
-            return [f; N];
+            return [self.eval(s, v); N];
         };
-        let [f, body] = self.interpolate(half, located, q, [&self.values, &colour.body]);
+        let [f, body] = self.eval_arrays(s, v, [&self.values, &colour.body]);
         albedos.map(|a| {
             (f + (a.diffuse - colour.own.diffuse) * body
                 + (a.interreflection - colour.own.interreflection) * colour.per_interreflection)

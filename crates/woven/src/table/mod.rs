@@ -208,18 +208,6 @@ pub struct Albedos {
 }
 
 impl Albedos {
-    /// The albedos a model was built with.
-    pub fn of_model(model: &crate::Model) -> Albedos {
-        use crate::cloth::Structure;
-        Albedos {
-            diffuse: model.fiber().params().diffuse,
-            interreflection: match model.structure() {
-                Structure::Flat(_) => 0.0,
-                Structure::Woven { yarn, .. } => yarn.params().interreflection_albedo,
-            },
-        }
-    }
-
     /// The material's own albedos.
     pub fn of(material: &Material) -> Albedos {
         Albedos {
