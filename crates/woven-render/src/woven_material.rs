@@ -86,16 +86,28 @@ pub struct WovenMaterial {
 pub struct TableCache {
     tables: HashMap<String, Arc<Table>>,
     disk: Option<Cache>,
+    /// Hears why a cached file was not used, or why a table could not be cached.
+    note: Option<Note>,
 }
+
+/// A sink for the cache's notes, in words.
+type Note = Box<dyn Fn(&str) + Send + Sync>;
 
 impl TableCache {
     /// A cache that also keeps tables in `disk` (e.g. [`Cache::user`]): a table built once is
     /// loaded on later runs; a damaged or foreign file is rebuilt.
     pub fn with_disk(disk: Cache) -> TableCache {
         TableCache {
-            tables: HashMap::new(),
             disk: Some(disk),
+            ..TableCache::default()
         }
+    }
+
+    /// `note` hears, in words, why a cached file was not used (it is rebuilt) and why a built
+    /// table could not be cached (the render goes on).
+    pub fn with_notes(mut self, note: impl Fn(&str) + Send + Sync + 'static) -> TableCache {
+        self.note = Some(Box::new(note));
+        self
     }
 
     /// The table of `material` on `options`: from memory, from disk, or built (`on_build` is
@@ -121,15 +133,20 @@ impl TableCache {
                 build()?
             }
             Some(disk) => {
+                let note = |m: String| {
+                    if let Some(note) = &self.note {
+                        note(&m);
+                    }
+                };
                 disk.load_or_build(material, WAVELENGTH_NM, options, build, &|n| match n {
                     Notice::Building { path, reason } => {
                         if let Some(r) = reason {
-                            eprintln!("note: not using the cached table ({r})");
+                            note(format!("not using the cached table ({r})"));
                         }
                         on_build(Some(path));
                     }
                     Notice::NotStored { error } => {
-                        eprintln!("note: the table could not be cached ({error})");
+                        note(format!("the table could not be cached ({error})"));
                     }
                     Notice::Loaded { .. } => {}
                 })?

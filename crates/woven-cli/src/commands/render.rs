@@ -168,7 +168,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         TableCache::default()
     } else {
         match woven::table::cache::Cache::user() {
-            Ok(disk) => TableCache::with_disk(disk),
+            Ok(disk) => TableCache::with_disk(disk).with_notes(|m| eprintln!("note: {m}")),
             Err(e) => {
                 eprintln!("note: tables are not cached ({e})");
                 TableCache::default()
