@@ -15,6 +15,11 @@ use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+/// The revision of what a build computes from the same grid and material (the values, the
+/// sampler's densities): part of the disk cache's key, so a change here rebuilds cached tables.
+/// 2: the sampler sees the exact regions and densities of cells the horizon cuts.
+pub(crate) const REVISION: u32 = 2;
+
 impl Table {
     /// Builds the table of `model`, prepared from `material` (recorded as the table's
     /// [`Provenance`](super::Provenance), with the model's wavelength). `progress(done, total)` is
@@ -64,18 +69,21 @@ impl Table {
                 pool.install(|| tabulate::<1>(model, own, theta, phi, t, options, progress));
             (values, None)
         };
-        Ok(Table::assemble(
-            symmetry,
-            theta,
-            phi,
-            t,
-            values,
-            provenance,
-            wavelength_nm,
-            None,
-            colour,
-        )
-        .with_exact(model))
+        // The sampler is built as the table is assembled, on the same pool.
+        Ok(pool.install(|| {
+            Table::assemble(
+                symmetry,
+                theta,
+                phi,
+                t,
+                values,
+                provenance,
+                wavelength_nm,
+                None,
+                colour,
+                Some(model),
+            )
+        }))
     }
 }
 
@@ -184,6 +192,7 @@ impl<const K: usize> Stage<K> {
             None,
             model.fiber().wavelength_nm(),
             Some(Vec::new()),
+            None,
             None,
         );
         Stage {
@@ -460,6 +469,7 @@ mod tests {
                 None,
                 550.0,
                 Some(Vec::new()),
+                None,
                 None,
             );
             for k in 0..100_000 {

@@ -204,8 +204,9 @@ fn key(material: &Material, wavelength_nm: f64, options: &TableOptions) -> Strin
         ..*options
     };
     let text = format!(
-        "woven table format {}\n{:?}\n{}\n{}",
+        "woven table format {} build {}\n{:?}\n{}\n{}",
         super::format::VERSION,
+        super::build::REVISION,
         grid,
         wavelength_nm.to_bits(),
         material.to_self_contained_toml_string()

@@ -225,8 +225,9 @@ impl Table {
             wavelength_nm,
             Some(cell_pdf),
             colour,
+            Some(&model),
         );
-        Ok(table.with_exact(&model))
+        Ok(table)
     }
 
     /// Loads a table file.

@@ -80,8 +80,10 @@ impl Sampler {
         }
     }
 
-    /// Computes the per-cell densities of every node (the expensive part) and the CDFs.
+    /// Computes the per-cell densities of every node (the expensive part, in parallel over the
+    /// nodes) and the CDFs.
     pub(crate) fn build(table: &Table) -> Sampler {
+        use rayon::prelude::*;
         let n = table.t.n;
         let nc = n - 1;
         let dt = (table.t.hi - table.t.lo) / nc as f64;
@@ -92,63 +94,10 @@ impl Sampler {
             conditional: vec![0.0; nodes * nc * (nc + 1)],
             cell_pdf: vec![0.0; nodes * nc * nc],
         };
-        let mut weights = vec![0.0f64; nc * nc];
-        let mut spread = vec![0.0f64; nc * nc];
-        for node in 0..nodes {
-            let (it, ip) = (node / table.phi.n, node % table.phi.n);
-            let s = Vec3::from_spherical(table.theta.node(it), table.phi.node(ip));
-            // f cos θ_r at a node above the horizon (0 below it: no mass to sample there), from
-            // whichever half answers for the pair.
-            let value = |v: Vec3| (table.eval_folded(s, v) * v.z).max(0.0);
-            for iy in 0..nc {
-                for ix in 0..nc {
-                    let (t0y, t0x) = (table.t.node(iy), table.t.node(ix));
-                    let corners = [(0, 0), (0, 1), (1, 0), (1, 1)];
-                    let mut acc = 0.0;
-                    let mut any = false;
-                    let mut corner_sum = 0.0;
-                    for (a, b) in corners {
-                        if let Some((v, j)) = jacobian(s, t0x + b as f64 * dt, t0y + a as f64 * dt)
-                        {
-                            let fc = value(v);
-                            acc += fc * j;
-                            corner_sum += fc;
-                            any = true;
-                        }
-                    }
-                    let centre = jacobian(s, t0x + 0.5 * dt, t0y + 0.5 * dt);
-                    if let Some((_, j)) = centre {
-                        acc += corner_sum * j;
-                        any = true;
-                    }
-                    // Mean of corners and (double-weighted) centre, times the cell's area.
-                    weights[iy * nc + ix] = acc / 8.0 * dt * dt;
-                    // Solid angle of the cell (for the defensive part), if any of it is valid.
-                    spread[iy * nc + ix] = if any {
-                        centre.map_or_else(|| jacobian_abs_mean(s, t0x, t0y, dt), |(_, j)| j)
-                            * dt
-                            * dt
-                    } else {
-                        0.0
-                    };
-                }
-            }
-            let total: f64 = weights.iter().sum();
-            let total_spread: f64 = spread.iter().sum();
-            let (wf, ws) = if total > 0.0 && total_spread > 0.0 {
-                ((1.0 - DEFENSIVE) / total, DEFENSIVE / total_spread)
-            } else if total_spread > 0.0 {
-                (0.0, 1.0 / total_spread)
-            } else {
-                (0.0, 0.0)
-            };
-            for iy in 0..nc {
-                for ix in 0..nc {
-                    let p = wf * weights[iy * nc + ix] + ws * spread[iy * nc + ix];
-                    out.cell_pdf[(node * nc + iy) * nc + ix] = (p / (dt * dt)) as f32;
-                }
-            }
-        }
+        out.cell_pdf
+            .par_chunks_mut(nc * nc)
+            .enumerate()
+            .for_each(|(node, cell_pdf)| node_density(table, node, dt, cell_pdf));
         out.cumulate(dt);
         out
     }
@@ -233,6 +182,74 @@ impl Sampler {
         let (node, _) = Self::node(table, s);
         let dt = (table.t.hi - table.t.lo) / nc as f64;
         self.density(node, iy, ix, dt) / j
+    }
+}
+
+/// The per-cell densities in `t` space of incidence node `node` (see the module's description).
+fn node_density(table: &Table, node: usize, dt: f64, cell_pdf: &mut [f32]) {
+    let nc = table.t.n - 1;
+    let (it, ip) = (node / table.phi.n, node % table.phi.n);
+    let s = Vec3::from_spherical(table.theta.node(it), table.phi.node(ip));
+    // f cos θ_r at a node above the horizon (0 below it: no mass to sample there), from whichever
+    // half answers for the pair, or from the exact model where the table answers with it.
+    let value = |v: Vec3| (table.eval_folded(s, v) * v.z).max(0.0);
+    let mut weights = vec![0.0f64; nc * nc];
+    let mut spread = vec![0.0f64; nc * nc];
+    for iy in 0..nc {
+        for ix in 0..nc {
+            let (t0y, t0x) = (table.t.node(iy), table.t.node(ix));
+            let mut acc = 0.0;
+            let mut valid = 0usize;
+            let mut corner_sum = 0.0;
+            for (a, b) in [(0.0, 0.0), (0.0, dt), (dt, 0.0), (dt, dt)] {
+                if let Some((v, j)) = jacobian(s, t0x + b, t0y + a) {
+                    let fc = value(v);
+                    acc += fc * j;
+                    corner_sum += fc;
+                    valid += 1;
+                }
+            }
+            let centre = jacobian(s, t0x + 0.5 * dt, t0y + 0.5 * dt);
+            let mut norm = valid as f64;
+            if let Some((vc, j)) = centre {
+                // The centre counts four times, with the corners' mean value (an evaluation
+                // fewer), or its own where no corner is valid.
+                let fc = if valid > 0 {
+                    corner_sum / valid as f64
+                } else {
+                    value(vc)
+                };
+                acc += 4.0 * fc * j;
+                norm += 4.0;
+            }
+            // The mean over the cell's valid points times the whole cell's area: a cell the
+            // horizon cuts keeps the density of its valid part (draws in the rest are rejected),
+            // rather than a share diluted by its invalid corners, which left directions next to
+            // the horizon with weights 10× their median.
+            weights[iy * nc + ix] = if norm > 0.0 {
+                acc / norm * dt * dt
+            } else {
+                0.0
+            };
+            // Solid angle of the cell (for the defensive part), if any of it is valid.
+            spread[iy * nc + ix] = if norm > 0.0 {
+                centre.map_or_else(|| jacobian_abs_mean(s, t0x, t0y, dt), |(_, j)| j) * dt * dt
+            } else {
+                0.0
+            };
+        }
+    }
+    let total: f64 = weights.iter().sum();
+    let total_spread: f64 = spread.iter().sum();
+    let (wf, ws) = if total > 0.0 && total_spread > 0.0 {
+        ((1.0 - DEFENSIVE) / total, DEFENSIVE / total_spread)
+    } else if total_spread > 0.0 {
+        (0.0, 1.0 / total_spread)
+    } else {
+        (0.0, 0.0)
+    };
+    for (k, p) in cell_pdf.iter_mut().enumerate() {
+        *p = ((wf * weights[k] + ws * spread[k]) / (dt * dt)) as f32;
     }
 }
 
