@@ -1,157 +1,138 @@
-//! The acceleration structure: a bounding volume hierarchy (the `bvh` crate, SAH build) over
-//! every primitive of a scene.
+//! The acceleration structure: a compressed 8-wide bounding volume hierarchy (the `obvhs`
+//! crate: PLOC build, SIMD traversal) over every primitive of a scene.
+//!
+//! The hierarchy is single precision; the primitives are intersected in double precision. Each
+//! primitive's box is padded outward (by 10⁻⁵ of its distance from the origin, at least 10⁻⁶ m)
+//! so that rounding the ray and the boxes to `f32` can never cull a primitive the ray reaches,
+//! and the distance handed back for culling is rounded up. The `bvh` crate's double-precision
+//! hierarchy was 2.3× slower on the showcase (its traversal iterator was a quarter of the
+//! render's time).
 
 use crate::geometry::{Hit, Mesh, Primitive, Ray};
-use bvh::aabb::{Aabb, Bounded, IntersectsAabb};
-use bvh::bounding_hierarchy::BHShape;
-use bvh::bvh::Bvh;
-use nalgebra::Point3;
-use std::cell::Cell;
+use glam::Vec3A;
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::CwBvh;
+use obvhs::ray::{Ray as RayF32, RayHit};
+use obvhs::{Boundable, BvhBuildParams};
 
-/// A primitive as the BVH stores it: its bounds and its node.
-struct Leaf {
-    aabb: Aabb<f64, 3>,
-    node: usize,
-    /// Index of the primitive.
-    index: usize,
-}
+/// A primitive's padded bounds, as the builder takes them.
+struct Bounds(Aabb);
 
-impl Bounded<f64, 3> for Leaf {
-    fn aabb(&self) -> Aabb<f64, 3> {
-        self.aabb
+impl Boundable for Bounds {
+    fn aabb(&self) -> Aabb {
+        self.0
     }
 }
 
-impl BHShape<f64, 3> for Leaf {
-    fn set_bh_node_index(&mut self, index: usize) {
-        self.node = index;
-    }
-    fn bh_node_index(&self) -> usize {
-        self.node
-    }
-}
-
-/// A ray query that shrinks as hits are found: boxes beyond the nearest hit so far are skipped.
-struct Query {
-    o: [f64; 3],
-    inv_d: [f64; 3],
-    t_min: f64,
-    t_max: Cell<f64>,
-}
-
-impl IntersectsAabb<f64, 3> for Query {
-    fn intersects_aabb(&self, aabb: &Aabb<f64, 3>) -> bool {
-        // The slab test; NaN from 0·∞ (a ray in a box's face plane) fails safe via max/min.
-        let mut t0 = self.t_min;
-        let mut t1 = self.t_max.get();
-        for k in 0..3 {
-            let a = (aabb.min[k] - self.o[k]) * self.inv_d[k];
-            let b = (aabb.max[k] - self.o[k]) * self.inv_d[k];
-            let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-            t0 = if lo > t0 { lo } else { t0 };
-            // Widened by a few ulps so that a hit on a box face is never culled.
-            t1 = if hi * (1.0 + 4.0 * f64::EPSILON) < t1 {
-                hi * (1.0 + 4.0 * f64::EPSILON)
-            } else {
-                t1
-            };
-            if t0 > t1 {
-                return false;
-            }
-        }
-        true
-    }
-}
-
-/// The scene's geometry: primitives, meshes and their BVH.
+/// The scene's primitives and their hierarchy.
 pub struct Accel {
     prims: Vec<Primitive>,
     meshes: Vec<Mesh>,
-    leaves: Vec<Leaf>,
-    bvh: Bvh<f64, 3>,
+    bvh: CwBvh,
+}
+
+/// The smallest `f32` at least `x` (for `x ≥ 0`), so culling by it is conservative.
+#[inline]
+fn f32_up(x: f64) -> f32 {
+    let y = x as f32;
+    if (y as f64) < x {
+        y.next_up()
+    } else {
+        y
+    }
 }
 
 impl Accel {
-    /// Builds the hierarchy over `prims` (triangles refer to `meshes`).
+    /// Builds the hierarchy over `prims` (triangles index into `meshes`).
     pub fn new(prims: Vec<Primitive>, meshes: Vec<Mesh>) -> Accel {
-        let mut leaves: Vec<Leaf> = prims
+        let bounds: Vec<Bounds> = prims
             .iter()
-            .enumerate()
-            .map(|(index, p)| {
+            .map(|p| {
                 let (lo, hi) = p.bounds(&meshes);
-                // A flat primitive's box gets a little thickness so the slab test sees it.
-                let pad = 1e-9 * (1.0 + lo.x.abs().max(lo.y.abs()).max(lo.z.abs()));
-                Leaf {
-                    aabb: Aabb::with_bounds(
-                        Point3::new(lo.x - pad, lo.y - pad, lo.z - pad),
-                        Point3::new(hi.x + pad, hi.y + pad, hi.z + pad),
-                    ),
-                    node: 0,
-                    index,
-                }
+                let size =
+                    lo.x.abs()
+                        .max(lo.y.abs())
+                        .max(lo.z.abs())
+                        .max(hi.x.abs().max(hi.y.abs()).max(hi.z.abs()));
+                let pad = (1e-5 * size).max(1e-6);
+                let down = |x: f64| ((x - pad) as f32).next_down();
+                let up = |x: f64| ((x + pad) as f32).next_up();
+                Bounds(Aabb::new(
+                    Vec3A::new(down(lo.x), down(lo.y), down(lo.z)),
+                    Vec3A::new(up(hi.x), up(hi.y), up(hi.z)),
+                ))
             })
             .collect();
-        let bvh = Bvh::build(&mut leaves);
-        Accel {
-            prims,
-            meshes,
-            leaves,
-            bvh,
-        }
+        let bvh = if bounds.is_empty() {
+            CwBvh::default()
+        } else {
+            obvhs::cwbvh::builder::build_cwbvh(
+                &bounds,
+                BvhBuildParams::medium_build(),
+                &mut std::time::Duration::default(),
+            )
+        };
+        Accel { prims, meshes, bvh }
     }
 
-    /// The primitives, in scene order.
+    /// Every primitive, in scene order.
     pub fn primitives(&self) -> &[Primitive] {
         &self.prims
     }
 
-    /// The meshes triangles refer to.
+    /// The triangle meshes the primitives index into.
     pub fn meshes(&self) -> &[Mesh] {
         &self.meshes
     }
 
-    /// The nearest hit with `t ∈ (t_min, t_max)`, from either side.
+    /// The ray in single precision, over `[0, t_max]` (rounded up): `t_min` is applied to the
+    /// primitives, in double precision.
+    #[inline]
+    fn ray_f32(ray: &Ray, t_max: f64) -> RayF32 {
+        RayF32::new(
+            Vec3A::new(ray.o.x as f32, ray.o.y as f32, ray.o.z as f32),
+            Vec3A::new(ray.d.x as f32, ray.d.y as f32, ray.d.z as f32),
+            0.0,
+            f32_up(t_max),
+        )
+    }
+
+    /// The nearest hit with `t` in `(t_min, t_max)`.
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         if self.prims.is_empty() {
             return None;
         }
-        let query = Query {
-            o: [ray.o.x, ray.o.y, ray.o.z],
-            inv_d: [1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z],
-            t_min,
-            t_max: Cell::new(t_max),
-        };
         let mut best: Option<Hit> = None;
-        for leaf in self.bvh.traverse_iterator(&query, &self.leaves) {
-            let index = leaf.index;
-            if let Some(hit) =
-                self.prims[index].intersect(ray, t_min, query.t_max.get(), &self.meshes, index)
-            {
-                query.t_max.set(hit.t);
-                best = Some(hit);
-            }
-        }
+        let mut best_t = t_max;
+        let mut hit = RayHit::none();
+        self.bvh
+            .ray_traverse(Self::ray_f32(ray, t_max), &mut hit, |_, id| {
+                let index = self.bvh.primitive_indices[id] as usize;
+                match self.prims[index].intersect(ray, t_min, best_t, &self.meshes, index) {
+                    Some(h) => {
+                        best_t = h.t;
+                        best = Some(h);
+                        f32_up(best_t)
+                    }
+                    None => f32::INFINITY,
+                }
+            });
         best
     }
 
-    /// Whether anything lies on the ray strictly between `t_min` and `t_max`.
+    /// Whether anything lies on the ray with `t` in `(t_min, t_max)` (stops at the first hit).
     pub fn occluded(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         if self.prims.is_empty() {
             return false;
         }
-        let query = Query {
-            o: [ray.o.x, ray.o.y, ray.o.z],
-            inv_d: [1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z],
-            t_min,
-            t_max: Cell::new(t_max),
-        };
-        self.bvh
-            .traverse_iterator(&query, &self.leaves)
-            .any(|leaf| {
-                let index = leaf.index;
-                self.prims[index]
-                    .intersect(ray, t_min, t_max, &self.meshes, index)
-                    .is_some()
+        !self
+            .bvh
+            .ray_traverse_miss(Self::ray_f32(ray, t_max), |_, id| {
+                let index = self.bvh.primitive_indices[id] as usize;
+                match self.prims[index].intersect(ray, t_min, t_max, &self.meshes, index) {
+                    Some(_) => 0.0,
+                    None => f32::INFINITY,
+                }
             })
     }
 }

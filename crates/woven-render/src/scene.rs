@@ -450,7 +450,7 @@ impl Checker<'_> {
     fn rgb(&self, key: &str, at: usize, v: [f64; 3], max: Option<f64>) -> Result<Rgb> {
         let ok = v
             .iter()
-            .all(|c| c.is_finite() && *c >= 0.0 && max.map_or(true, |m| *c <= m));
+            .all(|c| c.is_finite() && *c >= 0.0 && max.is_none_or(|m| *c <= m));
         if ok {
             Ok(Rgb(v))
         } else {
