@@ -6,7 +6,7 @@
 //! of view `fov_deg` spans the film's width. The camera looks from `origin` toward `target`; the
 //! image's up is `up` made orthogonal to the view direction.
 
-use crate::geometry::Ray;
+use crate::geometry::{Ray, RayFootprint};
 use woven::Vec3;
 
 /// A pinhole camera.
@@ -59,6 +59,16 @@ impl Camera {
         Ray {
             o: self.origin,
             d: (self.forward + self.right * sx + self.up * sy).normalize(),
+        }
+    }
+
+    /// The footprint of camera rays (ray differentials): how the ray moves from one film pixel
+    /// to the next.
+    pub fn footprint(&self) -> RayFootprint {
+        RayFootprint::Camera {
+            forward: self.forward,
+            dd_dx: self.right * (2.0 * self.half_width / self.width as f64),
+            dd_dy: self.up * (-2.0 * self.half_height / self.height as f64),
         }
     }
 

@@ -87,6 +87,10 @@ pub struct IntegratorSettings {
     pub strategy: Strategy,
     /// Path depth from which Russian roulette may end a path (Mitsuba's `rr_depth`).
     pub rr_depth: u32,
+    /// Whether woven materials see the pixel's footprint (ray differentials) and blend from
+    /// the yarn of each pattern cell to the macro BRDF where the footprint covers cells
+    /// (docs/render.md, "Fine weaves"); `false`: every point shows its cell's yarn.
+    pub footprint_filter: bool,
 }
 
 /// A shape as the file gives it.
@@ -262,6 +266,12 @@ struct RawIntegrator {
     strategy: Strategy,
     #[serde(default = "default_rr")]
     rr_depth: i64,
+    #[serde(default = "yes")]
+    footprint_filter: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_depth() -> i64 {
@@ -363,8 +373,18 @@ enum RawMaterial {
         yarns_per_unit: RawYarns,
         weft_color: Option<[f64; 3]>,
         warp_color: Option<[f64; 3]>,
+        #[serde(default)]
+        u_max_deg: f64,
+        #[serde(default)]
+        gap: f64,
     },
 }
+
+/// The largest yarn tilt `u_max_deg`, degrees.
+pub const MAX_U_MAX_DEG: f64 = 80.0;
+
+/// The largest gap fraction.
+pub const MAX_GAP: f64 = 0.95;
 
 fn default_yarns() -> RawYarns {
     RawYarns::Same(40.0)
@@ -602,6 +622,7 @@ impl SceneDescription {
                 hide_emitters: false,
                 strategy: Strategy::Mis,
                 rr_depth: 5,
+                footprint_filter: true,
             },
             Some(i) => {
                 let at = i.span().start;
@@ -622,6 +643,7 @@ impl SceneDescription {
                     hide_emitters: i.hide_emitters,
                     strategy: i.strategy,
                     rr_depth: c.range("integrator.rr_depth", at, i.rr_depth, 1, 1024)? as u32,
+                    footprint_filter: i.footprint_filter,
                 }
             }
         };
@@ -715,6 +737,8 @@ impl SceneDescription {
                     yarns_per_unit,
                     weft_color,
                     warp_color,
+                    u_max_deg,
+                    gap,
                 } => {
                     let mkey = format!("{key}.material");
                     let mut woven = if Material::preset_toml(&material).is_some() {
@@ -746,6 +770,30 @@ impl SceneDescription {
                             .validate()
                             .map_err(|e| c.err(&pkey, at, e.to_string()))?;
                     }
+                    if !(u_max_deg.is_finite() && (0.0..=MAX_U_MAX_DEG).contains(&u_max_deg)) {
+                        return Err(c.err(
+                            &format!("{key}.u_max_deg"),
+                            at,
+                            format!("{u_max_deg}: expected degrees in [0, {MAX_U_MAX_DEG}]"),
+                        ));
+                    }
+                    if !(gap.is_finite() && (0.0..=MAX_GAP).contains(&gap)) {
+                        return Err(c.err(
+                            &format!("{key}.gap"),
+                            at,
+                            format!("{gap}: expected a fraction in [0, {MAX_GAP}]"),
+                        ));
+                    }
+                    if woven.yarn.is_none() && (u_max_deg > 0.0 || gap > 0.0) {
+                        let k = if gap > 0.0 { "gap" } else { "u_max_deg" };
+                        return Err(c.err(
+                            &format!("{key}.{k}"),
+                            at,
+                            format!(
+                                "`{material}` is a flat fiber surface (no [yarn]): it has no yarns to tilt or space; remove `{k}`"
+                            ),
+                        ));
+                    }
                     let color = |k: &str, v: Option<[f64; 3]>| -> Result<Option<Rgb>> {
                         v.map(|v| c.rgb(&format!("{key}.{k}"), at, v, Some(1.0)))
                             .transpose()
@@ -762,6 +810,8 @@ impl SceneDescription {
                         },
                         weft_color: color("weft_color", weft_color)?,
                         warp_color: color("warp_color", warp_color)?,
+                        u_max: u_max_deg.to_radians(),
+                        gap,
                     }))
                 }
             };

@@ -128,6 +128,8 @@ fn pattern_cells_average_to_the_macro_brdf() {
             yarns_per_unit: [3.0, 3.0],
             weft_color: None,
             warp_color: None,
+            u_max: 0.0,
+            gap: 0.0,
         };
         WovenMaterial::build(&spec, &grid, cache, &|| {}, &|_, _| {}).unwrap()
     };
@@ -145,6 +147,7 @@ fn pattern_cells_average_to_the_macro_brdf() {
             for j in 0..3 {
                 let at = ShadingPoint {
                     uv: [(i as f64 + 0.5) / 3.0, (j as f64 + 0.5) / 3.0],
+                    ..ShadingPoint::default()
                 };
                 mean += pattern.eval(wi, wo, &at).0[0] / 9.0;
             }
@@ -170,6 +173,8 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
         yarns_per_unit: [2.0, 2.0],
         weft_color: None,
         warp_color: None,
+        u_max: 0.0,
+        gap: 0.0,
     };
     let mut spec = spec;
     spec.material.weave = Some(Weave::Pattern {
@@ -185,8 +190,14 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
     )
     .unwrap();
     // Plain weave, 2 cells per unit: cell (0, 0) is warp, cell (0, 1) weft.
-    let warp = ShadingPoint { uv: [0.25, 0.25] };
-    let weft = ShadingPoint { uv: [0.75, 0.25] };
+    let warp = ShadingPoint {
+        uv: [0.25, 0.25],
+        ..ShadingPoint::default()
+    };
+    let weft = ShadingPoint {
+        uv: [0.75, 0.25],
+        ..ShadingPoint::default()
+    };
     let turn = |d: Vec3| Vec3::new(-d.y, d.x, d.z);
     let mut rng = woven::math::rng::SplitMix(9);
     let mut drawn = 0;
@@ -215,8 +226,8 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
     assert!(drawn > 300, "only {drawn} draws succeeded");
 }
 
-/// A flat woven rectangle seen from afar (about 40 pattern cells per pixel) renders as the
-/// macro BRDF of the same material: 4 × 4-pixel blocks agree within the noise plus the two
+/// A flat woven rectangle seen from afar (about 40 pattern cells per pixel), with the footprint
+/// filter off (every sample sees its cell's yarn), renders as the macro BRDF of the same material: 4 × 4-pixel blocks agree within the noise plus the two
 /// tables' interpolation error, and random sample positions leave no moiré (a structured
 /// difference would break the per-block bound).
 #[test]
@@ -235,6 +246,7 @@ fn a_distant_patterned_rectangle_renders_as_the_macro_brdf() {
             spp = 256
             [integrator]
             max_depth = 2
+            footprint_filter = false
             [[light]]
             type = "point"
             position = [0.4, 0.5, 1.5]
@@ -310,6 +322,8 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
         yarns_per_unit: [2.0, 2.0],
         weft_color: Some(woven_render::color::Rgb(red)),
         warp_color: Some(woven_render::color::Rgb(blue)),
+        u_max: 0.0,
+        gap: 0.0,
     };
     let m = WovenMaterial::build(
         &spec,
@@ -330,8 +344,14 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
     };
     let weft_refs = red.map(reference);
     let warp_refs = blue.map(reference);
-    let warp = ShadingPoint { uv: [0.25, 0.25] };
-    let weft = ShadingPoint { uv: [0.75, 0.25] };
+    let warp = ShadingPoint {
+        uv: [0.25, 0.25],
+        ..ShadingPoint::default()
+    };
+    let weft = ShadingPoint {
+        uv: [0.75, 0.25],
+        ..ShadingPoint::default()
+    };
     let turn = |d: Vec3| Vec3::new(d.y, -d.x, d.z);
     let mut rng = woven::math::rng::SplitMix(12);
     for _ in 0..300 {
@@ -364,6 +384,8 @@ fn tables_are_kept_on_disk_between_runs() {
         yarns_per_unit: [1.0, 1.0],
         weft_color: None,
         warp_color: None,
+        u_max: 0.0,
+        gap: 0.0,
     };
     let builds = std::sync::atomic::AtomicUsize::new(0);
     for _ in 0..2 {
