@@ -47,6 +47,12 @@ pub trait SurfaceMaterial: Send + Sync {
 
     /// The density per unit solid angle with which [`sample`](Self::sample) draws `wi` for `wo`.
     fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64;
+
+    /// Whether the material reads [`ShadingPoint::footprint`] (a scene whose materials do not
+    /// skips computing it).
+    fn uses_footprint(&self) -> bool {
+        false
+    }
 }
 
 /// A Lambertian reflector: `f = ρ/π`.

@@ -1149,9 +1149,12 @@ impl Scene {
                 ShapeDesc::Cloth(cloth) => add_mesh(cloth.mesh()),
             }
         }
+        let mut integrator = desc.integrator.clone();
+        // Footprints only where a material reads them.
+        integrator.footprint_filter &= materials.iter().any(|m| m.uses_footprint());
         Ok(Scene {
             film: desc.film.clone(),
-            integrator: desc.integrator.clone(),
+            integrator,
             camera,
             lights,
             environment,

@@ -686,4 +686,8 @@ impl SurfaceMaterial for WovenMaterial {
             }
         }
     }
+
+    fn uses_footprint(&self) -> bool {
+        matches!(self.layout, Layout::Pattern { .. })
+    }
 }
