@@ -2,6 +2,7 @@
 //! their floats (`u_max`) and gaps between yarns (`gap`); and the footprint filter's blend.
 
 use crate::footprint::tiny_grid;
+use std::sync::Mutex;
 use woven::material::{Material, PatternSpec, Weave};
 use woven::math::rng::SplitMix;
 use woven::weave::Pattern;
