@@ -12,7 +12,7 @@ use crate::color::Rgb;
 use crate::geometry::{Mesh, Primitive};
 use crate::light::{Environment, Light};
 use crate::material::{Diffuse, SurfaceMaterial};
-use crate::shapes::{self, Cloth};
+use crate::shapes::{self, Cloth, Drape};
 use crate::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSpec};
 use crate::{Error, Result};
 use serde::Deserialize;
@@ -130,8 +130,10 @@ pub enum ShapeDesc {
         /// Translation applied after the scale.
         translate: Vec3,
     },
-    /// A procedural cloth.
+    /// A procedural cloth hanging in folds.
     Cloth(Cloth),
+    /// A procedural cloth draped over a sphere.
+    Drape(Drape),
 }
 
 /// A material as the file gives it.
@@ -349,6 +351,9 @@ enum RawShape {
         taper: f64,
         #[serde(default = "default_resolution")]
         resolution: [i64; 2],
+        drape: Option<String>,
+        center: Option<[f64; 3]>,
+        radius: Option<f64>,
         material: String,
     },
 }
@@ -885,9 +890,38 @@ impl SceneDescription {
                     amplitude,
                     taper,
                     resolution,
+                    drape,
+                    center,
+                    radius,
                     material,
                 } => {
                     let (edge_u, edge_v) = c.edges(&key, at, edge_u, edge_v)?;
+                    let over_sphere = match drape.as_deref() {
+                        None | Some("folds") => false,
+                        Some("sphere") => true,
+                        Some(other) => {
+                            return Err(c.err(
+                                &format!("{key}.drape"),
+                                at,
+                                format!(
+                                    "`{other}`: expected \"folds\" (the default) or \"sphere\""
+                                ),
+                            ))
+                        }
+                    };
+                    if !over_sphere {
+                        if let Some(k) =
+                            [("center", center.is_some()), ("radius", radius.is_some())]
+                                .into_iter()
+                                .find_map(|(k, given)| given.then_some(k))
+                        {
+                            return Err(c.err(
+                                &format!("{key}.{k}"),
+                                at,
+                                "a cloth's sphere is only for drape = \"sphere\"",
+                            ));
+                        }
+                    }
                     if !(folds.is_finite() && (0.0..=1000.0).contains(&folds)) {
                         return Err(c.err(
                             &format!("{key}.folds"),
@@ -914,18 +948,41 @@ impl SceneDescription {
                         c.range(&rkey, at, resolution[0], 1, 4096)?,
                         c.range(&rkey, at, resolution[1], 1, 4096)?,
                     ];
-                    (
-                        ShapeDesc::Cloth(Cloth {
+                    if over_sphere {
+                        let missing = |k: &str| {
+                            c.err(
+                                &format!("{key}.{k}"),
+                                at,
+                                "missing: drape = \"sphere\" needs the sphere's `center` and `radius`",
+                            )
+                        };
+                        let center = center.ok_or_else(|| missing("center"))?;
+                        let radius = radius.ok_or_else(|| missing("radius"))?;
+                        let drape = Drape {
                             corner: c.vec(&format!("{key}.corner"), at, corner)?,
                             edge_u,
                             edge_v,
+                            center: c.vec(&format!("{key}.center"), at, center)?,
+                            radius: c.positive(&format!("{key}.radius"), at, radius)?,
                             folds,
                             amplitude,
-                            taper,
                             resolution,
-                        }),
-                        material,
-                    )
+                        };
+                        (ShapeDesc::Drape(drape), material)
+                    } else {
+                        (
+                            ShapeDesc::Cloth(Cloth {
+                                corner: c.vec(&format!("{key}.corner"), at, corner)?,
+                                edge_u,
+                                edge_v,
+                                folds,
+                                amplitude,
+                                taper,
+                                resolution,
+                            }),
+                            material,
+                        )
+                    }
                 }
             };
             if !materials.contains_key(&material) {
@@ -1147,6 +1204,7 @@ impl Scene {
                     &format!("shape[{k}].file"),
                 )?),
                 ShapeDesc::Cloth(cloth) => add_mesh(cloth.mesh()),
+                ShapeDesc::Drape(drape) => add_mesh(drape.mesh()),
             }
         }
         let mut integrator = desc.integrator.clone();

@@ -158,3 +158,42 @@ fn yarn_tilt_gap_and_filter_keys() {
     let desc = SceneDescription::from_str(&off, "scene.toml", Path::new(".")).unwrap();
     assert!(!desc.integrator.footprint_filter);
 }
+
+/// A cloth draped over a sphere: `drape = "sphere"` needs `center` and `radius`; they are errors
+/// on a folded cloth, as is an unknown drape.
+#[test]
+fn draped_cloth_keys() {
+    let cloth = |extra: &str| {
+        format!(
+            "{MINIMAL}[[shape]]\ntype = \"cloth\"\ncorner = [-1, -1, 1]\nedge_u = [2, 0, 0]\nedge_v = [0, 2, 0]\nmaterial = \"m\"\n{extra}\n[material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n"
+        )
+    };
+    for (extra, key, needle) in [
+        (
+            "drape = \"sphere\"\nradius = 0.5",
+            "shape[0].center",
+            "missing",
+        ),
+        (
+            "drape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 0",
+            "shape[0].radius",
+            "> 0",
+        ),
+        ("drape = \"table\"", "shape[0].drape", "table"),
+        ("radius = 0.5", "shape[0].radius", "drape = \"sphere\""),
+    ] {
+        let (_, k, line, message) = error_of(&cloth(extra));
+        assert_eq!((k.as_str(), line), (key, Some(6)), "{message}");
+        assert!(message.contains(needle), "{message}");
+    }
+    let desc = SceneDescription::from_str(
+        &cloth("drape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 0.5\nfolds = 8"),
+        "scene.toml",
+        Path::new("."),
+    )
+    .unwrap();
+    assert!(matches!(
+        desc.shapes[0].0,
+        woven_render::scene::ShapeDesc::Drape(d) if d.radius == 0.5 && d.folds == 8.0
+    ));
+}

@@ -405,3 +405,56 @@ fn tables_are_kept_on_disk_between_runs() {
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A woven cloth draped over a sphere renders (no invalid sample), covers the sphere's top and
+/// hangs below its equator; its uv runs from 0 to 1 across the sheet.
+#[test]
+fn a_cloth_draped_over_a_sphere_renders() {
+    let text = r#"
+        [camera]
+        origin = [0, -3, 1.2]
+        target = [0, 0, 0.4]
+        fov_deg = 40
+        [film]
+        width = 24
+        height = 24
+        spp = 4
+        [integrator]
+        max_depth = 3
+        [[light]]
+        type = "environment"
+        radiance = [1, 1, 1]
+        [[shape]]
+        type = "cloth"
+        drape = "sphere"
+        center = [0, 0, 0.5]
+        radius = 0.5
+        corner = [-1, -1, 1]
+        edge_u = [2, 0, 0]
+        edge_v = [0, 2, 0]
+        folds = 7
+        amplitude = 0.04
+        resolution = [60, 60]
+        material = "cloth"
+        [material.cloth]
+        type = "woven"
+        material = "silk"
+        yarns_per_unit = 60
+    "#;
+    let desc = SceneDescription::from_str(text, "<test>", Path::new(".")).unwrap();
+    let scene = Scene::build(&desc, &TableGrid::Custom(tiny()), &|_| {}, &|_, _| {}).unwrap();
+    let mesh = &scene.accel.meshes()[0];
+    let (lo, hi) = mesh
+        .positions
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.z), h.max(p.z)));
+    assert!((hi - 1.0).abs() < 1e-9 && lo < 0.5, "z from {lo} to {hi}");
+    assert!(mesh
+        .uvs
+        .iter()
+        .all(|uv| (0.0..=1.0).contains(&uv[0]) && (0.0..=1.0).contains(&uv[1])));
+    let image = render(&scene, &RenderOptions::default()).unwrap();
+    assert_eq!(image.invalid_samples, 0);
+    // The cloth fills the middle of the frame.
+    assert!(image.at(12, 12).0[0] > 0.0);
+}
