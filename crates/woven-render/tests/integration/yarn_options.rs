@@ -25,14 +25,11 @@ fn material(pattern: Result<Pattern, f64>, u_max_deg: f64, gap: f64) -> WovenMat
         gap,
         ..WovenSpec::new(m)
     };
-    WovenMaterial::build(
-        &spec,
-        &tiny_grid(),
-        &mut TableCache::default(),
-        &|| {},
-        &|_, _| {},
-    )
-    .unwrap()
+    // One table for every material here (they share the sateen's yarn).
+    static CACHE: Mutex<Option<TableCache>> = Mutex::new(None);
+    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    let cache = cache.get_or_insert_with(TableCache::default);
+    WovenMaterial::build(&spec, &tiny_grid(), cache, &|| {}, &|_, _| {}).unwrap()
 }
 
 fn at(u: f64, v: f64) -> ShadingPoint {
