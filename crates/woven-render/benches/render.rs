@@ -8,14 +8,17 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::path::Path;
+use woven::table::cache::Cache;
 use woven::table::TableOptions;
 use woven_render::render::{render, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription};
-use woven_render::woven_material::TableGrid;
+use woven_render::woven_material::{TableCache, TableGrid};
 
 /// The issue's scene (ii) at 64 × 64, 16 spp: a flat woven fiber plane (Mitsuba's
-/// `roughplastic` equivalent) under a point light, direct lighting; and the same plane diffuse.
-fn scene(material: &str) -> String {
+/// `roughplastic` equivalent) under a point light, direct lighting; the same plane diffuse; and
+/// the sateen's yarn in a fine 2/1 twill (about 30 cells a pixel), with the footprint filter
+/// (the pattern's γ-mix, two look-ups a point) and without (one look-up of the cell's yarn).
+fn scene(material: &str, filter: bool) -> String {
     format!(
         r#"
         [camera]
@@ -29,6 +32,7 @@ fn scene(material: &str) -> String {
         spp = 16
         [integrator]
         max_depth = 2
+        footprint_filter = {filter}
         [[light]]
         type = "point"
         position = [0.4, 0.5, 1.5]
@@ -52,15 +56,21 @@ fn bench(c: &mut Criterion) {
         "[fiber]\neta = 1.6\nroughness = 0.1\ndiffuse = 0\nnormalization = \"none\"\n",
     )
     .unwrap();
+    let twill = "[material.plane]\ntype = \"woven\"\nmaterial = \"polyester-sateen\"\n\
+                 pattern = \"twill-2/1\"\nyarns_per_unit = 1000";
     let cases = [
         (
             "diffuse plane",
             "[material.plane]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]",
+            true,
         ),
         (
             "woven fiber plane",
             "[material.plane]\ntype = \"woven\"\nmaterial = \"fiber.toml\"",
+            true,
         ),
+        ("fine twill plane, filtered", twill, true),
+        ("fine twill plane, unfiltered", twill, false),
     ];
     let grid = TableGrid::Custom(TableOptions {
         n_theta: 24,
@@ -69,9 +79,19 @@ fn bench(c: &mut Criterion) {
     });
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
-    for (name, material) in cases {
-        let desc = SceneDescription::from_str(&scene(material), name, Path::new(&dir)).unwrap();
-        let scene = Scene::build(&desc, &grid, &|_| {}, &|_, _| {}).unwrap();
+    for (name, material, filter) in cases {
+        let desc =
+            SceneDescription::from_str(&scene(material, filter), name, Path::new(&dir)).unwrap();
+        // The twill's yarn on the renderer's grid, built once (kept in the bench's folder).
+        let (grid, cache) = if material == twill {
+            (
+                &TableGrid::Default,
+                TableCache::with_disk(Cache::new(dir.join("tables"))),
+            )
+        } else {
+            (&grid, TableCache::default())
+        };
+        let scene = Scene::build_with(&desc, grid, cache, &|_| {}, &|_, _| {}).unwrap();
         group.throughput(Throughput::Elements(64 * 64 * 16));
         group.bench_function(name, |b| {
             b.iter(|| render(&scene, &RenderOptions::default()).unwrap())

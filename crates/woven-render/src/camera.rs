@@ -6,7 +6,7 @@
 //! of view `fov_deg` spans the film's width. The camera looks from `origin` toward `target`; the
 //! image's up is `up` made orthogonal to the view direction.
 
-use crate::geometry::Ray;
+use crate::geometry::{Ray, RayFootprint};
 use woven::Vec3;
 
 /// A pinhole camera.
@@ -62,6 +62,16 @@ impl Camera {
         }
     }
 
+    /// The footprint of camera rays (ray differentials): how the ray moves from one film pixel
+    /// to the next.
+    pub fn footprint(&self) -> RayFootprint {
+        RayFootprint::Camera {
+            forward: self.forward,
+            dd_dx: self.right * (2.0 * self.half_width / self.width as f64),
+            dd_dy: self.up * (-2.0 * self.half_height / self.height as f64),
+        }
+    }
+
     /// Film width, pixels.
     pub fn width(&self) -> usize {
         self.width
@@ -95,5 +105,57 @@ mod tests {
         assert!((c.y - 1.0).abs() < 1e-12);
         let top = cam.ray(100.0, 0.0).d;
         assert!((top.z / top.y - 0.5).abs() < 1e-12);
+    }
+
+    /// The ray differentials' uv footprint on a tilted rectangle equals the uv step between the
+    /// hits of neighbouring pixels' rays (finite differences, to second order).
+    #[test]
+    fn footprint_is_the_uv_step_between_pixels() {
+        use crate::geometry::Primitive;
+        let cam = Camera::new(
+            Vec3::new(0.3, -2.0, 1.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            40.0,
+            320,
+            200,
+        );
+        let rect = Primitive::Rectangle {
+            corner: Vec3::new(-3.0, -1.0, 0.0),
+            edge_u: Vec3::new(6.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 3.0, 0.4),
+        };
+        let hit = |x: f64, y: f64| {
+            let r = cam.ray(x, y);
+            (r, rect.intersect(&r, 0.0, f64::INFINITY, &[], 0).unwrap())
+        };
+        let mut checked = 0;
+        for (x, y) in [
+            (160.0, 150.0),
+            (20.5, 190.2),
+            (300.0, 120.0),
+            (100.0, 110.0),
+        ] {
+            let (ray, h) = hit(x, y);
+            let fp = cam.footprint().uv(&ray, &h);
+            // Central differences over ±1/8 pixel, scaled to one pixel.
+            let e = 0.125;
+            for (k, (dx, dy)) in [(e, 0.0), (0.0, e)].into_iter().enumerate() {
+                let (_, a) = hit(x + dx, y + dy);
+                let (_, b) = hit(x - dx, y - dy);
+                for c in 0..2 {
+                    let fd = (a.uv[c] - b.uv[c]) / (2.0 * e);
+                    assert!(
+                        (fp[k][c] - fd).abs() <= 1e-3 * fd.abs() + 1e-9,
+                        "pixel ({x}, {y}), d{}/d{}: {} vs {fd}",
+                        ["u", "v"][c],
+                        ["x", "y"][k],
+                        fp[k][c]
+                    );
+                }
+            }
+            checked += 1;
+        }
+        assert_eq!(checked, 4);
     }
 }

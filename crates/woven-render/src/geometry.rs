@@ -438,6 +438,102 @@ impl Frame {
     }
 }
 
+/// The widening of a ray's footprint per metre travelled after a bounce, radians: a reflected
+/// ray's footprint is estimated as a cone widening this much, a conservative stand-in for the glossy and diffuse lobes of cloth, which spread a pixel's
+/// paths over a tenth of a radian or more. Wider footprints only move the woven material
+/// toward its macro BRDF, the mean of its cells.
+pub const BOUNCE_SPREAD: f64 = 0.1;
+
+/// How wide a path's pixel is where its ray meets a surface: ray differentials for camera rays
+/// (exact for the pinhole, anisotropic), a cone after a bounce.
+#[derive(Clone, Copy, Debug)]
+pub enum RayFootprint {
+    /// A camera ray `o + s·D`, `D = d/(d·forward)`: `∂D/∂x` and `∂D/∂y` per film pixel.
+    Camera {
+        /// The camera's view direction.
+        forward: Vec3,
+        /// `∂D/∂x`, per pixel.
+        dd_dx: Vec3,
+        /// `∂D/∂y`, per pixel.
+        dd_dy: Vec3,
+    },
+    /// A cone: `width + t·spread` across at distance `t` from the ray's origin, metres.
+    Cone {
+        /// Width at the origin, metres.
+        width: f64,
+        /// Growth per metre, radians.
+        spread: f64,
+    },
+}
+
+impl RayFootprint {
+    /// The footprint at `hit` of `ray` in world space: the change of the hit point from one
+    /// pixel to the next along `x` and `y`, both in the tangent plane.
+    pub fn world(&self, ray: &Ray, hit: &Hit) -> [Vec3; 2] {
+        let n = hit.ng;
+        match *self {
+            RayFootprint::Camera {
+                forward,
+                dd_dx,
+                dd_dy,
+            } => {
+                // p = o + s D with s = t (d·forward); moving D by dD keeps p on the tangent
+                // plane: dp = s (dD − D (n·dD)/(n·D)).
+                let f = ray.d.dot(forward);
+                let big_d = ray.d * (1.0 / f);
+                let s = hit.t * f;
+                let nd = n.dot(big_d);
+                [dd_dx, dd_dy].map(|dd| (dd - big_d * (n.dot(dd) / nd)) * s)
+            }
+            RayFootprint::Cone { width, spread } => {
+                let w = width + hit.t * spread;
+                // The cone's cross-section, stretched by 1/cos θ along the ray's projection.
+                let cos = ray.d.dot(n).abs().max(1e-3);
+                let along = ray.d - n * ray.d.dot(n);
+                let l = along.length();
+                let e1 = if l > 1e-12 {
+                    along * (1.0 / l)
+                } else {
+                    orthonormal_basis(n).0
+                };
+                [e1 * (w / cos), n.cross(e1) * w]
+            }
+        }
+    }
+
+    /// The footprint at `hit` in uv: `[[∂u/∂x, ∂v/∂x], [∂u/∂y, ∂v/∂y]]` (least squares through
+    /// `∂p/∂u`, `∂p/∂v`; infinite where the parameterization degenerates).
+    pub fn uv(&self, ray: &Ray, hit: &Hit) -> [[f64; 2]; 2] {
+        let (pu, pv) = (hit.dpdu, hit.dpdv);
+        let (uu, uv, vv) = (pu.dot(pu), pu.dot(pv), pv.dot(pv));
+        let det = uu * vv - uv * uv;
+        self.world(ray, hit).map(|dp| {
+            let (bu, bv) = (pu.dot(dp), pv.dot(dp));
+            let d = [(vv * bu - uv * bv) / det, (uu * bv - uv * bu) / det];
+            if d[0].is_finite() && d[1].is_finite() {
+                d
+            } else {
+                [f64::INFINITY; 2]
+            }
+        })
+    }
+
+    /// The footprint of the ray reflected at `hit`: a cone starting as wide as this footprint
+    /// there (the side of a square of its area) and widening by [`BOUNCE_SPREAD`] beyond.
+    pub fn bounced(&self, ray: &Ray, hit: &Hit) -> RayFootprint {
+        let [a, b] = self.world(ray, hit);
+        let width = a.cross(b).length().sqrt();
+        let spread = match *self {
+            RayFootprint::Camera { .. } => BOUNCE_SPREAD,
+            RayFootprint::Cone { spread, .. } => spread.max(BOUNCE_SPREAD),
+        };
+        RayFootprint::Cone {
+            width: if width.is_finite() { width } else { 1e30 },
+            spread,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -70,6 +70,8 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
     // count in full).
     let mut prev_pdf = f64::INFINITY;
     let mut depth: u32 = 0;
+    // The pixel's footprint along the path, for filtering fine weaves (None: the filter is off).
+    let mut footprint = settings.footprint_filter.then(|| scene.camera.footprint());
 
     loop {
         let hit = scene.accel.intersect(&ray, 0.0, f64::INFINITY);
@@ -132,7 +134,10 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
             // Seen below the shading normal's horizon: nothing reflects toward the viewer.
             break;
         }
-        let at = ShadingPoint { uv: hit.uv };
+        let at = ShadingPoint {
+            uv: hit.uv,
+            footprint: footprint.map_or([[0.0; 2]; 2], |f| f.uv(&ray, &hit)),
+        };
 
         // Next-event estimation.
         if use_lights {
@@ -192,6 +197,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         if beta.is_black() || !beta.is_valid() {
             break;
         }
+        footprint = footprint.map(|f| f.bounced(&ray, &hit));
         ray = spawn(&hit, wi);
     }
     l

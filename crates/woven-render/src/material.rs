@@ -16,6 +16,11 @@ use woven::Vec3;
 pub struct ShadingPoint {
     /// The surface parameters `(u, v)` at the point.
     pub uv: [f64; 2],
+    /// The footprint of the path's pixel at the point, in uv: `[[∂u/∂x, ∂v/∂x], [∂u/∂y, ∂v/∂y]]`,
+    /// the change of `(u, v)` from one film pixel to the next along `x` and along `y` (a wider
+    /// estimate after a bounce: [`RayFootprint`](crate::geometry::RayFootprint)). All zero: a
+    /// point (no filtering); infinite entries: a footprint wider than any pattern.
+    pub footprint: [[f64; 2]; 2],
 }
 
 /// A direction drawn by [`SurfaceMaterial::sample`].
@@ -42,6 +47,12 @@ pub trait SurfaceMaterial: Send + Sync {
 
     /// The density per unit solid angle with which [`sample`](Self::sample) draws `wi` for `wo`.
     fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64;
+
+    /// Whether the material reads [`ShadingPoint::footprint`] (a scene whose materials do not
+    /// skips computing it).
+    fn uses_footprint(&self) -> bool {
+        false
+    }
 }
 
 /// A Lambertian reflector: `f = ρ/π`.

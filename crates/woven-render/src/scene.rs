@@ -12,7 +12,7 @@ use crate::color::Rgb;
 use crate::geometry::{Mesh, Primitive};
 use crate::light::{Environment, Light};
 use crate::material::{Diffuse, SurfaceMaterial};
-use crate::shapes::{self, Cloth};
+use crate::shapes::{self, Cloth, Drape};
 use crate::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSpec};
 use crate::{Error, Result};
 use serde::Deserialize;
@@ -87,6 +87,10 @@ pub struct IntegratorSettings {
     pub strategy: Strategy,
     /// Path depth from which Russian roulette may end a path (Mitsuba's `rr_depth`).
     pub rr_depth: u32,
+    /// Whether woven materials see the pixel's footprint (ray differentials) and blend from
+    /// the yarn of each pattern cell to the macro BRDF where the footprint covers cells
+    /// (docs/render.md, "Fine weaves"); `false`: every point shows its cell's yarn.
+    pub footprint_filter: bool,
 }
 
 /// A shape as the file gives it.
@@ -126,8 +130,10 @@ pub enum ShapeDesc {
         /// Translation applied after the scale.
         translate: Vec3,
     },
-    /// A procedural cloth.
+    /// A procedural cloth hanging in folds.
     Cloth(Cloth),
+    /// A procedural cloth draped over a sphere.
+    Drape(Drape),
 }
 
 /// A material as the file gives it.
@@ -262,6 +268,12 @@ struct RawIntegrator {
     strategy: Strategy,
     #[serde(default = "default_rr")]
     rr_depth: i64,
+    #[serde(default = "yes")]
+    footprint_filter: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_depth() -> i64 {
@@ -339,6 +351,9 @@ enum RawShape {
         taper: f64,
         #[serde(default = "default_resolution")]
         resolution: [i64; 2],
+        drape: Option<String>,
+        center: Option<[f64; 3]>,
+        radius: Option<f64>,
         material: String,
     },
 }
@@ -363,8 +378,18 @@ enum RawMaterial {
         yarns_per_unit: RawYarns,
         weft_color: Option<[f64; 3]>,
         warp_color: Option<[f64; 3]>,
+        #[serde(default)]
+        u_max_deg: f64,
+        #[serde(default)]
+        gap: f64,
     },
 }
+
+/// The largest yarn tilt `u_max_deg`, degrees.
+pub const MAX_U_MAX_DEG: f64 = 80.0;
+
+/// The largest gap fraction.
+pub const MAX_GAP: f64 = 0.95;
 
 fn default_yarns() -> RawYarns {
     RawYarns::Same(40.0)
@@ -602,6 +627,7 @@ impl SceneDescription {
                 hide_emitters: false,
                 strategy: Strategy::Mis,
                 rr_depth: 5,
+                footprint_filter: true,
             },
             Some(i) => {
                 let at = i.span().start;
@@ -622,6 +648,7 @@ impl SceneDescription {
                     hide_emitters: i.hide_emitters,
                     strategy: i.strategy,
                     rr_depth: c.range("integrator.rr_depth", at, i.rr_depth, 1, 1024)? as u32,
+                    footprint_filter: i.footprint_filter,
                 }
             }
         };
@@ -715,6 +742,8 @@ impl SceneDescription {
                     yarns_per_unit,
                     weft_color,
                     warp_color,
+                    u_max_deg,
+                    gap,
                 } => {
                     let mkey = format!("{key}.material");
                     let mut woven = if Material::preset_toml(&material).is_some() {
@@ -746,6 +775,30 @@ impl SceneDescription {
                             .validate()
                             .map_err(|e| c.err(&pkey, at, e.to_string()))?;
                     }
+                    if !(u_max_deg.is_finite() && (0.0..=MAX_U_MAX_DEG).contains(&u_max_deg)) {
+                        return Err(c.err(
+                            &format!("{key}.u_max_deg"),
+                            at,
+                            format!("{u_max_deg}: expected degrees in [0, {MAX_U_MAX_DEG}]"),
+                        ));
+                    }
+                    if !(gap.is_finite() && (0.0..=MAX_GAP).contains(&gap)) {
+                        return Err(c.err(
+                            &format!("{key}.gap"),
+                            at,
+                            format!("{gap}: expected a fraction in [0, {MAX_GAP}]"),
+                        ));
+                    }
+                    if woven.yarn.is_none() && (u_max_deg > 0.0 || gap > 0.0) {
+                        let k = if gap > 0.0 { "gap" } else { "u_max_deg" };
+                        return Err(c.err(
+                            &format!("{key}.{k}"),
+                            at,
+                            format!(
+                                "`{material}` is a flat fiber surface (no [yarn]): it has no yarns to tilt or space; remove `{k}`"
+                            ),
+                        ));
+                    }
                     let color = |k: &str, v: Option<[f64; 3]>| -> Result<Option<Rgb>> {
                         v.map(|v| c.rgb(&format!("{key}.{k}"), at, v, Some(1.0)))
                             .transpose()
@@ -762,6 +815,8 @@ impl SceneDescription {
                         },
                         weft_color: color("weft_color", weft_color)?,
                         warp_color: color("warp_color", warp_color)?,
+                        u_max: u_max_deg.to_radians(),
+                        gap,
                     }))
                 }
             };
@@ -835,9 +890,38 @@ impl SceneDescription {
                     amplitude,
                     taper,
                     resolution,
+                    drape,
+                    center,
+                    radius,
                     material,
                 } => {
                     let (edge_u, edge_v) = c.edges(&key, at, edge_u, edge_v)?;
+                    let over_sphere = match drape.as_deref() {
+                        None | Some("folds") => false,
+                        Some("sphere") => true,
+                        Some(other) => {
+                            return Err(c.err(
+                                &format!("{key}.drape"),
+                                at,
+                                format!(
+                                    "`{other}`: expected \"folds\" (the default) or \"sphere\""
+                                ),
+                            ))
+                        }
+                    };
+                    if !over_sphere {
+                        if let Some(k) =
+                            [("center", center.is_some()), ("radius", radius.is_some())]
+                                .into_iter()
+                                .find_map(|(k, given)| given.then_some(k))
+                        {
+                            return Err(c.err(
+                                &format!("{key}.{k}"),
+                                at,
+                                "a cloth's sphere is only for drape = \"sphere\"",
+                            ));
+                        }
+                    }
                     if !(folds.is_finite() && (0.0..=1000.0).contains(&folds)) {
                         return Err(c.err(
                             &format!("{key}.folds"),
@@ -864,18 +948,41 @@ impl SceneDescription {
                         c.range(&rkey, at, resolution[0], 1, 4096)?,
                         c.range(&rkey, at, resolution[1], 1, 4096)?,
                     ];
-                    (
-                        ShapeDesc::Cloth(Cloth {
+                    if over_sphere {
+                        let missing = |k: &str| {
+                            c.err(
+                                &format!("{key}.{k}"),
+                                at,
+                                "missing: drape = \"sphere\" needs the sphere's `center` and `radius`",
+                            )
+                        };
+                        let center = center.ok_or_else(|| missing("center"))?;
+                        let radius = radius.ok_or_else(|| missing("radius"))?;
+                        let drape = Drape {
                             corner: c.vec(&format!("{key}.corner"), at, corner)?,
                             edge_u,
                             edge_v,
+                            center: c.vec(&format!("{key}.center"), at, center)?,
+                            radius: c.positive(&format!("{key}.radius"), at, radius)?,
                             folds,
                             amplitude,
-                            taper,
                             resolution,
-                        }),
-                        material,
-                    )
+                        };
+                        (ShapeDesc::Drape(drape), material)
+                    } else {
+                        (
+                            ShapeDesc::Cloth(Cloth {
+                                corner: c.vec(&format!("{key}.corner"), at, corner)?,
+                                edge_u,
+                                edge_v,
+                                folds,
+                                amplitude,
+                                taper,
+                                resolution,
+                            }),
+                            material,
+                        )
+                    }
                 }
             };
             if !materials.contains_key(&material) {
@@ -1097,11 +1204,15 @@ impl Scene {
                     &format!("shape[{k}].file"),
                 )?),
                 ShapeDesc::Cloth(cloth) => add_mesh(cloth.mesh()),
+                ShapeDesc::Drape(drape) => add_mesh(drape.mesh()),
             }
         }
+        let mut integrator = desc.integrator.clone();
+        // Footprints only where a material reads them.
+        integrator.footprint_filter &= materials.iter().any(|m| m.uses_footprint());
         Ok(Scene {
             film: desc.film.clone(),
-            integrator: desc.integrator.clone(),
+            integrator,
             camera,
             lights,
             environment,

@@ -168,6 +168,102 @@ impl Cloth {
     }
 }
 
+/// A procedural cloth draped over a sphere: a flat sheet laid on the sphere's top and hanging
+/// down around it, like a cloth thrown over a ball.
+///
+/// The flat sheet is `corner + a·edge_u + b·edge_v`, `a, b ∈ [0, 1]`; its middle touches the
+/// sphere (`center`, `radius`) at the point where the sheet's normal `edge_u × edge_v` points
+/// from the centre. A sheet point at flat distance `r` from the middle, in flat direction `d̂`,
+/// goes to the sphere point `r` along the great circle from the top toward `d̂` (polar angle
+/// `θ = r/radius`), up to the equator; beyond it the sheet hangs straight down (along `−n̂`) the
+/// rest of its length, waving in `folds` sinusoidal folds around the sphere of depth
+/// `amplitude` that grow in over the first `radius` of the hanging part. The uv is the flat
+/// sheet's `(a, b)`: lengths along every line from the middle are kept (the cloth does not
+/// stretch along them; around, it shears, as woven cloth does over a ball), so the weave
+/// follows the surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drape {
+    /// A corner of the flat sheet.
+    pub corner: Vec3,
+    /// The flat sheet's first edge (the weft direction `u`).
+    pub edge_u: Vec3,
+    /// The second edge (`v`).
+    pub edge_v: Vec3,
+    /// The sphere's centre.
+    pub center: Vec3,
+    /// The sphere's radius, > 0 (a sphere shape under the cloth should be a little smaller).
+    pub radius: f64,
+    /// Folds around the hanging part, ≥ 0.
+    pub folds: f64,
+    /// Fold depth, metres.
+    pub amplitude: f64,
+    /// Grid resolution `[along edge_u, along edge_v]`, each ≥ 1.
+    pub resolution: [usize; 2],
+}
+
+impl Drape {
+    /// The draped point of flat sheet coordinates `(a, b)`.
+    pub fn point(&self, a: f64, b: f64) -> Vec3 {
+        let n = self.edge_u.cross(self.edge_v).normalize();
+        let e1 = self.edge_u.normalize();
+        let e2 = n.cross(e1);
+        let d = self.edge_u * (a - 0.5) + self.edge_v * (b - 0.5);
+        let r = d.length();
+        let dir = if r > 0.0 { d * (1.0 / r) } else { e1 };
+        let big_r = self.radius;
+        let theta = r / big_r;
+        let half = PI / 2.0;
+        if theta <= half {
+            let (st, ct) = theta.sin_cos();
+            return self.center + (dir * st + n * ct) * big_r;
+        }
+        // Hanging below the equator, waving around.
+        let hang = r - half * big_r;
+        let phi = dir.dot(e2).atan2(dir.dot(e1));
+        let grow = {
+            let x = (hang / big_r).min(1.0);
+            x * x * (3.0 - 2.0 * x)
+        };
+        let wave = self.amplitude * grow * (self.folds * phi).sin();
+        self.center + dir * (big_r + wave) - n * hang
+    }
+
+    /// Triangulates the sheet, with normals from the surface's derivatives and uv = `(a, b)`.
+    pub fn mesh(&self) -> Mesh {
+        let [na, nb] = self.resolution;
+        let mut mesh = Mesh::default();
+        let h = 1e-5;
+        for j in 0..=nb {
+            let b = j as f64 / nb as f64;
+            for i in 0..=na {
+                let a = i as f64 / na as f64;
+                let p = self.point(a, b);
+                let pa = self.point(a + h, b) - self.point(a - h, b);
+                let pb = self.point(a, b + h) - self.point(a, b - h);
+                let nrm = pa.cross(pb);
+                let l = nrm.length();
+                mesh.positions.push(p);
+                mesh.normals.push(if l > 0.0 && l.is_finite() {
+                    nrm * (1.0 / l)
+                } else {
+                    self.edge_u.cross(self.edge_v).normalize()
+                });
+                mesh.uvs.push([a, b]);
+            }
+        }
+        let row = (na + 1) as u32;
+        for j in 0..nb as u32 {
+            for i in 0..na as u32 {
+                let v00 = j * row + i;
+                let (v10, v01, v11) = (v00 + 1, v00 + row, v00 + row + 1);
+                mesh.indices.push([v00, v10, v11]);
+                mesh.indices.push([v00, v11, v01]);
+            }
+        }
+        mesh
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -204,5 +300,61 @@ mod tests {
         assert!((u_end - exact).abs() < 2e-3 * exact, "{u_end} vs {exact}");
         assert!(m.normals.iter().all(|n| n.z > 0.0));
         assert_eq!(m.indices.len(), 2 * 60 * 4);
+    }
+
+    /// Draped over a sphere, the sheet lies on it down to the equator with lengths along lines
+    /// from its middle kept, hangs straight below, and its normals face outward.
+    #[test]
+    fn drape_lies_on_the_sphere_and_keeps_radial_lengths() {
+        let d = Drape {
+            corner: Vec3::new(-1.5, -1.5, 0.0),
+            edge_u: Vec3::new(3.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 3.0, 0.0),
+            center: Vec3::new(0.2, 0.1, 0.5),
+            radius: 0.6,
+            folds: 0.0,
+            amplitude: 0.0,
+            resolution: [60, 60],
+        };
+        let c = d.center;
+        // The middle is the sphere's top; a point 0.5 m from it along the flat sheet is 0.5 m
+        // along the great circle.
+        let top = d.point(0.5, 0.5);
+        assert!((top - (c + Vec3::Z * 0.6)).length() < 1e-12);
+        let p = d.point(0.5 + 0.5 / 3.0, 0.5);
+        assert!(((p - c).length() - 0.6).abs() < 1e-12);
+        let angle = ((p - c).normalize().dot(Vec3::Z)).acos();
+        assert!((angle * 0.6 - 0.5).abs() < 1e-12);
+        // Beyond π r / 2 it hangs: x stays at the equator, z drops by the rest of the length.
+        let q = d.point(0.5 + 1.2 / 3.0, 0.5);
+        assert!((q.x - (c.x + 0.6)).abs() < 1e-12);
+        assert!((q.z - (c.z - (1.2 - 0.3 * PI))).abs() < 1e-12);
+        // Arc length along a diagonal line from the middle = its flat length.
+        let n = 4000;
+        let end = 0.45;
+        let mut arc = 0.0;
+        let mut prev = d.point(0.5, 0.5);
+        for k in 1..=n {
+            let t = 0.5 + end * k as f64 / n as f64;
+            let p = d.point(t, t);
+            arc += (p - prev).length();
+            prev = p;
+        }
+        let flat = end * (2.0f64).sqrt() * 3.0;
+        assert!((arc - flat).abs() < 1e-4 * flat, "{arc} vs {flat}");
+        let m = d.mesh();
+        for (p, nrm) in m.positions.iter().zip(&m.normals) {
+            let out = *p - c;
+            let radial = Vec3::new(out.x, out.y, out.z.max(0.0));
+            assert!(nrm.dot(radial) > 0.0, "normal {nrm:?} at {p:?}");
+        }
+        // Folds wave the hanging part only.
+        let folded = Drape {
+            folds: 8.0,
+            amplitude: 0.05,
+            ..d
+        };
+        assert_eq!(folded.point(0.6, 0.55), d.point(0.6, 0.55));
+        assert!((folded.point(0.02, 0.4) - d.point(0.02, 0.4)).length() > 0.04);
     }
 }

@@ -3,9 +3,11 @@
 
 mod analytic;
 mod files;
+mod footprint;
 mod scene_file;
 mod strategies;
 mod woven_surfaces;
+mod yarn_options;
 
 use std::path::Path;
 use woven::table::TableOptions;

@@ -101,3 +101,99 @@ fn example_and_showcase_scenes_parse() {
         assert!(!desc.shapes.is_empty() && !desc.lights.is_empty());
     }
 }
+
+/// The yarn options: `u_max_deg` and `gap` out of range, or on a flat fiber surface, name the
+/// file, the key, the value and the range; in range they reach the material, and
+/// `footprint_filter` defaults to on.
+#[test]
+fn yarn_tilt_gap_and_filter_keys() {
+    let woven = |extra: &str| {
+        format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"silk\"\n{extra}\n")
+    };
+    for (extra, key, needle) in [
+        ("u_max_deg = 95", "material.m.u_max_deg", "[0, 80]"),
+        ("u_max_deg = -1", "material.m.u_max_deg", "[0, 80]"),
+        ("gap = 1.5", "material.m.gap", "[0, 0.95]"),
+        ("gap = nan", "material.m.gap", "[0, 0.95]"),
+    ] {
+        let (path, k, line, message) = error_of(&woven(extra));
+        assert_eq!(
+            (path.as_str(), k.as_str(), line),
+            ("scene.toml", key, Some(6))
+        );
+        let value = extra.split(" = ").nth(1).unwrap();
+        assert!(
+            message.contains(needle) && message.to_lowercase().contains(value),
+            "{message}"
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("fiber.toml"),
+        "[fiber]\neta = 1.6\nroughness = 0.1\ndiffuse = 0\nnormalization = \"none\"\n",
+    )
+    .unwrap();
+    let text =
+        format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"fiber.toml\"\ngap = 0.1\n");
+    let Err(Error::Scene { key, message, .. }) =
+        SceneDescription::from_str(&text, "scene.toml", dir.path())
+    else {
+        panic!("a gap on a flat fiber surface was accepted");
+    };
+    assert_eq!(key, "material.m.gap", "{message}");
+    assert!(message.contains("no [yarn]"), "{message}");
+
+    let desc = SceneDescription::from_str(
+        &woven("u_max_deg = 30\ngap = 0.25"),
+        "scene.toml",
+        Path::new("."),
+    )
+    .unwrap();
+    let Some(woven_render::scene::MaterialDesc::Woven(spec)) = desc.materials.get("m") else {
+        panic!("no woven material");
+    };
+    assert!((spec.u_max - 30f64.to_radians()).abs() < 1e-15 && spec.gap == 0.25);
+    assert!(desc.integrator.footprint_filter);
+    let off = format!("{MINIMAL}[integrator]\nfootprint_filter = false\n");
+    let desc = SceneDescription::from_str(&off, "scene.toml", Path::new(".")).unwrap();
+    assert!(!desc.integrator.footprint_filter);
+}
+
+/// A cloth draped over a sphere: `drape = "sphere"` needs `center` and `radius`; they are errors
+/// on a folded cloth, as is an unknown drape.
+#[test]
+fn draped_cloth_keys() {
+    let cloth = |extra: &str| {
+        format!(
+            "{MINIMAL}[[shape]]\ntype = \"cloth\"\ncorner = [-1, -1, 1]\nedge_u = [2, 0, 0]\nedge_v = [0, 2, 0]\nmaterial = \"m\"\n{extra}\n[material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n"
+        )
+    };
+    for (extra, key, needle) in [
+        (
+            "drape = \"sphere\"\nradius = 0.5",
+            "shape[0].center",
+            "missing",
+        ),
+        (
+            "drape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 0",
+            "shape[0].radius",
+            "> 0",
+        ),
+        ("drape = \"table\"", "shape[0].drape", "table"),
+        ("radius = 0.5", "shape[0].radius", "drape = \"sphere\""),
+    ] {
+        let (_, k, line, message) = error_of(&cloth(extra));
+        assert_eq!((k.as_str(), line), (key, Some(6)), "{message}");
+        assert!(message.contains(needle), "{message}");
+    }
+    let desc = SceneDescription::from_str(
+        &cloth("drape = \"sphere\"\ncenter = [0, 0, 0]\nradius = 0.5\nfolds = 8"),
+        "scene.toml",
+        Path::new("."),
+    )
+    .unwrap();
+    assert!(matches!(
+        desc.shapes[0].0,
+        woven_render::scene::ShapeDesc::Drape(d) if d.radius == 0.5 && d.folds == 8.0
+    ));
+}

@@ -128,6 +128,8 @@ fn pattern_cells_average_to_the_macro_brdf() {
             yarns_per_unit: [3.0, 3.0],
             weft_color: None,
             warp_color: None,
+            u_max: 0.0,
+            gap: 0.0,
         };
         WovenMaterial::build(&spec, &grid, cache, &|| {}, &|_, _| {}).unwrap()
     };
@@ -145,6 +147,7 @@ fn pattern_cells_average_to_the_macro_brdf() {
             for j in 0..3 {
                 let at = ShadingPoint {
                     uv: [(i as f64 + 0.5) / 3.0, (j as f64 + 0.5) / 3.0],
+                    ..ShadingPoint::default()
                 };
                 mean += pattern.eval(wi, wo, &at).0[0] / 9.0;
             }
@@ -170,6 +173,8 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
         yarns_per_unit: [2.0, 2.0],
         weft_color: None,
         warp_color: None,
+        u_max: 0.0,
+        gap: 0.0,
     };
     let mut spec = spec;
     spec.material.weave = Some(Weave::Pattern {
@@ -185,8 +190,14 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
     )
     .unwrap();
     // Plain weave, 2 cells per unit: cell (0, 0) is warp, cell (0, 1) weft.
-    let warp = ShadingPoint { uv: [0.25, 0.25] };
-    let weft = ShadingPoint { uv: [0.75, 0.25] };
+    let warp = ShadingPoint {
+        uv: [0.25, 0.25],
+        ..ShadingPoint::default()
+    };
+    let weft = ShadingPoint {
+        uv: [0.75, 0.25],
+        ..ShadingPoint::default()
+    };
     let turn = |d: Vec3| Vec3::new(-d.y, d.x, d.z);
     let mut rng = woven::math::rng::SplitMix(9);
     let mut drawn = 0;
@@ -215,8 +226,8 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
     assert!(drawn > 300, "only {drawn} draws succeeded");
 }
 
-/// A flat woven rectangle seen from afar (about 40 pattern cells per pixel) renders as the
-/// macro BRDF of the same material: 4 × 4-pixel blocks agree within the noise plus the two
+/// A flat woven rectangle seen from afar (about 40 pattern cells per pixel), with the footprint
+/// filter off (every sample sees its cell's yarn), renders as the macro BRDF of the same material: 4 × 4-pixel blocks agree within the noise plus the two
 /// tables' interpolation error, and random sample positions leave no moiré (a structured
 /// difference would break the per-block bound).
 #[test]
@@ -235,6 +246,7 @@ fn a_distant_patterned_rectangle_renders_as_the_macro_brdf() {
             spp = 256
             [integrator]
             max_depth = 2
+            footprint_filter = false
             [[light]]
             type = "point"
             position = [0.4, 0.5, 1.5]
@@ -310,6 +322,8 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
         yarns_per_unit: [2.0, 2.0],
         weft_color: Some(woven_render::color::Rgb(red)),
         warp_color: Some(woven_render::color::Rgb(blue)),
+        u_max: 0.0,
+        gap: 0.0,
     };
     let m = WovenMaterial::build(
         &spec,
@@ -330,8 +344,14 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
     };
     let weft_refs = red.map(reference);
     let warp_refs = blue.map(reference);
-    let warp = ShadingPoint { uv: [0.25, 0.25] };
-    let weft = ShadingPoint { uv: [0.75, 0.25] };
+    let warp = ShadingPoint {
+        uv: [0.25, 0.25],
+        ..ShadingPoint::default()
+    };
+    let weft = ShadingPoint {
+        uv: [0.75, 0.25],
+        ..ShadingPoint::default()
+    };
     let turn = |d: Vec3| Vec3::new(d.y, -d.x, d.z);
     let mut rng = woven::math::rng::SplitMix(12);
     for _ in 0..300 {
@@ -364,6 +384,8 @@ fn tables_are_kept_on_disk_between_runs() {
         yarns_per_unit: [1.0, 1.0],
         weft_color: None,
         warp_color: None,
+        u_max: 0.0,
+        gap: 0.0,
     };
     let builds = std::sync::atomic::AtomicUsize::new(0);
     for _ in 0..2 {
@@ -382,4 +404,57 @@ fn tables_are_kept_on_disk_between_runs() {
     assert_eq!(builds.into_inner(), 1, "the second run rebuilt the table");
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A woven cloth draped over a sphere renders (no invalid sample), covers the sphere's top and
+/// hangs below its equator; its uv runs from 0 to 1 across the sheet.
+#[test]
+fn a_cloth_draped_over_a_sphere_renders() {
+    let text = r#"
+        [camera]
+        origin = [0, -3, 1.2]
+        target = [0, 0, 0.4]
+        fov_deg = 40
+        [film]
+        width = 24
+        height = 24
+        spp = 4
+        [integrator]
+        max_depth = 3
+        [[light]]
+        type = "environment"
+        radiance = [1, 1, 1]
+        [[shape]]
+        type = "cloth"
+        drape = "sphere"
+        center = [0, 0, 0.5]
+        radius = 0.5
+        corner = [-1, -1, 1]
+        edge_u = [2, 0, 0]
+        edge_v = [0, 2, 0]
+        folds = 7
+        amplitude = 0.04
+        resolution = [60, 60]
+        material = "cloth"
+        [material.cloth]
+        type = "woven"
+        material = "silk"
+        yarns_per_unit = 60
+    "#;
+    let desc = SceneDescription::from_str(text, "<test>", Path::new(".")).unwrap();
+    let scene = Scene::build(&desc, &TableGrid::Custom(tiny()), &|_| {}, &|_, _| {}).unwrap();
+    let mesh = &scene.accel.meshes()[0];
+    let (lo, hi) = mesh
+        .positions
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.z), h.max(p.z)));
+    assert!((hi - 1.0).abs() < 1e-9 && lo < 0.5, "z from {lo} to {hi}");
+    assert!(mesh
+        .uvs
+        .iter()
+        .all(|uv| (0.0..=1.0).contains(&uv[0]) && (0.0..=1.0).contains(&uv[1])));
+    let image = render(&scene, &RenderOptions::default()).unwrap();
+    assert_eq!(image.invalid_samples, 0);
+    // The cloth fills the middle of the frame.
+    assert!(image.at(12, 12).0[0] > 0.0);
 }
