@@ -46,6 +46,8 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<table::Table>()?;
     m.add_function(wrap_pyfunction!(material::presets, m)?)?;
     m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
+    m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;
+    m.add_function(wrap_pyfunction!(material::to_spherical, m)?)?;
     m.add_function(wrap_pyfunction!(table::export_merl, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PARALLEL_MIN", arrays::PARALLEL_MIN)?;

@@ -3,7 +3,7 @@
 
 use crate::arrays::{broadcast, map_batch, Dirs, Numbers};
 use crate::IntoPy;
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
@@ -444,6 +444,52 @@ pub(crate) fn scalar_or_array(
     } else {
         Ok(PyArray1::from_vec(py, values).into_any())
     }
+}
+
+/// Unit directions from polar angles `theta` and azimuths `phi` (radians; scalars or (N,)
+/// arrays, broadcast): (N, 3), or (3,) for two scalars — `(sin θ cos φ, sin θ sin φ, cos θ)`,
+/// computed as the library (and `woven eval`) computes them.
+#[pyfunction]
+pub fn from_spherical<'py>(
+    py: Python<'py>,
+    theta: &Bound<'py, PyAny>,
+    phi: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (theta, phi) = (
+        Numbers::extract(theta, "theta")?,
+        Numbers::extract(phi, "phi")?,
+    );
+    let n = broadcast(("theta", theta.n), ("phi", phi.n))?;
+    let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
+    let out = map_batch::<3, _>(py, n, |i| {
+        let d = woven::Vec3::from_spherical(at(&theta, i), at(&phi, i));
+        [d.x, d.y, d.z]
+    });
+    let array = PyArray1::from_vec(py, out);
+    if theta.scalar && phi.scalar {
+        Ok(array.into_any())
+    } else {
+        Ok(array.reshape([n, 3])?.into_any())
+    }
+}
+
+/// `(theta, phi)` of directions (N, 3) or (3,): polar angles in [0, π] and azimuths in (−π, π],
+/// radians; (N,) arrays, or floats for one direction. The directions need not be unit length.
+#[pyfunction]
+pub fn to_spherical<'py>(
+    py: Python<'py>,
+    d: &Bound<'py, PyAny>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let d = Dirs::extract(d, "d")?;
+    let out = map_batch::<2, _>(py, d.n, |i| {
+        let (t, p) = d.get(i).to_spherical();
+        [t, p]
+    });
+    let (theta, phi): (Vec<f64>, Vec<f64>) = out.chunks_exact(2).map(|c| (c[0], c[1])).unzip();
+    Ok((
+        scalar_or_array(py, theta, d.single)?,
+        scalar_or_array(py, phi, d.single)?,
+    ))
 }
 
 /// The names of the built-in presets.

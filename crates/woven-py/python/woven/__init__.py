@@ -25,8 +25,10 @@ from ._woven import (
     Table,
     __version__,
     export_merl,
+    from_spherical,
     gonio,
     presets,
+    to_spherical,
 )
 
 __all__ = [
@@ -35,6 +37,8 @@ __all__ = [
     "Section",
     "Table",
     "export_merl",
+    "from_spherical",
+    "to_spherical",
     "gonio",
     "presets",
     "PARALLEL_MIN",

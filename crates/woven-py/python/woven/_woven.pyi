@@ -27,6 +27,12 @@ def gonio(
     ``theta_i``, ``theta_r`` (radians) and ``radiance`` = f cos θi (sr⁻¹) over every azimuth
     (outer) × tilt (inner). Defaults: azimuths 0, 45, 90; the paper's tilts −42° to 42° by 3°."""
 
+def from_spherical(theta: ArrayLike, phi: ArrayLike) -> FloatArray:
+    """Unit directions (N, 3) (or (3,)) from polar angles and azimuths, radians."""
+
+def to_spherical(d: ArrayLike) -> Tuple[Union[float, FloatArray], Union[float, FloatArray]]:
+    """``(theta, phi)`` of directions (N, 3) or (3,), radians."""
+
 def export_merl(source: Union["Table", "Model"], path: PathLike, threads: int = 0) -> None:
     """Writes an isotropic BRDF in the MERL binary layout, atomically."""
 
