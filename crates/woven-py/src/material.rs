@@ -146,6 +146,23 @@ impl Material {
         Material::from_toml(&text, "<Material.replace>")
     }
 
+    /// The weave pattern's cells, (rows, cols) booleans, True where the weft floats on top (row
+    /// = weft pick along y, column = warp end along x); None without a pattern.
+    fn pattern<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(woven::material::Weave::Pattern { pattern, .. }) = &self.inner.weave else {
+            return Ok(None);
+        };
+        let (rows, cols) = (pattern.rows(), pattern.cols());
+        let cells: Vec<bool> = (0..rows * cols)
+            .map(|k| pattern.is_weft(k / cols, k % cols))
+            .collect();
+        Ok(Some(
+            PyArray1::from_vec(py, cells)
+                .reshape([rows, cols])?
+                .into_any(),
+        ))
+    }
+
     /// The material's yarn alone (its weave removed, γ = 1): what a renderer tabulates and
     /// turns to the warp.
     fn yarn_family(&self) -> Material {

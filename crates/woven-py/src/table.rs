@@ -33,6 +33,76 @@ enum Progress {
     Callback(Py<PyAny>),
 }
 
+/// A build's progress reports, from the worker threads: at most one per percent, to a Python
+/// callable or `sys.stderr`; the first error a callback raises is kept for `finish`.
+struct Reporter {
+    progress: Progress,
+    last: AtomicUsize,
+    failed: Mutex<Option<PyErr>>,
+}
+
+impl Reporter {
+    /// `progress`: None or True (stderr), False (nothing) or a callable `(done, total)`.
+    fn new(progress: Option<&Bound<'_, PyAny>>) -> PyResult<Reporter> {
+        let progress = match progress {
+            None => Progress::Stderr,
+            Some(p) if p.is_callable() => Progress::Callback(p.clone().unbind()),
+            Some(p) if p.is_truthy()? => Progress::Stderr,
+            Some(_) => Progress::None,
+        };
+        Ok(Reporter {
+            progress,
+            last: AtomicUsize::new(usize::MAX),
+            failed: Mutex::new(None),
+        })
+    }
+
+    fn report(&self, done: usize, total: usize) {
+        if matches!(self.progress, Progress::None) || total == 0 {
+            return;
+        }
+        let percent = done * 100 / total;
+        if self.last.swap(percent, Ordering::Relaxed) == percent && done != total {
+            return;
+        }
+        Python::attach(|py| {
+            let result = match &self.progress {
+                Progress::Callback(f) => f.call1(py, (done, total)).map(drop),
+                Progress::Stderr => py.import("sys").and_then(|sys| {
+                    let end = if done == total { "\n" } else { "" };
+                    sys.getattr("stderr")?
+                        .call_method1("write", (format!("\rtabulating: {percent:3}%{end}"),))
+                        .map(drop)
+                }),
+                Progress::None => Ok(()),
+            };
+            if let Err(e) = result {
+                self.failed.lock().expect("not poisoned").get_or_insert(e);
+            }
+        });
+    }
+
+    /// The first error a progress callback raised, if any.
+    fn finish(self) -> PyResult<()> {
+        match self.failed.into_inner().expect("not poisoned") {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The options of a named grid for `model`.
+fn grid_options(grid: &str, model: &woven::Model) -> PyResult<TableOptions> {
+    match grid {
+        "model" => Ok(TableOptions::for_model(model)),
+        "render" => Ok(TableOptions::for_render(model)),
+        "default" => Ok(TableOptions::default()),
+        other => Err(PyValueError::new_err(format!(
+            "`grid` = {other:?}: expected \"model\", \"render\" or \"default\""
+        ))),
+    }
+}
+
 #[pymethods]
 impl Table {
     /// Tabulates `material` (a Material, preset name or file path) at `wavelength_nm`.
@@ -68,16 +138,7 @@ impl Table {
     ) -> PyResult<Table> {
         let material = material_arg(material)?;
         let model = py.detach(|| material.inner.build(wavelength_nm)).py_err()?;
-        let base = match grid {
-            "model" => TableOptions::for_model(&model),
-            "render" => TableOptions::for_render(&model),
-            "default" => TableOptions::default(),
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "`grid` = {other:?}: expected \"model\", \"render\" or \"default\""
-                )))
-            }
-        };
+        let base = grid_options(grid, &model)?;
         let options = TableOptions {
             n_theta: n_theta.unwrap_or(base.n_theta),
             theta_max_deg: theta_max_deg.unwrap_or(base.theta_max_deg),
@@ -88,50 +149,56 @@ impl Table {
             colour: colour.unwrap_or(base.colour),
             threads,
         };
-        let progress = match progress {
-            None => Progress::Stderr,
-            Some(p) if p.is_callable() => Progress::Callback(p.clone().unbind()),
-            Some(p) => {
-                if p.is_truthy()? {
-                    Progress::Stderr
-                } else {
-                    Progress::None
-                }
-            }
-        };
-        let last = AtomicUsize::new(usize::MAX);
-        let failed: Mutex<Option<PyErr>> = Mutex::new(None);
-        let report = |done: usize, total: usize| {
-            if matches!(progress, Progress::None) || total == 0 {
-                return;
-            }
-            // At most one report per percent.
-            let percent = done * 100 / total;
-            if last.swap(percent, Ordering::Relaxed) == percent && done != total {
-                return;
-            }
-            Python::attach(|py| {
-                let result = match &progress {
-                    Progress::Callback(f) => f.call1(py, (done, total)).map(drop),
-                    Progress::Stderr => py.import("sys").and_then(|sys| {
-                        let end = if done == total { "\n" } else { "" };
-                        sys.getattr("stderr")?
-                            .call_method1("write", (format!("\rtabulating: {percent:3}%{end}"),))
-                            .map(drop)
-                    }),
-                    Progress::None => Ok(()),
-                };
-                if let Err(e) = result {
-                    failed.lock().expect("not poisoned").get_or_insert(e);
-                }
-            });
-        };
+        let reporter = Reporter::new(progress)?;
         let table = py
-            .detach(|| woven::table::Table::build(&model, &material.inner, &options, &report))
+            .detach(|| {
+                woven::table::Table::build(&model, &material.inner, &options, &|d, t| {
+                    reporter.report(d, t)
+                })
+            })
             .py_err()?;
-        if let Some(e) = failed.into_inner().expect("not poisoned") {
-            return Err(e);
-        }
+        reporter.finish()?;
+        Ok(Table {
+            inner: Arc::new(table),
+        })
+    }
+
+    /// The table `woven render` uses for `material` at `wavelength_nm`, from the user's table
+    /// cache (`$XDG_CACHE_HOME/woven` or `~/.cache/woven`, shared with `woven render`), or built
+    /// on `grid` (default "render": dyeable, seconds per preset) and stored there. A damaged or
+    /// foreign cache file is rebuilt, never trusted. Pass `material.yarn_family()` for the
+    /// table of a material's yarn alone, which is what `woven render` and the Mitsuba plugin
+    /// tabulate. `progress` as in `build`.
+    #[staticmethod]
+    #[pyo3(signature = (material, wavelength_nm = 550.0, *, grid = "render", progress = None))]
+    fn cached(
+        py: Python<'_>,
+        material: &Bound<'_, PyAny>,
+        wavelength_nm: f64,
+        grid: &str,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Table> {
+        let material = material_arg(material)?;
+        let model = py.detach(|| material.inner.build(wavelength_nm)).py_err()?;
+        let options = grid_options(grid, &model)?;
+        let cache = woven::table::cache::Cache::user().py_err()?;
+        let reporter = Reporter::new(progress)?;
+        let table = py
+            .detach(|| {
+                cache.load_or_build(
+                    &material.inner,
+                    wavelength_nm,
+                    &options,
+                    || {
+                        woven::table::Table::build(&model, &material.inner, &options, &|d, t| {
+                            reporter.report(d, t)
+                        })
+                    },
+                    &|_| {},
+                )
+            })
+            .py_err()?;
+        reporter.finish()?;
         Ok(Table {
             inner: Arc::new(table),
         })

@@ -34,9 +34,7 @@ def cli():
         pytest.skip("no `woven` binary: cargo build --release -p woven-cli, or set WOVEN_BIN")
 
     def run(*args, **kw):
-        done = subprocess.run(
-            [binary, *map(str, args)], capture_output=True, text=True, **kw
-        )
+        done = subprocess.run([binary, *map(str, args)], capture_output=True, text=True, **kw)
         assert done.returncode == 0, f"woven {' '.join(map(str, args))}: {done.stderr}"
         return done.stdout
 
@@ -60,7 +58,7 @@ def sateen_table(sateen):
 @pytest.fixture(scope="session")
 def flat():
     return woven.Material.from_toml(
-        "name = \"flat\"\n[fiber]\neta = 1.5\nroughness = 0.3\ndiffuse = 0.1\n"
+        'name = "flat"\n[fiber]\neta = 1.5\nroughness = 0.3\ndiffuse = 0.1\n'
     )
 
 

@@ -5,7 +5,6 @@ import sys
 
 import numpy as np
 
-import woven
 from conftest import random_dirs
 
 

@@ -47,7 +47,12 @@ def test_eval_is_the_clis_bit_for_bit(cli, tmp_path):
     rng = np.random.default_rng(3)
     n = 300
     angles = np.column_stack(
-        [rng.uniform(0, 1.5, n), rng.uniform(-4, 4, n), rng.uniform(0, 1.5, n), rng.uniform(-4, 4, n)]
+        [
+            rng.uniform(0, 1.5, n),
+            rng.uniform(-4, 4, n),
+            rng.uniform(0, 1.5, n),
+            rng.uniform(-4, 4, n),
+        ]
     )
     path = tmp_path / "dirs.csv"
     with open(path, "w") as f:
@@ -56,7 +61,9 @@ def test_eval_is_the_clis_bit_for_bit(cli, tmp_path):
             f.write(",".join(repr(float(x)) for x in row) + "\n")
     for preset in ["polyester-sateen", "flat"]:
         if preset == "flat":
-            material = woven.Material.from_toml("[fiber]\neta = 1.5\nroughness = 0.3\ndiffuse = 0.1\n")
+            material = woven.Material.from_toml(
+                "[fiber]\neta = 1.5\nroughness = 0.3\ndiffuse = 0.1\n"
+            )
             mpath = tmp_path / "flat.toml"
             mpath.write_text(material.to_toml())
             arg = mpath
@@ -74,7 +81,9 @@ def test_from_spherical_is_the_formula_and_round_trips():
     theta = np.linspace(0, math.pi / 2, 7)
     phi = np.linspace(-3, 3, 7)
     d = woven.from_spherical(theta, phi)
-    want = np.column_stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
+    want = np.column_stack(
+        [np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)]
+    )
     np.testing.assert_allclose(d, want, atol=1e-15)
     t, p = woven.to_spherical(d)
     np.testing.assert_allclose(t, theta, atol=1e-12)
@@ -153,11 +162,15 @@ def test_gonio_is_the_clis(cli):
     out = cli("gonio", "-m", "polyester-sateen", "--azimuth-deg", "0,90", "--tilt-deg=-30,0,30")
     rows = np.array([[float(x) for x in line.split(",")] for line in out.splitlines()[1:]])
     g = woven.gonio(woven.Material.preset("polyester-sateen"), [0, 90], [-30, 0, 30])
-    got = np.column_stack([g[k] for k in ["azimuth_deg", "tilt_deg", "theta_i", "theta_r", "radiance"]])
+    got = np.column_stack(
+        [g[k] for k in ["azimuth_deg", "tilt_deg", "theta_i", "theta_r", "radiance"]]
+    )
     np.testing.assert_array_equal(got, rows)
     # A Model gives the same; the default tilts are the paper's 29.
     model = woven.Material.preset("polyester-sateen").build()
-    np.testing.assert_array_equal(woven.gonio(model, [0, 90], [-30, 0, 30])["radiance"], g["radiance"])
+    np.testing.assert_array_equal(
+        woven.gonio(model, [0, 90], [-30, 0, 30])["radiance"], g["radiance"]
+    )
     assert len(woven.gonio(model, [0])["tilt_deg"]) == 29
     with pytest.raises(ValueError, match="tilt"):
         woven.gonio(model, [0], [45])

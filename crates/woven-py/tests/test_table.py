@@ -25,13 +25,24 @@ def test_eval_is_the_clis_and_survives_a_file_round_trip(cli, tmp_path, sateen_t
     rng = np.random.default_rng(5)
     n = 500
     angles = np.column_stack(
-        [rng.uniform(0, 1.55, n), rng.uniform(-4, 4, n), rng.uniform(0, 1.55, n), rng.uniform(-4, 4, n)]
+        [
+            rng.uniform(0, 1.55, n),
+            rng.uniform(-4, 4, n),
+            rng.uniform(0, 1.55, n),
+            rng.uniform(-4, 4, n),
+        ]
     )
     csv = tmp_path / "dirs.csv"
     csv.write_text(
-        "theta_i,phi_i,theta_r,phi_r\n" + "".join(",".join(map(repr, map(float, r))) + "\n" for r in angles)
+        "theta_i,phi_i,theta_r,phi_r\n"
+        + "".join(",".join(map(repr, map(float, r))) + "\n" for r in angles)
     )
-    want = np.array([float(l.split(",")[4]) for l in cli("eval", "--table", path, "--input", csv).splitlines()[1:]])
+    want = np.array(
+        [
+            float(line.split(",")[4])
+            for line in cli("eval", "--table", path, "--input", csv).splitlines()[1:]
+        ]
+    )
     wi = woven.from_spherical(angles[:, 0], angles[:, 1])
     wo = woven.from_spherical(angles[:, 2], angles[:, 3])
     np.testing.assert_array_equal(back.eval(wi, wo), want)

@@ -84,6 +84,8 @@ class Material:
         """The material as nested dicts."""
     def replace(self, changes: Dict[str, Any]) -> "Material":
         """A copy with dotted keys (``"fiber.roughness"``) changed; None removes a key."""
+    def pattern(self) -> Optional[npt.NDArray[np.bool_]]:
+        """The weave pattern's cells (rows, cols), True where the weft is on top; None without."""
     def yarn_family(self) -> "Material":
         """The material's yarn alone (its weave removed)."""
     def build(self, wavelength_nm: float = 550.0) -> "Model":
@@ -125,6 +127,15 @@ class Table:
         progress: Union[bool, None, Callable[[int, int], Any]] = None,
     ) -> "Table":
         """Tabulates ``material``; ``grid`` is "model", "render" or "default"."""
+    @staticmethod
+    def cached(
+        material: Union[Material, str, PathLike],
+        wavelength_nm: float = 550.0,
+        *,
+        grid: str = "render",
+        progress: Union[bool, None, Callable[[int, int], Any]] = None,
+    ) -> "Table":
+        """The table from the user's table cache (shared with ``woven render``), or built there."""
     @staticmethod
     def load(path: PathLike) -> "Table":
         """A table file (OSError if unreadable, ValueError if invalid)."""
