@@ -14,8 +14,9 @@ Parameters (the meaning of a ``woven`` material in ``woven render`` scenes):
                    grid, dyeable; seconds per preset).
 ``table``          instead of ``material``: a ``.wtab`` file. It is rendered as it is (the
                    BRDF it was built for), or, with ``pattern``, as the yarn of the pattern.
-``weft_fraction``  with ``table`` of a yarn alone: render the γ-mix of that yarn as weft and,
-                   turned 90°, as warp (what ``material`` does for a material's weft fraction).
+``weft_fraction``  γ in place of the material's weave (its pattern too): the macro BRDF, the
+                   γ-mix of the yarn as weft and, turned 90°, as warp. With ``table`` (of a yarn
+                   alone), the γ-mix of that table's yarn.
 ``wavelength_nm``  the wavelength the material's table is built at (default 550).
 ``pattern``        a weave pattern (``"plain"``, ``"twill-2/1"``, ``"satin-5"``, …) replacing
                    the material's weave. With a pattern, the cell at (u·n_u, v·n_v) of the
@@ -434,6 +435,11 @@ def _bsdf_class(mi):
                 material = woven.Material.open(str(props["material"]))
                 if pattern is not None:
                     material = material.replace({"weave": {"pattern": pattern}})
+                elif has("weft_fraction"):
+                    if material.yarn is None:
+                        raise ValueError("woven BSDF: `weft_fraction` needs a material with yarns")
+                    fraction = float(props["weft_fraction"])
+                    material = material.replace({"weave": {"weft_fraction": fraction}})
                 yarn = material.yarn_family()
                 table = woven.Table.cached(yarn, wavelength, grid="render", progress=False)
                 if material.yarn is None:
@@ -632,12 +638,8 @@ def _bsdf_class(mi):
                 s, v = (s[1], -s[0], s[2]), (v[1], -v[0], v[2])
             alb = self._albedos(key, si, True)
             if alb is None:
-                d0 = self.own
-                if d0 is None or not self.table.is_dyeable:
-                    return np.full(3, float(self.table.eval(s, v)))
-                albedos = [d0] * 3
-            else:
-                albedos = [(float(alb[0][k]), float(alb[1][k])) for k in range(3)]
+                return np.full(3, float(self.table.eval(s, v)))
+            albedos = [(float(alb[0][k]), float(alb[1][k])) for k in range(3)]
             return self.table.eval_dyed(s, v, albedos)[0]
 
         def _rust_warp(self, si):
