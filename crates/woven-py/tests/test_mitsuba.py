@@ -315,3 +315,127 @@ def test_plugin_render_agrees_with_woven_render(llvm, cache, cli, tmp_path, ligh
     print(compare.HEADER)
     print(compare.row(f"woven render vs Mitsuba + woven plugin ({light})", st))
     assert st["pass"], st
+
+
+def test_plugin_plane_under_a_point_light_is_the_librarys_brdf(llvm, yarn_tables):
+    """Scene (ii)'s plane in the belt cloth's macro BRDF (γ = 1/3, dyed weft and warp) under its
+    point light: each Mitsuba pixel equals the library's f × I cos θ/r² averaged over the pixel
+    (scripts/mitsuba/scenes.py's analytic image with 32 × 32 rays a pixel: the coarse test
+    table's ridges need them, 8 × 8 leave 0.1 % in the mean), within the noise of where
+    Mitsuba's samples fall in the pixel."""
+    table, path = yarn_tables["belt-cloth"]
+    gamma = 1.0 / 3.0
+    weft_c, warp_c = [0.6, 0.2, 0.1], [0.1, 0.2, 0.6]
+    material = table.material
+    own = (material.fiber.diffuse, material.yarn.interreflection_albedo)
+
+    def dye(c):
+        return [(min(x, 0.999), min(own[1] * x / own[0], 1.0)) for x in c]
+
+    def turn(d):
+        return np.stack([d[:, 1], -d[:, 0], d[:, 2]], axis=1)
+
+    def woven_brdf(_m, wi, wo, _g1="woven"):
+        shape = wi.shape
+        s, v = wi.reshape(-1, 3), wo.reshape(-1, 3)
+        f = gamma * table.eval_dyed(s, v, dye(weft_c)) + (1 - gamma) * table.eval_dyed(
+            turn(s), turn(v), dye(warp_c)
+        )
+        return f.reshape(shape)
+
+    scene = sc.load_scene(REPO / "scenes" / "compare" / "roughplastic-plane.toml")
+    scene.width = scene.height = 48
+    d = sc.mitsuba_dict(scene, mi, width=48, height=48)
+    d["rect0"]["bsdf"] = {
+        "type": "woven",
+        "table": str(path),
+        "weft_fraction": gamma,
+        "weft_color": {"type": "rgb", "value": weft_c},
+        "warp_color": {"type": "rgb", "value": warp_c},
+    }
+    s = mi.load_dict(d)
+    m = np.stack(
+        [np.array(mi.render(s, spp=32, seed=k), dtype=np.float64)[..., :3] for k in range(4)]
+    )
+    original = sc.brdf
+    sc.brdf = woven_brdf
+    try:
+        exact = sc.analytic_image(scene, grid=32)
+    finally:
+        sc.brdf = original
+    st = compare.stats(exact, m, 2e-4)  # float32 look-ups (test_jit_lookups_are_the_librarys)
+    print(compare.HEADER)
+    print(compare.row("library f I cos/r² -> Mitsuba + woven plugin", st))
+    assert st["pass"], st
+
+
+@pytest.mark.parametrize("view_deg", [0.0, 60.0])
+def test_white_furnace_plane_is_the_hemisphere_integral(llvm, yarn_tables, view_deg):
+    """A woven plane under a uniform sky of radiance 1, seen by an orthographic camera from
+    polar angle `view_deg` (one viewing direction v for every pixel), one bounce: the pixels
+    estimate ∫ f(s, v) cos θs dωs (with the paper normalization not the albedo `Model.albedo`
+    states, which integrates over v), here computed from the library by a midpoint rule on
+    (cos θs, φs). The render mixes light sampling and the plugin's BSDF sampling (MIS)."""
+    table, path = yarn_tables["belt-cloth"]
+    gamma, weft_c, warp_c = 1.0 / 3.0, [0.6, 0.2, 0.1], [0.1, 0.2, 0.6]
+    material = table.material
+    own = (material.fiber.diffuse, material.yarn.interreflection_albedo)
+
+    def dye(c):
+        return [(min(x, 0.999), min(own[1] * x / own[0], 1.0)) for x in c]
+
+    def turn(d):
+        return np.stack([d[:, 1], -d[:, 0], d[:, 2]], axis=1)
+
+    th = np.radians(view_deg)
+    v = np.array([np.sin(th) * np.cos(0.7), np.sin(th) * np.sin(0.7), np.cos(th)])
+    # The integral, midpoint rule on (cos θ, φ): dω = dcos θ dφ.
+    nc, nphi = 600, 1200
+    c = (np.arange(nc) + 0.5) / nc
+    phi = (np.arange(nphi) + 0.5) / nphi * 2 * np.pi
+    C, P = np.meshgrid(c, phi, indexing="ij")
+    S = np.sqrt(1 - C**2)
+    s = np.stack([S * np.cos(P), S * np.sin(P), C], axis=-1).reshape(-1, 3)
+    vv = np.broadcast_to(v, s.shape)
+    f = gamma * table.eval_dyed(s, vv, dye(weft_c)) + (1 - gamma) * table.eval_dyed(
+        turn(s), turn(vv), dye(warp_c)
+    )
+    want = (f * s[:, 2:3]).sum(axis=0) * (1.0 / nc) * (2 * np.pi / nphi)
+
+    # The camera looks along −v at the plane z = 0 (a 20 × 20 rectangle fills its view).
+    d = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 2, "hide_emitters": True},
+        "sensor": {
+            "type": "orthographic",
+            "to_world": mi.ScalarTransform4f()
+            .look_at(origin=(3 * v).tolist(), target=[0, 0, 0], up=[0, 1, 0])
+            .scale([0.5, 0.5, 1]),
+            "film": {"type": "hdrfilm", "width": 16, "height": 16, "rfilter": {"type": "box"}},
+        },
+        "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}},
+        "plane": {
+            "type": "rectangle",
+            "to_world": mi.ScalarTransform4f().scale([10, 10, 1]),
+            "bsdf": {
+                "type": "woven",
+                "table": str(path),
+                "weft_fraction": gamma,
+                "weft_color": {"type": "rgb", "value": weft_c},
+                "warp_color": {"type": "rgb", "value": warp_c},
+            },
+        },
+    }
+    scene = mi.load_dict(d)
+    imgs = np.stack(
+        [np.array(mi.render(scene, spp=256, seed=k), dtype=np.float64)[..., :3] for k in range(4)]
+    )
+    per_seed = imgs.reshape(4, -1, 3).mean(axis=1)
+    got = per_seed.mean(axis=0)
+    se = per_seed.std(axis=0, ddof=1) / 2
+    print(f"furnace at {view_deg}°: render {got}, integral {want}, se {se}")
+    # 1e-3: with 16 seeds the render sits 0.07 % (2.2 se) below the integral at both angles,
+    # not yet explained (float32 directions next to the yarn ridges, where the density is
+    # singular, are a candidate); the test holds it to this.
+    assert (np.abs(got - want) <= 5 * se + 1e-3 * want).all(), (got, want, se)
+    assert (want > 0.02).all() and (want < 1).all(), want
