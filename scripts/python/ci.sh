@@ -29,10 +29,8 @@ command -v python3 >/dev/null 2>&1 || skip "no python3 on this machine"
 if [ ! -x "$VENV/bin/python" ]; then
   python3 -m venv "$VENV" 2>/dev/null || { rm -rf "$VENV"; skip "python3 -m venv failed (Debian: apt-get install python3-venv)"; }
 fi
-if ! "$VENV/bin/python" -c "import maturin, numpy, pytest" 2>/dev/null \
-   && ! "$VENV/bin/python" -c "import numpy, pytest" 2>/dev/null; then
-  pip_install "maturin>=1.7,<2" numpy pytest || skip "pip could not install maturin, numpy and pytest"
-fi
+"$VENV/bin/python" -c "import numpy, pytest" 2>/dev/null \
+  || pip_install numpy pytest || skip "pip could not install numpy and pytest"
 [ -x "$VENV/bin/maturin" ] || pip_install "maturin>=1.7,<2" || skip "pip could not install maturin"
 if ! "$VENV/bin/python" -c "import mitsuba; assert mitsuba.__version__ == '$MITSUBA_VERSION'" 2>/dev/null; then
   echo "installing mitsuba==$MITSUBA_VERSION into $VENV (the plugin's tests skip without it)"
