@@ -282,9 +282,9 @@ impl Query {
 }
 
 /// The other direction's polar angle from which azimuth interpolation starts turning the pair.
-const TURN_FROM_DEG: f64 = 75.0;
+pub(crate) const TURN_FROM_DEG: f64 = 75.0;
 /// The other direction's polar angle from which the pair is turned rigidly.
-const TURN_FULL_DEG: f64 = 88.0;
+pub(crate) const TURN_FULL_DEG: f64 = 88.0;
 
 /// The located axis direction `d` (folded).
 #[inline]

@@ -13,7 +13,7 @@ use crate::math::Vec3;
 use std::f64::consts::FRAC_PI_2;
 
 /// The slope-angle scale `K`: `t = ±1` is 0.09° short of a horizontal half vector.
-const K: f64 = FRAC_PI_2 * (1.0 - 1e-3);
+pub(crate) const K: f64 = FRAC_PI_2 * (1.0 - 1e-3);
 
 /// The slope `p` of a warped coordinate `t ∈ [−1, 1]`.
 #[inline]

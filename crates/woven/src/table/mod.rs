@@ -50,6 +50,7 @@ mod eval;
 pub mod format;
 pub mod grid;
 mod options;
+mod raw;
 pub mod report;
 mod sampler;
 
@@ -57,6 +58,7 @@ pub use options::{
     grid_of, value_count, TableOptions, MAX_VALUES, N_H_NARROW_LOBE, N_H_SMOOTH, N_H_WIDE_LOBE,
     N_PHI_RENDER, N_THETA_ISOTROPIC, N_THETA_RENDER,
 };
+pub use raw::Raw;
 
 use crate::material::Material;
 use crate::math::Vec3;

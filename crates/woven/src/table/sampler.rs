@@ -52,6 +52,11 @@ impl Sampler {
         out
     }
 
+    /// The marginal and conditional CDFs ([`super::Raw`]).
+    pub(crate) fn cdfs(&self) -> (&[f32], &[f32]) {
+        (&self.marginal, &self.conditional)
+    }
+
     /// The per-cell densities (stored in table files).
     pub(crate) fn cell_pdf(&self) -> &[f32] {
         &self.cell_pdf

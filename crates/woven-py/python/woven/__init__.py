@@ -1,0 +1,46 @@
+"""woven: the Yang–Ikeuchi woven-cloth BRDF in Python.
+
+NumPy in, NumPy out, computed by the Rust library ``woven``::
+
+    import numpy as np, woven
+    material = woven.Material.preset("polyester-sateen")   # or Material.load("cloth.toml")
+    model = material.build(wavelength_nm=550.0)            # the exact BRDF
+    wi = np.array([[0.0, 0.6, 0.8]])                       # toward the light, (N, 3)
+    wo = np.array([[0.3, -0.4, np.sqrt(0.75)]])            # toward the viewer, (N, 3)
+    f = model.eval(wi, wo)                                 # sr^-1, without the cosine, (N,)
+    table = woven.Table.build(material)                    # fast, importance-sampled
+    wo, weight, pdf = table.sample(wi, np.random.rand(1, 2))
+
+Directions are unit vectors in the cloth's frame (z the macro normal, weft along x, warp along
+y), both pointing away from the surface: ``wi`` toward the light (the paper's s), ``wo`` toward
+the viewer (v). Bad parameters raise ValueError with the library's message, files OSError.
+``woven.mitsuba.register()`` adds the ``woven`` BSDF to Mitsuba 3.
+"""
+
+from ._woven import (
+    PARALLEL_MIN,
+    Material,
+    Model,
+    Section,
+    Table,
+    __version__,
+    export_merl,
+    from_spherical,
+    gonio,
+    presets,
+    to_spherical,
+)
+
+__all__ = [
+    "Material",
+    "Model",
+    "Section",
+    "Table",
+    "export_merl",
+    "from_spherical",
+    "to_spherical",
+    "gonio",
+    "presets",
+    "PARALLEL_MIN",
+    "__version__",
+]

@@ -1,0 +1,55 @@
+//! Python bindings of the `woven` library: the native module `woven._woven`, which the Python
+//! package `woven` (`python/woven`) re-exports with its Mitsuba 3 plugin.
+//!
+//! A thin layer: every number comes from the library; this crate only converts NumPy arrays,
+//! broadcasts, releases the GIL and spreads large batches over rayon's pool, and maps the
+//! library's errors to Python exceptions (`ValueError` for parameters and file contents,
+//! `OSError` for files that cannot be read or written). Directions are those of the library's
+//! `Bsdf` trait: `wi` toward the light (the paper's `s`), `wo` toward the viewer (`v`), unit
+//! vectors in the cloth's frame (`z` the macro normal, weft along `x`, warp along `y`). The
+//! Python-facing documentation is in the docstrings below and the stubs
+//! (`python/woven/_woven.pyi`); docs/python.md shows it at work.
+
+mod arrays;
+mod material;
+mod table;
+
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+
+/// A library error as the Python exception that fits it.
+pub(crate) fn to_py(err: woven::Error) -> PyErr {
+    match &err {
+        woven::Error::Io { .. } => PyOSError::new_err(err.to_string()),
+        _ => PyValueError::new_err(err.to_string()),
+    }
+}
+
+/// The library's result, with its error as a Python exception.
+pub(crate) trait IntoPy<T> {
+    /// The value, or the error as a Python exception.
+    fn py_err(self) -> PyResult<T>;
+}
+
+impl<T> IntoPy<T> for woven::Result<T> {
+    fn py_err(self) -> PyResult<T> {
+        self.map_err(to_py)
+    }
+}
+
+/// woven: the Yang–Ikeuchi woven-cloth BRDF (native part; import `woven`).
+#[pymodule]
+fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<material::Material>()?;
+    m.add_class::<material::Section>()?;
+    m.add_class::<material::Model>()?;
+    m.add_class::<table::Table>()?;
+    m.add_function(wrap_pyfunction!(material::presets, m)?)?;
+    m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
+    m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;
+    m.add_function(wrap_pyfunction!(material::to_spherical, m)?)?;
+    m.add_function(wrap_pyfunction!(table::export_merl, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("PARALLEL_MIN", arrays::PARALLEL_MIN)?;
+    Ok(())
+}

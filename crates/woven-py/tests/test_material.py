@@ -1,0 +1,79 @@
+"""woven.Material: presets, files, sections, replace, errors; against the CLI."""
+
+import pickle
+
+import pytest
+
+import woven
+from conftest import REPO
+
+
+def test_presets_are_the_clis(cli):
+    names = [line.split()[0] for line in cli("materials").splitlines()[1:] if line.strip()]
+    assert woven.presets() == names
+    for name in names:
+        # `woven materials --show` prints the preset's TOML exactly; the preset parses the same.
+        text = cli("materials", "--show", name)
+        assert woven.Material.from_toml(text) == woven.Material.preset(name)
+
+
+def test_toml_round_trip_and_sections():
+    for name in woven.presets():
+        m = woven.Material.preset(name)
+        assert woven.Material.from_toml(m.to_toml()) == m
+        assert pickle.loads(pickle.dumps(m)) == m
+        assert m.name == name
+        assert m.fiber.model == "rough" and m.fiber["eta"] == m.to_dict()["fiber"]["eta"]
+        assert set(m.fiber.keys()) >= {"eta", "roughness", "diffuse", "normalization"}
+    sateen = woven.Material.preset("polyester-sateen")
+    assert sateen.fiber.roughness == 0.05
+    assert sateen.yarn.lateral_length == 20.0 and "slope_std" in sateen.yarn
+    belt = woven.Material.preset("belt-cloth")
+    assert belt.weave.pattern == "twill-2/1"
+    assert abs(belt.weft_fraction - 1 / 3) < 1e-15
+    flat = woven.Material.from_toml("[fiber]\neta = 1.5\nroughness = 0.3\n")
+    assert flat.yarn is None and flat.weave is None and flat.weft_fraction == 1.0
+    with pytest.raises(AttributeError, match="roughness"):
+        sateen.fiber.roughnes  # a typo: the message lists the keys
+
+
+def test_replace_validates_like_a_file():
+    sateen = woven.Material.preset("polyester-sateen")
+    rough = sateen.replace({"fiber.roughness": 0.1, "yarn.slope_std": 0.5})
+    assert rough.fiber.roughness == 0.1 and rough.yarn.slope_std == 0.5
+    assert sateen.fiber.roughness == 0.05  # immutable
+    plain = sateen.replace({"weave.weft_fraction": None, "weave.pattern": "plain"})
+    assert plain.weft_fraction == 0.5
+    matrix = sateen.replace({"weave": {"pattern": [[1, 0], [0, 0]]}})
+    assert matrix.weft_fraction == 0.25
+    flat = sateen.replace({"yarn": None, "weave": None})
+    assert flat.yarn is None
+    with pytest.raises(ValueError, match=r"fiber\.roughness.*7"):
+        sateen.replace({"fiber.roughness": 7.0})
+    with pytest.raises(ValueError, match="unknown field"):
+        sateen.replace({"fiber.roughnes": 0.1})
+
+
+def test_material_errors():
+    with pytest.raises(ValueError, match="polyester-sateen, belt-cloth, silk"):
+        woven.Material.preset("denim")
+    with pytest.raises(ValueError, match=r"fiber\.roughness"):
+        woven.Material.from_toml("[fiber]\neta = 1.6\nroughness = 7.0\n")
+    with pytest.raises(ValueError, match="cloth.toml"):
+        woven.Material.from_toml("[fiber\n", origin="cloth.toml")
+    with pytest.raises(OSError, match="no-such.toml"):
+        woven.Material.load("/nonexistent/no-such.toml")
+    with pytest.raises(ValueError, match="wavelength"):
+        woven.Material.preset("silk").build(wavelength_nm=-5.0)
+    with pytest.raises(TypeError):
+        woven.Material.load(42)
+
+
+def test_material_files_load_from_paths(tmp_path):
+    path = tmp_path / "cloth.toml"
+    path.write_text(woven.Material.preset("silk").to_toml())
+    assert woven.Material.load(path) == woven.Material.preset("silk")
+    assert woven.Material.open(str(path)) == woven.Material.open("silk")
+    # The repository's vector materials load as the Rust tests load them.
+    for toml in (REPO / "crates" / "woven" / "tests" / "data" / "vectors").glob("*/material.toml"):
+        assert woven.Material.load(toml).fiber.eta is not None

@@ -1,0 +1,441 @@
+"""The Mitsuba 3 plugin (woven.mitsuba): its Dr.Jit look-ups against the library, Mitsuba's own
+χ² test of its sampling, and renders against `woven render` (two renderers, one model).
+
+Skipped when Mitsuba 3 is not installed. The LLVM variant is probed in a child process first: a
+libLLVM that Dr.Jit cannot use aborts the process (docs/mitsuba.md).
+"""
+
+import os
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import woven
+from conftest import REPO, SMALL, random_dirs
+
+mi = pytest.importorskip("mitsuba")
+dr = pytest.importorskip("drjit")
+import woven.mitsuba  # noqa: E402
+
+sys.path.insert(0, str(REPO / "scripts" / "mitsuba"))
+import compare  # noqa: E402
+import scenes as sc  # noqa: E402
+
+PROBE = (
+    "import mitsuba as mi, numpy as np\n"
+    "mi.set_variant('llvm_ad_rgb')\n"
+    "assert np.isfinite(np.array(mi.Float([1.0, 2.0]) * 2)).all()\n"
+)
+
+
+@pytest.fixture(scope="session")
+def llvm():
+    if "llvm_ad_rgb" not in mi.variants():
+        pytest.skip("this Mitsuba build has no llvm_ad_rgb")
+    r = subprocess.run([sys.executable, "-c", PROBE], capture_output=True, text=True)
+    if r.returncode != 0:
+        pytest.skip(f"llvm_ad_rgb does not run here (libLLVM >= 16 needed): {r.stderr[-300:]}")
+    mi.set_variant("llvm_ad_rgb")
+    woven.mitsuba.register()
+    return mi
+
+
+@pytest.fixture(scope="session")
+def cache(tmp_path_factory):
+    """A table cache shared by the plugin (Table.cached) and `woven render` in these tests."""
+    path = tmp_path_factory.mktemp("cache")
+    old = os.environ.get("XDG_CACHE_HOME")
+    os.environ["XDG_CACHE_HOME"] = str(path)
+    yield path
+    if old is None:
+        del os.environ["XDG_CACHE_HOME"]
+    else:
+        os.environ["XDG_CACHE_HOME"] = old
+
+
+@pytest.fixture(scope="session")
+def yarn_tables(tmp_path_factory):
+    """Small dyeable tables of each preset's yarn alone, saved: {preset: (table, path)}."""
+    out = {}
+    folder = tmp_path_factory.mktemp("yarns")
+    for name in woven.presets():
+        table = woven.Table.build(
+            woven.Material.preset(name).yarn_family(), colour=True, progress=False, **SMALL
+        )
+        path = folder / f"{name}.wtab"
+        table.save(path)
+        out[name] = (table, path)
+    return out
+
+
+def np3(v):
+    return np.stack([np.array(v.x), np.array(v.y), np.array(v.z)], axis=1).astype(np.float64)
+
+
+@pytest.mark.parametrize("name", ["polyester-sateen", "belt-cloth", "silk"])
+def test_jit_lookups_are_the_librarys(llvm, yarn_tables, name):
+    table, _ = yarn_tables[name]
+    jt = woven.mitsuba.JitTable(table, mi)
+    rng = np.random.default_rng(1)
+    n = 20000
+    s32 = random_dirs(rng, n).astype(np.float32).astype(np.float64)
+    v32 = random_dirs(rng, n).astype(np.float32).astype(np.float64)
+    S, V = mi.Vector3f(s32.T.astype(np.float32)), mi.Vector3f(v32.T.astype(np.float32))
+    # eval: the library's interpolation to float32 arithmetic (the grid located in float32).
+    got, want = np.array(jt.eval(S, V)), table.eval_interpolated(s32, v32)
+    rel = np.abs(got - want) / np.maximum(want, 1e-6 * want.max())
+    assert rel.max() < 2e-4 and np.median(rel) < 1e-6, (rel.max(), np.median(rel))
+    # eval_dyed, three dyes.
+    alb = [(0.3, 0.5), (0.05, 0.1), (0.9, 0.95)]
+    fd = jt.eval_dyed(S, V, mi.Color3f(*[a for a, _ in alb]), mi.Color3f(*[b for _, b in alb]))
+    got_d = np.stack([np.array(fd[k]) for k in range(3)], axis=1)
+    far = np.linalg.norm(s32 + v32, axis=1) >= 0.5  # the library is exact nearer forward
+    want_d = table.eval_dyed(s32, v32, alb)
+    rel_d = np.abs(got_d - want_d)[far] / np.maximum(want_d[far], 1e-6 * want_d.max())
+    assert rel_d.max() < 2e-4, rel_d.max()
+    # pdf: piecewise constant in cells, so a pair on a cell's edge may land in the next cell.
+    p, pw = np.array(jt.pdf(S, V)), table.pdf(s32, v32)
+    close = np.abs(p - pw) <= 1e-4 * pw + 1e-7
+    assert close.mean() > 0.999, close.mean()
+    # sample_direction: the same draw for the same uniforms.
+    u = rng.random((n, 2)).astype(np.float32)
+    d, pdf, ok = jt.sample_direction(S, mi.Float(u[:, 0]), mi.Float(u[:, 1]))
+    d, pdf, ok = np3(d), np.array(pdf), np.array(ok)
+    dw, pdfw = table.sample_direction(s32, u.astype(np.float64))
+    assert (ok == (pdfw > 0)).mean() > 0.999
+    both = ok & (pdfw > 0)
+    same = (np.abs(d - dw).max(axis=1) < 1e-4) & (np.abs(pdf - pdfw) <= 1e-3 * pdfw)
+    assert same[both].mean() > 0.999, same[both].mean()
+
+
+def bsdf_eval(bsdf, wi, wo, uv=(0.5, 0.5)):
+    """The plugin's eval and pdf through Mitsuba's interface, batched (JIT) or per pair."""
+    n = len(wi)
+    ctx = mi.BSDFContext()
+    if dr.is_jit_v(mi.Float):
+        si = dr.zeros(mi.SurfaceInteraction3f, n)
+        si.wi = mi.Vector3f(wi.T.astype(np.float32))
+        si.uv = mi.Point2f(float(uv[0]), float(uv[1]))
+        w = mi.Vector3f(wo.T.astype(np.float32))
+        f = bsdf.eval(ctx, si, w)
+        return np.stack([np.array(f[k]) for k in range(3)], axis=1), np.array(bsdf.pdf(ctx, si, w))
+    fs, ps = [], []
+    for a, b in zip(wi, wo):
+        si = mi.SurfaceInteraction3f()
+        si.wi = mi.Vector3f(*map(float, a))
+        si.uv = mi.Point2f(*map(float, uv))
+        w = mi.Vector3f(*map(float, b))
+        fs.append(list(bsdf.eval(ctx, si, w)))
+        ps.append(float(bsdf.pdf(ctx, si, w)))
+    return np.array(fs), np.array(ps)
+
+
+def macro_reference(table, gamma, albedos, s, v):
+    """γ f_weft + (1 − γ) f_warp per channel, from the library (wi = v, wo = s)."""
+
+    def turn(d):
+        return np.stack([d[:, 1], -d[:, 0], d[:, 2]], axis=1)
+
+    weft = table.eval_dyed(s, v, albedos)
+    warp = table.eval_dyed(turn(s), turn(v), albedos)
+    return gamma * weft + (1 - gamma) * warp
+
+
+@pytest.mark.parametrize("variant", ["llvm_ad_rgb", "scalar_rgb"])
+def test_plugin_eval_is_the_macro_brdf(llvm, yarn_tables, variant):
+    mi.set_variant(variant)
+    woven.mitsuba.register()
+    try:
+        table, path = yarn_tables["belt-cloth"]
+        gamma = 1.0 / 3.0
+        bsdf = mi.load_dict(
+            {
+                "type": "woven",
+                "table": str(path),
+                "weft_fraction": gamma,
+                "weft_color": {"type": "rgb", "value": [0.6, 0.2, 0.1]},
+                "warp_color": {"type": "rgb", "value": [0.1, 0.2, 0.6]},
+            }
+        )
+        rng = np.random.default_rng(4)
+        n = 2000 if variant == "llvm_ad_rgb" else 200
+        wi = random_dirs(rng, n).astype(np.float32).astype(np.float64)
+        wo = random_dirs(rng, n).astype(np.float32).astype(np.float64)
+        f, pdf = bsdf_eval(bsdf, wi, wo)
+        own = (0.05, 0.5)  # belt cloth's ρ0 and ρ
+        material = table.material
+        own = (material.fiber.diffuse, material.yarn.interreflection_albedo)
+
+        def dye(c):
+            return [(min(x, 0.999), min(own[1] * x / own[0], 1.0)) for x in c]
+
+        weft = table.eval_dyed(wo, wi, dye([0.6, 0.2, 0.1]))
+        turn = lambda d: np.stack([d[:, 1], -d[:, 0], d[:, 2]], axis=1)  # noqa: E731
+        warp = table.eval_dyed(turn(wo), turn(wi), dye([0.1, 0.2, 0.6]))
+        want = (gamma * weft + (1 - gamma) * warp) * wo[:, 2:3]
+        rel = np.abs(f - want) / np.maximum(want, 1e-6 * want.max())
+        assert rel.max() < 5e-4, rel.max()
+        want_pdf = gamma * table.pdf(wi, wo) + (1 - gamma) * table.pdf(turn(wi), turn(wo))
+        close = np.abs(pdf - want_pdf) <= 1e-4 * want_pdf + 1e-7
+        assert close.mean() > 0.995, close.mean()
+    finally:
+        mi.set_variant("llvm_ad_rgb")
+
+
+class HalfVectorDomain:
+    """A χ² domain in the table's own coordinates for light from ``wi``: the warped half-vector
+    slopes ``(t_x, t_y) ∈ [−1, 1]²`` of one yarn family (the weft, or the warp turned 90°), in the
+    fold the library applies. The table's density is piecewise constant over these cells, while
+    per unit solid angle it has integrable singularities along the yarn ridges (``dp/dt = 0`` at
+    ``t = 0``), which the harness's trapezoid rule cannot integrate on the sphere; here the
+    density is the plugin's ``pdf`` times the map's Jacobian, constant within each cell."""
+
+    def __init__(self, jt, wi, warp):
+        self.jt, self.warp = jt, warp
+        s = mi.Vector3f(*wi)
+        if warp:
+            s = woven.mitsuba._to_warp(mi, s)
+        self.apply, self.undo = jt._fold(s)
+        self.s = self.apply(s)
+
+    def bounds(self):
+        return mi.ScalarBoundingBox2f([-1, -1], [1, 1])
+
+    def aspect(self):
+        return 1
+
+    def map_forward(self, p):
+        v, _, valid = self.jt._jacobian(self.s, p.x, p.y)
+        v = self.undo(v)
+        if self.warp:
+            v = woven.mitsuba._from_warp(mi, v)
+        return dr.select(valid, v, mi.Vector3f(0, 0, -1))
+
+    def map_backward(self, v):
+        if self.warp:
+            v = woven.mitsuba._to_warp(mi, v)
+        h = self.s + self.apply(v)
+        return mi.Vector2f(self.jt._t_of_slope(h.x / h.z), self.jt._t_of_slope(h.y / h.z))
+
+    def jacobian(self, v):
+        t = self.map_backward(v)
+        _, j, valid = self.jt._jacobian(self.s, t.x, t.y)
+        return dr.select(valid & (v.z > 0), j, 0.0)
+
+
+@pytest.mark.parametrize("name", ["polyester-sateen", "belt-cloth", "silk"])
+def test_chi2_of_the_plugins_sampling(llvm, yarn_tables, name):
+    """Mitsuba's χ² harness (``mitsuba.chi2``, ``BSDFAdapter``) on the plugin's ``sample`` and
+    ``pdf``, for each preset's yarn as weft and as warp, at three incidences (Bonferroni over
+    the six tests of a preset)."""
+    table, path = yarn_tables[name]
+    jt = woven.mitsuba.JitTable(table, mi)
+    for warp in (False, True):
+        for theta_deg in (10.0, 50.0, 80.0):
+            th = np.radians(theta_deg)
+            wi = [
+                float(np.sin(th) * np.cos(0.4)),
+                float(np.sin(th) * np.sin(0.4)),
+                float(np.cos(th)),
+            ]
+            bsdf = {"type": "woven", "table": str(path), "weft_fraction": 0.0 if warp else 1.0}
+            sample, pdf = mi.chi2.BSDFAdapter("woven", bsdf, wi=wi)
+            domain = HalfVectorDomain(jt, wi, warp)
+            test = mi.chi2.ChiSquareTest(
+                domain=domain,
+                sample_func=sample,
+                pdf_func=lambda v: pdf(v) * domain.jacobian(v),
+                sample_dim=3,
+                sample_count=200_000,
+                # Twice the table's half-vector cells per axis: its density is constant within
+                # each χ² cell but for the horizon's edge, and, in float32, within ~1e-4 of the
+                # ridges t = 0, which directions cannot resolve; 16² points per cell keep the
+                # trapezoid rule's error there far below the noise.
+                res=2 * (table.dims[2] - 1),
+                ires=16,
+            )
+            ok = test.run(0.01, test_count=6)
+            assert ok, f"{name} ({'warp' if warp else 'weft'}) at θi {theta_deg}°: {test.messages}"
+
+
+def plane_scene(tmp_path, light):
+    """Scene (ii)'s camera, film and plane with a woven material (sateen, dyed weft and warp), as
+    a `woven render` file and as a Mitsuba dict with the plugin."""
+    text = (REPO / "scenes" / "compare" / "roughplastic-plane.toml").read_text()
+    text = text.replace("width = 128", "width = 48").replace("height = 128", "height = 48")
+    woven_material = (
+        'material = "polyester-sateen"\npattern = "twill-2/1"\n'
+        "weft_color = [0.6, 0.2, 0.1]\nwarp_color = [0.1, 0.2, 0.6]\n"
+    )
+    text = text.replace('material = "roughplastic-equivalent.toml"\n', woven_material)
+    geometry = sc.load_scene(REPO / "scenes" / "compare" / "roughplastic-plane.toml")
+    if light == "environment":
+        text = text.replace(
+            '[[light]]\ntype = "point"\nposition = [0.4, 0.5, 1.5]\nintensity = [10.0, 10.0, 10.0]   # W/sr\n',
+            '[[light]]\ntype = "environment"\nradiance = [1.0, 1.0, 1.0]\n',
+        )
+        geometry.point_lights = []
+        geometry.env_radiance = np.array([1.0, 1.0, 1.0])
+    assert "polyester-sateen" in text and (light == "point" or "environment" in text)
+    path = tmp_path / f"woven-plane-{light}.toml"
+    path.write_text(text)
+    geometry.path = path
+    d = sc.mitsuba_dict(geometry, mi, width=48, height=48)
+    d["rect0"]["bsdf"] = {
+        "type": "woven",
+        "material": "polyester-sateen",
+        "pattern": "twill-2/1",
+        "weft_color": {"type": "rgb", "value": [0.6, 0.2, 0.1]},
+        "warp_color": {"type": "rgb", "value": [0.1, 0.2, 0.6]},
+    }
+    scene = sc.load_scene(REPO / "scenes" / "compare" / "roughplastic-plane.toml")
+    scene.path, scene.width, scene.height = path, 48, 48
+    return scene, d
+
+
+@pytest.mark.parametrize("light", ["point", "environment"])
+def test_plugin_render_agrees_with_woven_render(llvm, cache, cli, tmp_path, light):
+    """Two renderers, one model: the sateen woven as a 2/1 twill (40 yarns per unit of uv, dyed
+    weft and warp) on scene (ii)'s plane, under its point light (the BSDF's eval) and under a
+    uniform sky (sampling and MIS too)."""
+    scene, d = plane_scene(tmp_path, light)
+    seeds, spp = [0, 1, 2, 3], 32
+    s = mi.load_dict(d)  # builds the sateen yarn's table into the shared cache
+    m = np.stack(
+        [np.array(mi.render(s, spp=spp, seed=k), dtype=np.float64)[..., :3] for k in seeds]
+    )
+    binary = os.environ.get("WOVEN_BIN") or str(
+        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
+    )
+    w = compare.render_woven(binary, scene, seeds, spp, tmp_path, mi)
+    st = compare.stats(m, w, compare.TOL_FLOAT32)
+    print(compare.HEADER)
+    print(compare.row(f"woven render vs Mitsuba + woven plugin ({light})", st))
+    assert st["pass"], st
+
+
+def test_plugin_plane_under_a_point_light_is_the_librarys_brdf(llvm, yarn_tables):
+    """Scene (ii)'s plane in the belt cloth's macro BRDF (γ = 1/3, dyed weft and warp) under its
+    point light: each Mitsuba pixel equals the library's f × I cos θ/r² averaged over the pixel
+    (scripts/mitsuba/scenes.py's analytic image with 32 × 32 rays a pixel: the coarse test
+    table's ridges need them, 8 × 8 leave 0.1 % in the mean), within the noise of where
+    Mitsuba's samples fall in the pixel."""
+    table, path = yarn_tables["belt-cloth"]
+    gamma = 1.0 / 3.0
+    weft_c, warp_c = [0.6, 0.2, 0.1], [0.1, 0.2, 0.6]
+    material = table.material
+    own = (material.fiber.diffuse, material.yarn.interreflection_albedo)
+
+    def dye(c):
+        return [(min(x, 0.999), min(own[1] * x / own[0], 1.0)) for x in c]
+
+    def turn(d):
+        return np.stack([d[:, 1], -d[:, 0], d[:, 2]], axis=1)
+
+    def woven_brdf(_m, wi, wo, _g1="woven"):
+        shape = wi.shape
+        s, v = wi.reshape(-1, 3), wo.reshape(-1, 3)
+        f = gamma * table.eval_dyed(s, v, dye(weft_c)) + (1 - gamma) * table.eval_dyed(
+            turn(s), turn(v), dye(warp_c)
+        )
+        return f.reshape(shape)
+
+    scene = sc.load_scene(REPO / "scenes" / "compare" / "roughplastic-plane.toml")
+    scene.width = scene.height = 48
+    d = sc.mitsuba_dict(scene, mi, width=48, height=48)
+    d["rect0"]["bsdf"] = {
+        "type": "woven",
+        "table": str(path),
+        "weft_fraction": gamma,
+        "weft_color": {"type": "rgb", "value": weft_c},
+        "warp_color": {"type": "rgb", "value": warp_c},
+    }
+    s = mi.load_dict(d)
+    m = np.stack(
+        [np.array(mi.render(s, spp=32, seed=k), dtype=np.float64)[..., :3] for k in range(4)]
+    )
+    original = sc.brdf
+    sc.brdf = woven_brdf
+    try:
+        exact = sc.analytic_image(scene, grid=32)
+    finally:
+        sc.brdf = original
+    st = compare.stats(exact, m, 2e-4)  # float32 look-ups (test_jit_lookups_are_the_librarys)
+    print(compare.HEADER)
+    print(compare.row("library f I cos/r² -> Mitsuba + woven plugin", st))
+    assert st["pass"], st
+
+
+@pytest.mark.parametrize("view_deg", [0.0, 60.0])
+def test_white_furnace_plane_is_the_hemisphere_integral(llvm, yarn_tables, view_deg):
+    """A woven plane under a uniform sky of radiance 1, seen by an orthographic camera from
+    polar angle `view_deg` (one viewing direction v for every pixel), one bounce: the pixels
+    estimate ∫ f(s, v) cos θs dωs (with the paper normalization not the albedo `Model.albedo`
+    states, which integrates over v), here computed from the library by a midpoint rule on
+    (cos θs, φs). The render mixes light sampling and the plugin's BSDF sampling (MIS)."""
+    table, path = yarn_tables["belt-cloth"]
+    gamma, weft_c, warp_c = 1.0 / 3.0, [0.6, 0.2, 0.1], [0.1, 0.2, 0.6]
+    material = table.material
+    own = (material.fiber.diffuse, material.yarn.interreflection_albedo)
+
+    def dye(c):
+        return [(min(x, 0.999), min(own[1] * x / own[0], 1.0)) for x in c]
+
+    def turn(d):
+        return np.stack([d[:, 1], -d[:, 0], d[:, 2]], axis=1)
+
+    th = np.radians(view_deg)
+    v = np.array([np.sin(th) * np.cos(0.7), np.sin(th) * np.sin(0.7), np.cos(th)])
+    # The integral, midpoint rule on (cos θ, φ): dω = dcos θ dφ.
+    nc, nphi = 600, 1200
+    c = (np.arange(nc) + 0.5) / nc
+    phi = (np.arange(nphi) + 0.5) / nphi * 2 * np.pi
+    C, P = np.meshgrid(c, phi, indexing="ij")
+    S = np.sqrt(1 - C**2)
+    s = np.stack([S * np.cos(P), S * np.sin(P), C], axis=-1).reshape(-1, 3)
+    vv = np.broadcast_to(v, s.shape)
+    f = gamma * table.eval_dyed(s, vv, dye(weft_c)) + (1 - gamma) * table.eval_dyed(
+        turn(s), turn(vv), dye(warp_c)
+    )
+    want = (f * s[:, 2:3]).sum(axis=0) * (1.0 / nc) * (2 * np.pi / nphi)
+
+    # The camera looks along −v at the plane z = 0 (a 20 × 20 rectangle fills its view).
+    d = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 2, "hide_emitters": True},
+        "sensor": {
+            "type": "orthographic",
+            "to_world": mi.ScalarTransform4f()
+            .look_at(origin=(3 * v).tolist(), target=[0, 0, 0], up=[0, 1, 0])
+            .scale([0.5, 0.5, 1]),
+            "film": {"type": "hdrfilm", "width": 16, "height": 16, "rfilter": {"type": "box"}},
+        },
+        "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}},
+        "plane": {
+            "type": "rectangle",
+            "to_world": mi.ScalarTransform4f().scale([10, 10, 1]),
+            "bsdf": {
+                "type": "woven",
+                "table": str(path),
+                "weft_fraction": gamma,
+                "weft_color": {"type": "rgb", "value": weft_c},
+                "warp_color": {"type": "rgb", "value": warp_c},
+            },
+        },
+    }
+    scene = mi.load_dict(d)
+    imgs = np.stack(
+        [np.array(mi.render(scene, spp=256, seed=k), dtype=np.float64)[..., :3] for k in range(4)]
+    )
+    per_seed = imgs.reshape(4, -1, 3).mean(axis=1)
+    got = per_seed.mean(axis=0)
+    se = per_seed.std(axis=0, ddof=1) / 2
+    print(f"furnace at {view_deg}°: render {got}, integral {want}, se {se}")
+    # 1e-3: with 16 seeds the render sits 0.07 % (2.2 se) below the integral at both angles,
+    # not yet explained (float32 directions next to the yarn ridges, where the density is
+    # singular, are a candidate); the test holds it to this.
+    assert (np.abs(got - want) <= 5 * se + 1e-3 * want).all(), (got, want, se)
+    assert (want > 0.02).all() and (want < 1).all(), want
