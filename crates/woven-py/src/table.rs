@@ -148,6 +148,7 @@ impl Table {
             azimuth_nodes: azimuth_nodes.unwrap_or(base.azimuth_nodes),
             colour: colour.unwrap_or(base.colour),
             threads,
+            exact_regions: base.exact_regions,
         };
         let reporter = Reporter::new(progress)?;
         let table = py

@@ -244,9 +244,18 @@ impl Lobes {
         }
     }
 
+    /// Adds `weight` of a lobe, to the same lobe's weight when it is already there (a cell's
+    /// yarn blended into the γ-mix is one of the mix's two yarns: two look-ups, not three).
     #[inline]
     fn push(&mut self, warp: bool, tilt: f64, weight: f64) {
         if weight > 0.0 {
+            if let Some(l) = self.lobes[..self.n]
+                .iter_mut()
+                .find(|l| l.warp == warp && l.tilt == tilt)
+            {
+                l.weight += weight;
+                return;
+            }
             self.lobes[self.n] = Lobe { warp, tilt, weight };
             self.n += 1;
         }

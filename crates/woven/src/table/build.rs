@@ -81,7 +81,7 @@ impl Table {
                 wavelength_nm,
                 None,
                 colour,
-                Some(model),
+                options.exact_regions.then_some(model),
             )
         }))
     }

@@ -7,7 +7,7 @@
 //! | 0 | 8 | magic `b"WOVENTAB"` |
 //! | 8 | 4 | format version, `u32` = 3 |
 //! | 12 | 4 | header length `H`, `u32` |
-//! | 16 | `H` | header: UTF-8 TOML (`symmetry`, grid axes, wavelength, `parts`, the material's TOML) |
+//! | 16 | `H` | header: UTF-8 TOML (`symmetry`, grid axes, wavelength, `parts`, `exact_regions` (absent: true), the material's TOML) |
 //! | 16 + H | 8 | value count `N`, `u64` (= `parts · 2 · n_theta · n_phi · n_h²`) |
 //! | 24 + H | 4N | values, `f32`: `f` at every node as [`Table::values`], then with `parts = 2` `∂f/∂ρ0` ([`Table::body_values`]) |
 //! | 24 + H + 4N | 8 | cell count `M`, `u64` (= `n_theta · n_phi · (n_h − 1)²`) |
@@ -44,7 +44,7 @@ impl Table {
     /// The table serialized in the `.wtab` format.
     pub fn to_bytes(&self) -> Vec<u8> {
         let header = format!(
-            "symmetry = \"{}\"\nn_theta = {}\ntheta_max = {:?}\nn_phi = {}\nn_h = {}\nwavelength_nm = {:?}\nparts = {}\nmaterial = {}\n",
+            "symmetry = \"{}\"\nn_theta = {}\ntheta_max = {:?}\nn_phi = {}\nn_h = {}\nwavelength_nm = {:?}\nparts = {}\nexact_regions = {}\nmaterial = {}\n",
             match self.symmetry {
                 Symmetry::Isotropic => "isotropic",
                 Symmetry::Mirror => "mirror",
@@ -55,6 +55,7 @@ impl Table {
             self.t.n,
             self.wavelength_nm,
             if self.colour.is_some() { 2 } else { 1 },
+            self.exact.is_some(),
             toml_string(
                 &self
                     .material()
@@ -174,6 +175,7 @@ impl Table {
             theta_max,
             wavelength_nm,
             parts,
+            exact_regions,
         } = header;
         let cell_pdf: Vec<f32> = bytes[values_end + 8..payload_end]
             .chunks_exact(4)
@@ -225,7 +227,7 @@ impl Table {
             wavelength_nm,
             Some(cell_pdf),
             colour,
-            Some(&model),
+            exact_regions.then_some(&model),
         );
         Ok(table)
     }
@@ -312,6 +314,7 @@ struct Header {
     theta_max: f64,
     wavelength_nm: f64,
     parts: usize,
+    exact_regions: bool,
 }
 
 /// The wavelengths a table may hold, nm: those a fiber can be prepared at (`Fiber::new`).
@@ -376,6 +379,16 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
         None => 1,
         Some(_) => int("parts", 1, 2)?,
     };
+    // Absent before it was an option: kept (a single-orientation yarn's table then keeps it).
+    let exact_regions = match header.get("exact_regions") {
+        None => true,
+        Some(toml::Value::Boolean(b)) => *b,
+        Some(v) => {
+            return Err(format!(
+                "header key `exact_regions` = {v}: expected true or false"
+            ))
+        }
+    };
     match header.get("material").map(|v| v.as_str()) {
         None => return Err("header key `material` is missing".into()),
         Some(None) => return Err("header key `material` is not a string".into()),
@@ -405,6 +418,7 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
         theta_max,
         wavelength_nm,
         parts,
+        exact_regions,
     })
 }
 

@@ -25,6 +25,12 @@ pub struct TableOptions {
     /// Also tabulate `∂f/∂ρ0`, so that [`Table::eval_dyed`](super::Table::eval_dyed) serves any
     /// dye (twice the values, about twice the build time).
     pub colour: bool,
+    /// Keep the exact model for the pairs no grid holds (a single-orientation yarn's near-forward
+    /// pairs and half vectors near the horizon: [`FORWARD_EXACT`](super::FORWARD_EXACT),
+    /// [`GRAZING_HALF_EXACT`](super::GRAZING_HALF_EXACT)) and evaluate them with it. Off, the
+    /// table interpolates everywhere: some 2 % of uniform pairs, each an exact evaluation
+    /// (~25 µs for the sateen) instead of a look-up, which a renderer's tables skip.
+    pub exact_regions: bool,
 }
 
 impl Default for TableOptions {
@@ -38,6 +44,7 @@ impl Default for TableOptions {
             azimuth_nodes: 180,
             threads: 0,
             colour: false,
+            exact_regions: true,
         }
     }
 }
@@ -91,11 +98,12 @@ impl TableOptions {
         }
     }
 
-    /// The grid a renderer builds on first use ([`colour`](Self::colour) on): coarser than
-    /// [`for_model`](Self::for_model), so a preset builds in seconds. Measured on the presets'
-    /// yarns (`Material::yarn_family`, seed 11, 400 pairs a band; docs/model.md §7): 1.0–1.6 %
-    /// cosine-weighted RMS up to 80° (p99 2.6–6.7 %), 3.8–4.9 % in 80°–89°, within 0.8–2.6 % of
-    /// the peak of `f cos θ_i cos θ_r` up to 80°, 9–18 s of CPU per preset.
+    /// The grid a renderer builds on first use ([`colour`](Self::colour) on, no
+    /// [`exact_regions`](Self::exact_regions)): coarser than [`for_model`](Self::for_model), so
+    /// a preset builds in seconds. Measured on the presets' yarns (`Material::yarn_family`,
+    /// seed 11, 400 pairs a band): 1.0–1.6 % cosine-weighted RMS up to 80° (p99 2.6–6.7 %),
+    /// 3.8–4.9 % in 80°–89°, within 0.8–2.6 % of the peak of `f cos θ_i cos θ_r` up to 80° and
+    /// 2.1–5.9 % in 80°–89°; 5.3 / 8.7 / 7.4 s per preset (sateen / belt / silk) on 2 cores.
     pub fn for_render(model: &Model) -> TableOptions {
         let accurate = TableOptions::for_model(model);
         TableOptions {
@@ -106,6 +114,10 @@ impl TableOptions {
             n_h_isotropic: (accurate.n_h_isotropic * 3 / 16) * 2 + 1,
             azimuth_nodes: 60,
             colour: true,
+            // Exact evaluations cost a render more than all its look-ups together (~2 % of
+            // pairs at ~250× a look-up); the Mitsuba plugin, which cannot call the exact model,
+            // interpolates there too.
+            exact_regions: false,
             ..accurate
         }
     }

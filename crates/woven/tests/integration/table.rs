@@ -680,3 +680,24 @@ fn near_forward_pairs_of_aligned_yarns_are_exact() {
     }
     assert!(hits > 0, "no near-forward draw from θi 85°");
 }
+
+/// `exact_regions = false` (a renderer's tables) interpolates everywhere, also after a file
+/// round trip, and agrees with the table that keeps the exact model outside its regions.
+#[test]
+fn tables_without_exact_regions_interpolate_everywhere() {
+    let (model, with) = table("polyester-sateen");
+    let m = material("polyester-sateen");
+    let options = TableOptions {
+        exact_regions: false,
+        ..small()
+    };
+    let without = Table::build(model, &m, &options, &|_, _| {}).unwrap();
+    let loaded = Table::from_bytes(&without.to_bytes(), "memory").unwrap();
+    let s = Vec3::from_spherical(85f64.to_radians(), 0.2);
+    let forward = Vec3::from_spherical(84f64.to_radians(), 0.2 + PI);
+    assert_eq!(with.eval(s, forward), model.eval(s, forward));
+    assert_ne!(without.eval(s, forward), model.eval(s, forward));
+    assert_eq!(loaded.eval(s, forward), without.eval(s, forward));
+    let v = Vec3::from_spherical(30f64.to_radians(), 1.0);
+    assert_eq!(without.eval(s, v), with.eval(s, v));
+}
