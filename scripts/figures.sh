@@ -63,4 +63,12 @@ if [ -x "$venv/bin/python" ]; then
 else
   echo "   (skipped: no Mitsuba venv at $venv; run bash scripts/mitsuba/ci.sh first)"
 fi
+echo
+echo "== Python package and Mitsuba plugin (scripts/python/bench.py; needs scripts/python/ci.sh's venv)"
+if [ -x "$venv/bin/python" ] && "$venv/bin/python" -c "import woven, mitsuba" 2>/dev/null; then
+  "$venv/bin/python" scripts/python/bench.py --rust
+  "$venv/bin/python" scripts/python/bench.py --mitsuba
+else
+  echo "   (skipped: no venv with woven and mitsuba at $venv; run bash scripts/python/ci.sh first)"
+fi
 echo "results in $OUT"

@@ -92,7 +92,11 @@ def test_jit_lookups_are_the_librarys(llvm, yarn_tables, name):
     alb = [(0.3, 0.5), (0.05, 0.1), (0.9, 0.95)]
     fd = jt.eval_dyed(S, V, mi.Color3f(*[a for a, _ in alb]), mi.Color3f(*[b for _, b in alb]))
     got_d = np.stack([np.array(fd[k]) for k in range(3)], axis=1)
-    far = np.linalg.norm(s32 + v32, axis=1) >= 0.5  # the library is exact nearer forward
+    # Outside the library's exact regions (woven::table: |s + v| < 0.5, or the half vector
+    # within 5° of the horizon), where JIT and library both interpolate.
+    h = s32 + v32
+    norm = np.linalg.norm(h, axis=1)
+    far = (norm >= 0.5) & (h[:, 2] >= np.sin(np.radians(5.0)) * norm)
     want_d = table.eval_dyed(s32, v32, alb)
     rel_d = np.abs(got_d - want_d)[far] / np.maximum(want_d[far], 1e-6 * want_d.max())
     assert rel_d.max() < 2e-4, rel_d.max()
@@ -271,6 +275,10 @@ def plane_scene(tmp_path, light):
         "weft_color = [0.6, 0.2, 0.1]\nwarp_color = [0.1, 0.2, 0.6]\n"
     )
     text = text.replace('material = "roughplastic-equivalent.toml"\n', woven_material)
+    # The plugin looks up each pattern cell (no pixel footprints in Mitsuba's BSDF interface):
+    # the renderer without its fine-weave filter is the same estimator.
+    text = text.replace("[integrator]\n", "[integrator]\nfootprint_filter = false\n")
+    assert "footprint_filter = false" in text
     geometry = sc.load_scene(REPO / "scenes" / "compare" / "roughplastic-plane.toml")
     if light == "environment":
         text = text.replace(

@@ -227,12 +227,26 @@ fn node_density(table: &Table, node: usize, dt: f64, cell_pdf: &mut [f32]) {
                 acc += 4.0 * fc * j;
                 norm += 4.0;
             }
-            // The mean over the cell's valid points times the whole cell's area: a cell the
-            // horizon cuts keeps the density of its valid part (draws in the rest are rejected),
-            // rather than a share diluted by its invalid corners, which left directions next to
-            // the horizon with weights 10× their median.
+            // The mean over the cell's valid points times the area of its valid part: a cell
+            // the horizon cuts keeps the density of its valid part. Its valid fraction is
+            // counted on a 4 × 4 grid, not read off the five points, whose count diluted the
+            // density (weights 7× their median next to the horizon) or, taking the whole cell,
+            // spent mass on rejected draws (6 % of them at 40° on a coarse grid).
+            let fraction = if valid == 4 && centre.is_some() {
+                1.0
+            } else if norm > 0.0 {
+                let inside = (0..16)
+                    .filter(|k| {
+                        let (a, b) = ((k / 4) as f64 + 0.5, (k % 4) as f64 + 0.5);
+                        jacobian(s, t0x + b * dt / 4.0, t0y + a * dt / 4.0).is_some()
+                    })
+                    .count();
+                inside.max(1) as f64 / 16.0
+            } else {
+                0.0
+            };
             weights[iy * nc + ix] = if norm > 0.0 {
-                acc / norm * dt * dt
+                acc / norm * fraction * dt * dt
             } else {
                 0.0
             };
