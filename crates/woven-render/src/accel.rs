@@ -31,6 +31,11 @@ pub struct Accel {
     bvh: CwBvh,
 }
 
+/// Scenes of at most this many primitives are intersected by a loop over all of them: a
+/// hierarchy's traversal costs more than a few sphere or rectangle tests (the one-rectangle
+/// comparison scene ran at half the speed through it).
+const BRUTE_FORCE_MAX: usize = 8;
+
 /// The smallest `f32` at least `x` (for `x ≥ 0`), so culling by it is conservative.
 #[inline]
 fn f32_up(x: f64) -> f32 {
@@ -63,7 +68,7 @@ impl Accel {
                 ))
             })
             .collect();
-        let bvh = if bounds.is_empty() {
+        let bvh = if bounds.len() <= BRUTE_FORCE_MAX {
             CwBvh::default()
         } else {
             obvhs::cwbvh::builder::build_cwbvh(
@@ -104,6 +109,15 @@ impl Accel {
         }
         let mut best: Option<Hit> = None;
         let mut best_t = t_max;
+        if self.prims.len() <= BRUTE_FORCE_MAX {
+            for (index, p) in self.prims.iter().enumerate() {
+                if let Some(h) = p.intersect(ray, t_min, best_t, &self.meshes, index) {
+                    best_t = h.t;
+                    best = Some(h);
+                }
+            }
+            return best;
+        }
         let mut hit = RayHit::none();
         self.bvh
             .ray_traverse(Self::ray_f32(ray, t_max), &mut hit, |_, id| {
@@ -122,8 +136,11 @@ impl Accel {
 
     /// Whether anything lies on the ray with `t` in `(t_min, t_max)` (stops at the first hit).
     pub fn occluded(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        if self.prims.is_empty() {
-            return false;
+        if self.prims.len() <= BRUTE_FORCE_MAX {
+            return self.prims.iter().enumerate().any(|(index, p)| {
+                p.intersect(ray, t_min, t_max, &self.meshes, index)
+                    .is_some()
+            });
         }
         !self
             .bvh
