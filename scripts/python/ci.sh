@@ -43,6 +43,9 @@ if [ -z "$WOVEN_BIN" ]; then
   cargo build --release --locked -q -p woven-cli
   WOVEN_BIN="$TARGET/release/woven"
 fi
+# Absolute paths: the tests run from crates/woven-py.
+WOVEN_BIN=$(realpath -m "$WOVEN_BIN")
+VENV=$(realpath -m "$VENV")
 export WOVEN_BIN
 
 wheels="$TARGET/wheels"
