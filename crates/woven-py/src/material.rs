@@ -385,11 +385,8 @@ impl Model {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
-        let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
         let model = &*self.inner;
-        let out = map_batch::<1, _>(py, n, |i| [model.eval(wi.get(i), wo.get(i))]);
-        scalar_or_array(py, out, wi.single && wo.single)
+        map_pairs(py, wi, wo, |wi, wo| model.eval(wi, wo))
     }
 
     /// The directional albedo ∫ f cos θr dωr for light from polar angle `theta_i` and azimuth
@@ -448,6 +445,20 @@ impl Model {
             self.wavelength_nm
         )
     }
+}
+
+/// `f(wi, wo)` over the pairs of two direction arguments (N, 3) or (3,), broadcast: (N,), or a
+/// float when both are (3,). The GIL is released for large batches ([`map_batch`]).
+pub(crate) fn map_pairs<'py>(
+    py: Python<'py>,
+    wi: &Bound<'py, PyAny>,
+    wo: &Bound<'py, PyAny>,
+    f: impl Fn(woven::Vec3, woven::Vec3) -> f64 + Sync + Send,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
+    let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
+    let out = map_batch::<1, _>(py, n, |i| [f(wi.get(i), wo.get(i))]);
+    scalar_or_array(py, out, wi.single && wo.single)
 }
 
 /// `values` as a float (when `scalar`) or a (N,) array.

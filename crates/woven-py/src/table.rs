@@ -2,7 +2,7 @@
 //! Mitsuba plugin) and `woven.export_merl`.
 
 use crate::arrays::{broadcast, map_batch, Dirs, Numbers};
-use crate::material::{material_arg, scalar_or_array, Material, Model};
+use crate::material::{map_pairs, material_arg, Material, Model};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -231,27 +231,22 @@ impl Table {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
-        let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
         let t = &*self.inner;
-        let out = map_batch::<1, _>(py, n, |i| [t.eval(wi.get(i), wo.get(i))]);
-        scalar_or_array(py, out, wi.single && wo.single)
+        map_pairs(py, wi, wo, |wi, wo| t.eval(wi, wo))
     }
 
-    /// As `eval`, but interpolated everywhere: tables of single-orientation yarns evaluate
-    /// near-forward pairs (|wi + wo| < 0.5) with the exact model; this skips that (what the
-    /// Mitsuba plugin's Dr.Jit code computes).
+    /// As `eval`, but interpolated everywhere: accurate tables of single-orientation yarns
+    /// evaluate near-forward pairs (|wi + wo| < 0.5) and pairs whose half vector lies within 5°
+    /// of the horizon with the exact model; this skips that (what the Mitsuba plugin's Dr.Jit
+    /// code computes).
     fn eval_interpolated<'py>(
         &self,
         py: Python<'py>,
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
-        let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
         let t = &*self.inner;
-        let out = map_batch::<1, _>(py, n, |i| [t.eval_interpolated(wi.get(i), wo.get(i))]);
-        scalar_or_array(py, out, wi.single && wo.single)
+        map_pairs(py, wi, wo, |wi, wo| t.eval_interpolated(wi, wo))
     }
 
     /// The BRDF for other albedos (dyed fibers): `albedos` is (C, 2) — per channel the fiber's
@@ -337,11 +332,8 @@ impl Table {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
-        let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
         let t = &*self.inner;
-        let out = map_batch::<1, _>(py, n, |i| [t.pdf(wi.get(i), wo.get(i))]);
-        scalar_or_array(py, out, wi.single && wo.single)
+        map_pairs(py, wi, wo, |wi, wo| t.pdf(wi, wo))
     }
 
     /// The material the table was built from (None for a table that records none).
