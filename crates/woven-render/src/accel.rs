@@ -8,7 +8,7 @@
 //! hierarchy was 2.3× slower on the showcase (its traversal iterator was a quarter of the
 //! render's time).
 
-use crate::geometry::{Hit, Mesh, Primitive, Ray};
+use crate::geometry::{Crossing, Hit, Mesh, Primitive, Ray};
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
@@ -107,46 +107,47 @@ impl Accel {
         if self.prims.is_empty() {
             return None;
         }
-        let mut best: Option<Hit> = None;
+        // The nearest crossing so far; the hit's details are worked out for it alone.
+        let mut best: Option<(usize, Crossing)> = None;
         let mut best_t = t_max;
         if self.prims.len() <= BRUTE_FORCE_MAX {
             for (index, p) in self.prims.iter().enumerate() {
-                if let Some(h) = p.intersect(ray, t_min, best_t, &self.meshes, index) {
-                    best_t = h.t;
-                    best = Some(h);
+                if let Some(c) = p.crossing(ray, t_min, best_t, &self.meshes) {
+                    best_t = c.t;
+                    best = Some((index, c));
                 }
             }
-            return best;
-        }
-        let mut hit = RayHit::none();
-        self.bvh
-            .ray_traverse(Self::ray_f32(ray, t_max), &mut hit, |_, id| {
-                let index = self.bvh.primitive_indices[id] as usize;
-                match self.prims[index].intersect(ray, t_min, best_t, &self.meshes, index) {
-                    Some(h) => {
-                        best_t = h.t;
-                        best = Some(h);
-                        f32_up(best_t)
+        } else {
+            let mut hit = RayHit::none();
+            self.bvh
+                .ray_traverse(Self::ray_f32(ray, t_max), &mut hit, |_, id| {
+                    let index = self.bvh.primitive_indices[id] as usize;
+                    match self.prims[index].crossing(ray, t_min, best_t, &self.meshes) {
+                        Some(c) => {
+                            best_t = c.t;
+                            best = Some((index, c));
+                            f32_up(best_t)
+                        }
+                        None => f32::INFINITY,
                     }
-                    None => f32::INFINITY,
-                }
-            });
-        best
+                });
+        }
+        best.map(|(index, c)| self.prims[index].hit(ray, c, &self.meshes, index))
     }
 
     /// Whether anything lies on the ray with `t` in `(t_min, t_max)` (stops at the first hit).
     pub fn occluded(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         if self.prims.len() <= BRUTE_FORCE_MAX {
-            return self.prims.iter().enumerate().any(|(index, p)| {
-                p.intersect(ray, t_min, t_max, &self.meshes, index)
-                    .is_some()
-            });
+            return self
+                .prims
+                .iter()
+                .any(|p| p.crossing(ray, t_min, t_max, &self.meshes).is_some());
         }
         !self
             .bvh
             .ray_traverse_miss(Self::ray_f32(ray, t_max), |_, id| {
                 let index = self.bvh.primitive_indices[id] as usize;
-                match self.prims[index].intersect(ray, t_min, t_max, &self.meshes, index) {
+                match self.prims[index].crossing(ray, t_min, t_max, &self.meshes) {
                     Some(_) => 0.0,
                     None => f32::INFINITY,
                 }

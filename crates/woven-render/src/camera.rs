@@ -65,7 +65,7 @@ impl Camera {
     /// The footprint of camera rays (ray differentials): how the ray moves from one film pixel
     /// to the next.
     pub fn footprint(&self) -> RayFootprint {
-        RayFootprint::Camera {
+        RayFootprint {
             forward: self.forward,
             dd_dx: self.right * (2.0 * self.half_width / self.width as f64),
             dd_dy: self.up * (-2.0 * self.half_height / self.height as f64),

@@ -44,6 +44,16 @@ pub struct Hit {
     pub prim: usize,
 }
 
+/// Where a ray crosses a primitive, before the hit's details: the distance, and a rectangle's
+/// `(u, v)` or a triangle's barycentrics `(b1, b2)` (unused by spheres and cylinders).
+#[derive(Clone, Copy, Debug)]
+pub struct Crossing {
+    /// Distance along the ray.
+    pub t: f64,
+    a: f64,
+    b: f64,
+}
+
 /// A primitive's shape.
 #[derive(Clone, Debug)]
 pub enum Primitive {
@@ -161,7 +171,7 @@ impl Primitive {
     }
 
     /// The nearest hit with `t ∈ (t_min, t_max)`, from either side (the caller decides what the
-    /// back side means).
+    /// back side means): [`crossing`](Self::crossing), then [`hit`](Self::hit).
     pub fn intersect(
         &self,
         ray: &Ray,
@@ -170,6 +180,21 @@ impl Primitive {
         meshes: &[Mesh],
         prim: usize,
     ) -> Option<Hit> {
+        self.crossing(ray, t_min, t_max, meshes)
+            .map(|c| self.hit(ray, c, meshes, prim))
+    }
+
+    /// Where `ray` first meets the primitive with `t ∈ (t_min, t_max)`, from either side: the
+    /// distance alone (with what [`hit`](Self::hit) needs to finish), so a traversal that meets
+    /// several candidates, or only asks whether anything is there, works out no more.
+    #[inline]
+    pub fn crossing(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        meshes: &[Mesh],
+    ) -> Option<Crossing> {
         match *self {
             Primitive::Sphere { center, radius } => {
                 let oc = ray.o - center;
@@ -186,42 +211,7 @@ impl Primitive {
                 if t <= t_min {
                     t = -b + sq;
                 }
-                if t <= t_min || t >= t_max {
-                    return None;
-                }
-                let p = ray.at(t);
-                let n = (p - center).normalize();
-                let phi = {
-                    let a = n.y.atan2(n.x);
-                    if a < 0.0 {
-                        a + 2.0 * PI
-                    } else {
-                        a
-                    }
-                };
-                let theta = n.z.clamp(-1.0, 1.0).acos();
-                let (sp, cp) = phi.sin_cos();
-                let (st, ct) = theta.sin_cos();
-                let dpdu = Vec3::new(
-                    -2.0 * PI * radius * st * sp,
-                    2.0 * PI * radius * st * cp,
-                    0.0,
-                );
-                let dpdv = Vec3::new(
-                    PI * radius * ct * cp,
-                    PI * radius * ct * sp,
-                    -PI * radius * st,
-                );
-                Some(Hit {
-                    t,
-                    p,
-                    ng: n,
-                    ns: n,
-                    uv: [phi / (2.0 * PI), theta / PI],
-                    dpdu,
-                    dpdv,
-                    prim,
-                })
+                (t > t_min && t < t_max).then_some(Crossing { t, a: 0.0, b: 0.0 })
             }
             Primitive::Rectangle {
                 corner,
@@ -237,26 +227,13 @@ impl Primitive {
                 if t <= t_min || t >= t_max {
                     return None;
                 }
-                let p = ray.at(t);
-                let d = p - corner;
+                let d = ray.at(t) - corner;
                 // Solve d = a·eu + b·ev in the plane (Cramer's rule with the normal).
                 let nn = n.dot(n);
                 let a = d.cross(edge_v).dot(n) / nn;
                 let b = edge_u.cross(d).dot(n) / nn;
-                if !(0.0..=1.0).contains(&a) || !(0.0..=1.0).contains(&b) {
-                    return None;
-                }
-                let nu = n.normalize();
-                Some(Hit {
-                    t,
-                    p,
-                    ng: nu,
-                    ns: nu,
-                    uv: [a, b],
-                    dpdu: edge_u,
-                    dpdv: edge_v,
-                    prim,
-                })
+                ((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
+                    .then_some(Crossing { t, a, b })
             }
             Primitive::Cylinder { base, axis, radius } => {
                 let len = axis.length();
@@ -277,34 +254,10 @@ impl Primitive {
                     return None;
                 }
                 let sq = disc.sqrt();
-                for t in [(-b - sq) / a, (-b + sq) / a] {
-                    if t <= t_min || t >= t_max {
-                        continue;
-                    }
-                    let z = oz + t * dz;
-                    if z < 0.0 || z > len {
-                        continue;
-                    }
-                    let (x, y) = (ox + t * dx, oy + t * dy);
-                    let mut phi = y.atan2(x);
-                    if phi < 0.0 {
-                        phi += 2.0 * PI;
-                    }
-                    let n = (fx * x + fy * y) * (1.0 / radius);
-                    let n = n.normalize();
-                    let dpdu = (fx * -y + fy * x) * (2.0 * PI);
-                    return Some(Hit {
-                        t,
-                        p: ray.at(t),
-                        ng: n,
-                        ns: n,
-                        uv: [phi / (2.0 * PI), z / len],
-                        dpdu,
-                        dpdv: axis,
-                        prim,
-                    });
-                }
-                None
+                [(-b - sq) / a, (-b + sq) / a]
+                    .into_iter()
+                    .find(|&t| t > t_min && t < t_max && (0.0..=len).contains(&(oz + t * dz)))
+                    .map(|t| Crossing { t, a: 0.0, b: 0.0 })
             }
             Primitive::Triangle { mesh, index } => {
                 let m = &meshes[mesh];
@@ -330,9 +283,92 @@ impl Primitive {
                     return None;
                 }
                 let t = e2.dot(qv) * inv;
-                if t <= t_min || t >= t_max {
-                    return None;
+                (t > t_min && t < t_max).then_some(Crossing { t, a: b1, b: b2 })
+            }
+        }
+    }
+
+    /// The hit of `ray` at a [`crossing`](Self::crossing) of this primitive (index `prim`).
+    pub fn hit(&self, ray: &Ray, c: Crossing, meshes: &[Mesh], prim: usize) -> Hit {
+        let t = c.t;
+        let p = ray.at(t);
+        match *self {
+            Primitive::Sphere { center, radius } => {
+                let n = (p - center).normalize();
+                let phi = {
+                    let a = n.y.atan2(n.x);
+                    if a < 0.0 {
+                        a + 2.0 * PI
+                    } else {
+                        a
+                    }
+                };
+                let theta = n.z.clamp(-1.0, 1.0).acos();
+                let (sp, cp) = phi.sin_cos();
+                let (st, ct) = theta.sin_cos();
+                let dpdu = Vec3::new(
+                    -2.0 * PI * radius * st * sp,
+                    2.0 * PI * radius * st * cp,
+                    0.0,
+                );
+                let dpdv = Vec3::new(
+                    PI * radius * ct * cp,
+                    PI * radius * ct * sp,
+                    -PI * radius * st,
+                );
+                Hit {
+                    t,
+                    p,
+                    ng: n,
+                    ns: n,
+                    uv: [phi / (2.0 * PI), theta / PI],
+                    dpdu,
+                    dpdv,
+                    prim,
                 }
+            }
+            Primitive::Rectangle { edge_u, edge_v, .. } => {
+                let nu = edge_u.cross(edge_v).normalize();
+                Hit {
+                    t,
+                    p,
+                    ng: nu,
+                    ns: nu,
+                    uv: [c.a, c.b],
+                    dpdu: edge_u,
+                    dpdv: edge_v,
+                    prim,
+                }
+            }
+            Primitive::Cylinder { base, axis, radius } => {
+                let len = axis.length();
+                let w = axis * (1.0 / len);
+                let (fx, fy) = orthonormal_basis(w);
+                let o = p - base;
+                let (x, y, z) = (o.dot(fx), o.dot(fy), o.dot(w).clamp(0.0, len));
+                let mut phi = y.atan2(x);
+                if phi < 0.0 {
+                    phi += 2.0 * PI;
+                }
+                let n = ((fx * x + fy * y) * (1.0 / radius)).normalize();
+                let dpdu = (fx * -y + fy * x) * (2.0 * PI);
+                Hit {
+                    t,
+                    p,
+                    ng: n,
+                    ns: n,
+                    uv: [phi / (2.0 * PI), z / len],
+                    dpdu,
+                    dpdv: axis,
+                    prim,
+                }
+            }
+            Primitive::Triangle { mesh, index } => {
+                let m = &meshes[mesh];
+                let [i0, i1, i2] = m.indices[index].map(|i| i as usize);
+                let (p0, p1, p2) = (m.positions[i0], m.positions[i1], m.positions[i2]);
+                let (e1, e2) = (p1 - p0, p2 - p0);
+                let (b1, b2) = (c.a, c.b);
                 let b0 = 1.0 - b1 - b2;
                 let ng = e1.cross(e2).normalize();
                 let (uv0, uv1, uv2) = if m.uvs.is_empty() {
@@ -372,16 +408,16 @@ impl Primitive {
                         ng
                     }
                 };
-                Some(Hit {
+                Hit {
                     t,
-                    p: ray.at(t),
+                    p,
                     ng,
                     ns,
                     uv,
                     dpdu,
                     dpdv,
                     prim,
-                })
+                }
             }
         }
     }
@@ -438,32 +474,18 @@ impl Frame {
     }
 }
 
-/// The widening of a ray's footprint per metre travelled after a bounce, radians: a reflected
-/// ray's footprint is estimated as a cone widening this much, a conservative stand-in for the glossy and diffuse lobes of cloth, which spread a pixel's
-/// paths over a tenth of a radian or more. Wider footprints only move the woven material
-/// toward its macro BRDF, the mean of its cells.
-pub const BOUNCE_SPREAD: f64 = 0.1;
-
-/// How wide a path's pixel is where its ray meets a surface: ray differentials for camera rays
-/// (exact for the pinhole, anisotropic), a cone after a bounce.
+/// How wide a pixel is where its camera ray meets a surface: ray differentials (exact for the
+/// pinhole, anisotropic).
+/// A camera ray is `o + s·D` with `D = d/(d·forward)`; the footprint holds `∂D/∂x` and
+/// `∂D/∂y` per film pixel.
 #[derive(Clone, Copy, Debug)]
-pub enum RayFootprint {
-    /// A camera ray `o + s·D`, `D = d/(d·forward)`: `∂D/∂x` and `∂D/∂y` per film pixel.
-    Camera {
-        /// The camera's view direction.
-        forward: Vec3,
-        /// `∂D/∂x`, per pixel.
-        dd_dx: Vec3,
-        /// `∂D/∂y`, per pixel.
-        dd_dy: Vec3,
-    },
-    /// A cone: `width + t·spread` across at distance `t` from the ray's origin, metres.
-    Cone {
-        /// Width at the origin, metres.
-        width: f64,
-        /// Growth per metre, radians.
-        spread: f64,
-    },
+pub struct RayFootprint {
+    /// The camera's view direction.
+    pub forward: Vec3,
+    /// `∂D/∂x`, per pixel.
+    pub dd_dx: Vec3,
+    /// `∂D/∂y`, per pixel.
+    pub dd_dy: Vec3,
 }
 
 impl RayFootprint {
@@ -471,34 +493,13 @@ impl RayFootprint {
     /// pixel to the next along `x` and `y`, both in the tangent plane.
     pub fn world(&self, ray: &Ray, hit: &Hit) -> [Vec3; 2] {
         let n = hit.ng;
-        match *self {
-            RayFootprint::Camera {
-                forward,
-                dd_dx,
-                dd_dy,
-            } => {
-                // p = o + s D with s = t (d·forward); moving D by dD keeps p on the tangent
-                // plane: dp = s (dD − D (n·dD)/(n·D)).
-                let f = ray.d.dot(forward);
-                let big_d = ray.d * (1.0 / f);
-                let s = hit.t * f;
-                let nd = n.dot(big_d);
-                [dd_dx, dd_dy].map(|dd| (dd - big_d * (n.dot(dd) / nd)) * s)
-            }
-            RayFootprint::Cone { width, spread } => {
-                let w = width + hit.t * spread;
-                // The cone's cross-section, stretched by 1/cos θ along the ray's projection.
-                let cos = ray.d.dot(n).abs().max(1e-3);
-                let along = ray.d - n * ray.d.dot(n);
-                let l = along.length();
-                let e1 = if l > 1e-12 {
-                    along * (1.0 / l)
-                } else {
-                    orthonormal_basis(n).0
-                };
-                [e1 * (w / cos), n.cross(e1) * w]
-            }
-        }
+        // p = o + s D with s = t (d·forward); moving D by dD keeps p on the tangent plane:
+        // dp = s (dD − D (n·dD)/(n·D)).
+        let f = ray.d.dot(self.forward);
+        let big_d = ray.d * (1.0 / f);
+        let s = hit.t * f;
+        let nd = n.dot(big_d);
+        [self.dd_dx, self.dd_dy].map(|dd| (dd - big_d * (n.dot(dd) / nd)) * s)
     }
 
     /// The footprint at `hit` in uv: `[[∂u/∂x, ∂v/∂x], [∂u/∂y, ∂v/∂y]]` (least squares through
@@ -516,21 +517,6 @@ impl RayFootprint {
                 [f64::INFINITY; 2]
             }
         })
-    }
-
-    /// The footprint of the ray reflected at `hit`: a cone starting as wide as this footprint
-    /// there (the side of a square of its area) and widening by [`BOUNCE_SPREAD`] beyond.
-    pub fn bounced(&self, ray: &Ray, hit: &Hit) -> RayFootprint {
-        let [a, b] = self.world(ray, hit);
-        let width = a.cross(b).length().sqrt();
-        let spread = match *self {
-            RayFootprint::Camera { .. } => BOUNCE_SPREAD,
-            RayFootprint::Cone { spread, .. } => spread.max(BOUNCE_SPREAD),
-        };
-        RayFootprint::Cone {
-            width: if width.is_finite() { width } else { 1e30 },
-            spread,
-        }
     }
 }
 

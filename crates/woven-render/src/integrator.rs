@@ -70,7 +70,8 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
     // count in full).
     let mut prev_pdf = f64::INFINITY;
     let mut depth: u32 = 0;
-    // The pixel's footprint along the path, for filtering fine weaves (None: the filter is off).
+    // The pixel's footprint at the camera vertex, for filtering fine weaves (None: the filter is
+    // off, and past the first vertex).
     let mut footprint = settings.footprint_filter.then(|| scene.camera.footprint());
 
     loop {
@@ -197,7 +198,8 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         if beta.is_black() || !beta.is_valid() {
             break;
         }
-        footprint = footprint.map(|f| f.bounced(&ray, &hit));
+        // The filter is for what the camera sees: later vertices shade with their cell's yarn.
+        footprint = None;
         ray = spawn(&hit, wi);
     }
     l

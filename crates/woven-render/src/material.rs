@@ -17,8 +17,8 @@ pub struct ShadingPoint {
     /// The surface parameters `(u, v)` at the point.
     pub uv: [f64; 2],
     /// The footprint of the path's pixel at the point, in uv: `[[∂u/∂x, ∂v/∂x], [∂u/∂y, ∂v/∂y]]`,
-    /// the change of `(u, v)` from one film pixel to the next along `x` and along `y` (a wider
-    /// estimate after a bounce: [`RayFootprint`](crate::geometry::RayFootprint)). All zero: a
+    /// the change of `(u, v)` from one film pixel to the next along `x` and along `y`
+    /// ([`RayFootprint`](crate::geometry::RayFootprint); camera vertices only). All zero: a
     /// point (no filtering); infinite entries: a footprint wider than any pattern.
     pub footprint: [[f64; 2]; 2],
 }
