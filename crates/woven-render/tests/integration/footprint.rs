@@ -372,8 +372,8 @@ fn showcase_noise_with_and_without_the_filter() {
     let mut owner = Vec::new();
     for filter in [false, true] {
         let text = SHOWCASE_SCENE.replace(
-            "max_depth = 6\n",
-            &format!("max_depth = 6\nfootprint_filter = {filter}\n"),
+            "[integrator]\n",
+            &format!("[integrator]\nfootprint_filter = {filter}\n"),
         );
         let mut desc = SceneDescription::from_str(&text, "<showcase>", Path::new(".")).unwrap();
         assert_eq!(desc.integrator.footprint_filter, filter);
