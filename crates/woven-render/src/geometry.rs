@@ -188,13 +188,7 @@ impl Primitive {
     /// distance alone (with what [`hit`](Self::hit) needs to finish), so a traversal that meets
     /// several candidates, or only asks whether anything is there, works out no more.
     #[inline]
-    pub fn crossing(
-        &self,
-        ray: &Ray,
-        t_min: f64,
-        t_max: f64,
-        meshes: &[Mesh],
-    ) -> Option<Crossing> {
+    pub fn crossing(&self, ray: &Ray, t_min: f64, t_max: f64, meshes: &[Mesh]) -> Option<Crossing> {
         match *self {
             Primitive::Sphere { center, radius } => {
                 let oc = ray.o - center;
@@ -232,8 +226,11 @@ impl Primitive {
                 let nn = n.dot(n);
                 let a = d.cross(edge_v).dot(n) / nn;
                 let b = edge_u.cross(d).dot(n) / nn;
-                ((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
-                    .then_some(Crossing { t, a, b })
+                ((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)).then_some(Crossing {
+                    t,
+                    a,
+                    b,
+                })
             }
             Primitive::Cylinder { base, axis, radius } => {
                 let len = axis.length();

@@ -4,6 +4,7 @@
 mod analytic;
 mod files;
 mod footprint;
+mod furnace;
 mod scene_file;
 mod strategies;
 mod woven_surfaces;
