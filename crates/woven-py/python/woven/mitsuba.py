@@ -195,16 +195,17 @@ class JitTable:
                 self._locate(self.t, self._t_of_slope(hx / hz)),
             )
 
-        unturned = locate_h(h.x, h.y, h.z)
         phi_nodes = [(0, 1.0 - wp), (1, wp)] if self.n_phi > 1 else [(0, F(1.0))]
-        turns = (turn > 0) if self.n_phi > 1 else None
         num = [F(0.0) for _ in arrays]
         den = F(0.0)
         base_half = half * self.half_len
         for b, fb in phi_nodes:
-            if turns is None:
-                (iy, wy), (ix, wx) = unturned
+            if self.n_phi == 1:
+                (iy, wy), (ix, wx) = locate_h(h.x, h.y, h.z)
             else:
+                # Where the Rust code skips the turn (turn = 0) the turn below is by an angle of
+                # exactly 0: sincos(0) = (0, 1) leaves h bit for bit, so one path serves both
+                # (SIMD lanes would compute both paths anyway).
                 cb = dr.gather(F, self.phi_c, ip + b, active)
                 sb = dr.gather(F, self.phi_s, ip + b, active)
                 c = cb * qc + sb * qs
@@ -213,10 +214,7 @@ class JitTable:
                 s2, c2 = dr.sincos(ang)
                 full = turn >= 1.0
                 c, sn = dr.select(full, c, c2), dr.select(full, sn, s2)
-                (tiy, twy), (tix, twx) = locate_h(c * h.x - sn * h.y, sn * h.x + c * h.y, h.z)
-                (uiy, uwy), (uix, uwx) = unturned
-                iy, wy = dr.select(turns, tiy, uiy), dr.select(turns, twy, uwy)
-                ix, wx = dr.select(turns, tix, uix), dr.select(turns, twx, uwx)
+                (iy, wy), (ix, wx) = locate_h(c * h.x - sn * h.y, sn * h.x + c * h.y, h.z)
             py = [dr.gather(F, self.slopes, iy + k, active) for k in (0, 1)]
             px = [dr.gather(F, self.slopes, ix + k, active) for k in (0, 1)]
             for a, fa in ((0, 1.0 - wt), (1, wt)):
@@ -567,17 +565,27 @@ def _bsdf_class(mi):
             return p
 
         def _sample_jit(self, si, sample1, sample2, active):
+            """(wo, pdf, ok): a draw and its density, the mixture's where two families mix. The
+            drawn family's density is the draw's own (the cell its sampler chose), so only the
+            other family's is looked up."""
             wi = si.wi
+            g = self.gamma
             if self.layout == "table":
                 warp = mi.Bool(False)
             elif self.layout == "pattern":
                 warp = self._warp_on_top(si)
             else:
-                warp = mi.Bool(sample1 >= self.gamma)
+                warp = mi.Bool(sample1 >= g)
             wi_t = dr.select(warp, _to_warp(mi, wi), wi)
-            d, _, ok = self.jt.sample_direction(wi_t, sample2.x, sample2.y, active)
+            d, pdf, ok = self.jt.sample_direction(wi_t, sample2.x, sample2.y, active)
             wo = dr.select(warp, _from_warp(mi, d), d)
-            return wo, ok
+            if self.layout == "macro" and 0 < g < 1:
+                # The other family's density, in its own frame.
+                wi_o = dr.select(warp, wi, _to_warp(mi, wi))
+                wo_o = dr.select(warp, wo, _to_warp(mi, wo))
+                other = self.jt.pdf(wi_o, wo_o, active & ok)
+                pdf = dr.select(warp, (1.0 - g) * pdf + g * other, g * pdf + (1.0 - g) * other)
+            return wo, pdf, ok
 
         # -- the BSDF interface ----------------------------------------------------------------
 
@@ -611,19 +619,20 @@ def _bsdf_class(mi):
             if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection):
                 return bs, mi.Color3f(0.0)
             if jit:
-                wo, ok = self._sample_jit(si, sample1, sample2, active)
-                active &= ok
+                wo, pdf, ok = self._sample_jit(si, sample1, sample2, active)
+                active &= ok & (wo.z > 0)
+                pdf = dr.select(active, pdf, 0.0)
             else:
                 if not active:
                     return bs, mi.Color3f(0.0)
                 wo = self._rust_sample(si, sample1, sample2)
                 if wo is None:
                     return bs, mi.Color3f(0.0)
+                pdf = self.pdf(ctx, si, wo, active)
             bs.wo = wo
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
             bs.sampled_component = mi.UInt32(0)
-            pdf = self.pdf(ctx, si, wo, active)
             f = self.eval(ctx, si, wo, active)
             active &= pdf > 0
             bs.pdf = dr.select(active, pdf, 0.0)
