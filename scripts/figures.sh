@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's speed and table figures, from one run on the machine at hand (about 17 minutes on
 # two idle cores). Prints each figure with the command behind it; nothing is written outside
-# target/ and $OUT (default: a temporary folder).
+# target/ and $OUT (default: a temporary folder). ONLY="showcase python" runs just those
+# sections (bench, tables, load, showcase, mitsuba, python), for re-measuring what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-$(mktemp -d)}
@@ -10,12 +11,18 @@ export CARGO_TERM_COLOR=never
 echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo), load $(cut -d' ' -f1-3 /proc/loadavg)"
 cargo build --release --locked -p woven-cli -q
 woven=target/release/woven
+venv=${MITSUBA_VENV:-target/mitsuba-venv}
+want() { [ -z "${ONLY:-}" ] || [[ " $ONLY " == *" $1 "* ]]; }
 
+if want bench; then
 echo
 echo "== criterion: cargo bench -p woven (fiber, cloth, table), -p woven-cli (eval), -p woven-render (render)"
 cargo bench --locked -p woven -p woven-cli -p woven-render 2>&1 | grep -E "^[a-z_0-9]+/|time:|thrpt:" | tee "$OUT/bench.txt"
 
 echo
+fi
+
+if want tables; then
 echo "== tables: woven tabulate -m M -o M.wtab --report (wall time, file size, accuracy by band)"
 smooth="$OUT/smooth-sateen.toml"
 $woven materials --show polyester-sateen | sed 's/^roughness = 0.05/roughness = 0.02/' > "$smooth"
@@ -26,7 +33,9 @@ for m in polyester-sateen belt-cloth silk "$smooth"; do
   time $woven tabulate -m "$m" -o "$OUT/$name.wtab" --report
   echo
 done
+fi
 
+if want load; then
 echo "== load: woven eval --table on 10^6 rows, and the exact belt cloth on 10^3 rows"
 python3 - "$OUT/dirs.csv" <<'PY'
 import math, random, sys
@@ -46,7 +55,9 @@ TIMEFORMAT="   eval exact silk, 10^3 rows: %R s wall, %U s user"
 time $woven eval -m silk --input "$OUT/dirs1k.csv" -o "$OUT/s.csv"
 TIMEFORMAT="   woven gonio (the goniometer job): %R s wall"
 (cd "$OUT" && time "$OLDPWD/$woven" gonio > /dev/null)
+fi
 
+if want showcase; then
 echo
 echo "== bare woven: the showcase render, with a cold table cache (tables built) and a warm one"
 TIMEFORMAT="   bare woven, cold cache: %R s wall"
@@ -54,15 +65,19 @@ TIMEFORMAT="   bare woven, cold cache: %R s wall"
 TIMEFORMAT="   bare woven, warm cache: %R s wall"
 (cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$OLDPWD/$woven")
 cp "$OUT/woven-out/showcase.png" "$OUT/showcase.png"
+fi
 
+if want mitsuba; then
 echo
 echo "== woven render against Mitsuba 3 (scene (ii), 512x512, 64 spp; needs scripts/mitsuba/ci.sh's venv)"
-venv=${MITSUBA_VENV:-target/mitsuba-venv}
 if [ -x "$venv/bin/python" ]; then
   "$venv/bin/python" scripts/mitsuba/bench.py --woven "$woven"
 else
   echo "   (skipped: no Mitsuba venv at $venv; run bash scripts/mitsuba/ci.sh first)"
 fi
+fi
+
+if want python; then
 echo
 echo "== Python package and Mitsuba plugin (scripts/python/bench.py; needs scripts/python/ci.sh's venv)"
 if [ -x "$venv/bin/python" ] && "$venv/bin/python" -c "import woven, mitsuba" 2>/dev/null; then
@@ -71,4 +86,6 @@ if [ -x "$venv/bin/python" ] && "$venv/bin/python" -c "import woven, mitsuba" 2>
 else
   echo "   (skipped: no venv with woven and mitsuba at $venv; run bash scripts/python/ci.sh first)"
 fi
+fi
+
 echo "results in $OUT"
