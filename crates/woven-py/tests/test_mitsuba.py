@@ -435,17 +435,21 @@ def test_white_furnace_plane_is_the_hemisphere_integral(llvm, yarn_tables, view_
         },
     }
     scene = mi.load_dict(d)
+    seeds = 16
     imgs = np.stack(
-        [np.array(mi.render(scene, spp=256, seed=k), dtype=np.float64)[..., :3] for k in range(4)]
+        [
+            np.array(mi.render(scene, spp=64, seed=k), dtype=np.float64)[..., :3]
+            for k in range(seeds)
+        ]
     )
-    per_seed = imgs.reshape(4, -1, 3).mean(axis=1)
+    per_seed = imgs.reshape(seeds, -1, 3).mean(axis=1)
     got = per_seed.mean(axis=0)
-    se = per_seed.std(axis=0, ddof=1) / 2
+    se = per_seed.std(axis=0, ddof=1) / np.sqrt(seeds)
     print(f"furnace at {view_deg}°: render {got}, integral {want}, se {se}")
-    # 1e-3: with 16 seeds the render sits 0.07 % (2.2 se) below the integral at both angles,
-    # not yet explained (float32 directions next to the yarn ridges, where the density is
-    # singular, are a candidate); the test holds it to this.
-    assert (np.abs(got - want) <= 5 * se + 1e-3 * want).all(), (got, want, se)
+    # 1e-4: float32 rounding. (The render sat 0.07 % low while `sample` divided by a density
+    # looked up again for the drawn direction, which float32 could put in the neighbouring
+    # cell; it now reports the draw's own.)
+    assert (np.abs(got - want) <= 5 * se + 1e-4 * want).all(), (got, want, se)
     assert (want > 0.02).all() and (want < 1).all(), want
 
 
