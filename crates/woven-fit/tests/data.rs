@@ -229,6 +229,12 @@ fn fitter_csv_round_trips_exactly() {
     };
     let path = dir.join("mono.csv");
     fitcsv::save(&mono_set, &path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.contains(",1e-300,"),
+        "tiny numbers in scientific notation"
+    );
+    assert!(text.lines().all(|l| l.len() < 150), "{text}");
     let back = data::load(&path).unwrap();
     assert_eq!(back.samples, mono_set.samples);
     assert_eq!(back.name, "a, b \"c\" d");
@@ -379,7 +385,8 @@ fn curet_dat_bad_rows_name_the_line_and_the_column() {
     ];
     for (text, line, column, what) in cases {
         std::fs::write(&dat, text).unwrap();
-        assert_parse_error(data::load(&dat), line, column, what);
+        let first = data::load_all(&dat).map(|mut sets| sets.remove(0));
+        assert_parse_error(first, line, column, what);
     }
     std::fs::write(&dat, "1 0.1 0.2 0.3\n").unwrap();
     std::fs::write(&table, "1 1.0 0.5 0.2 -0.5\n3 0.3 0 1.2 3.0\n").unwrap();
@@ -798,5 +805,65 @@ proptest! {
         bytes.extend_from_slice(&tail);
         let _ = rgl_bsdf::TensorFile::parse(Path::new("x.bsdf"), &bytes);
         let _ = rgl_bsdf::read(Path::new("x.bsdf"), &bytes);
+    }
+}
+
+/// The published fits' error on the MERL grids, as a Markdown table (docs/fitting.md, "Datasets"):
+/// `cargo test --release -p woven-fit --test data published_fit_errors -- --ignored --nocapture`.
+#[test]
+#[ignore = "prints a table for the docs"]
+fn published_fit_errors() {
+    println!("| material | SGD median ratio | SGD RMS ln | ABC median ratio | ABC RMS ln |");
+    println!("|---|---|---|---|---|");
+    for b in bundled().into_iter().filter(|b| b.family == Family::Merl) {
+        let d = b.load().unwrap();
+        let (sgd, abc) = published::for_material(&b.name).unwrap();
+        let (med_s, rms_s) = log_error(&d, |wi, wo| sgd.eval(wi, wo));
+        let (med_a, rms_a) = log_error(&d, |wi, wo| abc.eval(wi, wo));
+        println!(
+            "| {} | {:.3} | {rms_s:.3} | {:.3} | {rms_a:.3} |",
+            b.name,
+            med_s.exp(),
+            med_a.exp()
+        );
+    }
+}
+
+/// The bundled datasets at a glance, as a Markdown table (docs/fitting.md, "Datasets"):
+/// `cargo test --release -p woven-fit --test data bundled_summary -- --ignored --nocapture`.
+#[test]
+#[ignore = "prints a table for the docs"]
+fn bundled_summary() {
+    println!("| dataset | family | samples | max θi, θr | values (sr⁻¹): min / median / max | calibration |");
+    println!("|---|---|---|---|---|---|");
+    for b in bundled() {
+        let d = b.load().unwrap();
+        let mut v: Vec<f64> = d
+            .samples
+            .iter()
+            .map(|s| match s.value {
+                Value::Mono(v) => v,
+                Value::Rgb(c) => (c[0] + c[1] + c[2]) / 3.0,
+            })
+            .collect();
+        v.sort_by(f64::total_cmp);
+        let max_t =
+            |f: fn(&Sample) -> f64| d.samples.iter().map(f).fold(0.0, f64::max).to_degrees();
+        println!(
+            "| {} | {} | {} | {:.1}°, {:.1}° | {:.3} / {:.3} / {:.3} | {} |",
+            b.name,
+            b.family.name(),
+            d.samples.len(),
+            max_t(|s| s.theta_i),
+            max_t(|s| s.theta_r),
+            v[0],
+            v[v.len() / 2],
+            v[v.len() - 1],
+            if d.relative {
+                "relative, grey"
+            } else {
+                "absolute, RGB"
+            }
+        );
     }
 }

@@ -63,6 +63,59 @@ fn matches(selector: &str, number: u32, file_name: Option<&str>) -> bool {
     names.iter().flatten().any(|n| n.to_ascii_lowercase() == s)
 }
 
+/// The sample number in the first field of a row of `abrdf.dat` or the long CSV.
+fn sample_number(cell: Cell<'_>, text: &str) -> Result<u32, DataError> {
+    let n = cell.number(text)?;
+    if n.fract() != 0.0 || !(1.0..=1000.0).contains(&n) {
+        return Err(cell.error(format!("sample number {n} is not an integer in [1, 1000]")));
+    }
+    Ok(n as u32)
+}
+
+/// The dataset names of the samples in `abrdf.dat` (contents `bytes`), in file order, without
+/// reading their values.
+///
+/// # Errors
+/// [`DataError::Parse`] for a bad sample number.
+pub fn list_dat(path: &Path, bytes: &[u8]) -> Result<Vec<String>, DataError> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut out = Vec::new();
+    for (k, line) in text.lines().enumerate() {
+        if let Some(first) = line.split_whitespace().next() {
+            let cell = Cell {
+                path,
+                line: k as u64 + 1,
+                column: "sample",
+            };
+            out.push(dataset_name(sample_number(cell, first)?));
+        }
+    }
+    Ok(out)
+}
+
+/// The dataset names of the samples in the long-format CSV (contents `bytes`), in the order of
+/// their first rows, without reading their values.
+///
+/// # Errors
+/// As [`read_csv`], for the header and the `sample` column.
+pub fn list_csv(path: &Path, bytes: &[u8]) -> Result<Vec<String>, DataError> {
+    let mut table = CsvTable::new(path, bytes)?;
+    let col = table.require("sample", "the CUReT long-format CSV has a `sample` column")?;
+    let mut numbers: Vec<u32> = Vec::new();
+    while let Some((line, record)) = table.next_record()? {
+        let cell = Cell {
+            path,
+            line,
+            column: "sample",
+        };
+        let n = sample_number(cell, record.get(col).unwrap_or(""))?;
+        if !numbers.contains(&n) {
+            numbers.push(n);
+        }
+    }
+    Ok(numbers.into_iter().map(dataset_name).collect())
+}
+
 /// Reads `table.txt`: for each measurement, `(theta_v, phi_v, theta_i, phi_i)` in radians.
 fn read_table(path: &Path, bytes: &[u8]) -> Result<Vec<[f64; 4]>, DataError> {
     const COLUMNS: [&str; 5] = ["meas", "theta_v", "phi_v", "theta_i", "phi_i"];
@@ -143,11 +196,7 @@ pub fn read_dat(
             line: line_no,
             column: "sample",
         };
-        let n = first.number(fields[0])?;
-        if n.fract() != 0.0 || !(1.0..=1000.0).contains(&n) {
-            return Err(first.error(format!("sample number {n} is not an integer in [1, 1000]")));
-        }
-        let number = n as u32;
+        let number = sample_number(first, fields[0])?;
         if numbers.contains(&number) {
             return Err(first.error(format!("sample {number} appears twice")));
         }
@@ -255,11 +304,7 @@ pub fn read_csv(
             column: &headers[cols[k]],
         };
         let field = |k: usize| record.get(cols[k]).unwrap_or("");
-        let n = cell(0).number(field(0))?;
-        if n.fract() != 0.0 || !(1.0..=1000.0).contains(&n) {
-            return Err(cell(0).error(format!("sample number {n} is not an integer in [1, 1000]")));
-        }
-        let number = n as u32;
+        let number = sample_number(cell(0), field(0))?;
         if !numbers.contains(&number) {
             numbers.push(number);
         }

@@ -166,14 +166,31 @@ pub fn write(dataset: &Dataset, out: &mut dyn Write) -> io::Result<()> {
     }
     writeln!(out, "{}", if rgb { HEADER_RGB } else { HEADER_MONO })?;
     for s in &dataset.samples {
-        write!(out, "{},{},{},{},", s.theta_i, s.phi_i, s.theta_r, s.phi_r)?;
+        let (a, b, c, d) = (s.theta_i, s.phi_i, s.theta_r, s.phi_r);
+        write!(out, "{},{},{},{},", Num(a), Num(b), Num(c), Num(d))?;
         match s.value {
-            Value::Mono(v) => write!(out, "{v}")?,
-            Value::Rgb([r, g, b]) => write!(out, "{r},{g},{b}")?,
+            Value::Mono(v) => write!(out, "{}", Num(v))?,
+            Value::Rgb([r, g, b]) => write!(out, "{},{},{}", Num(r), Num(g), Num(b))?,
         }
-        writeln!(out, ",{}", s.weight)?;
+        writeln!(out, ",{}", Num(s.weight))?;
     }
     Ok(())
+}
+
+/// A number in the shortest text that reads back as the same `f64`: plain for magnitudes in
+/// `[1e-5, 1e16)` and 0, scientific otherwise (Rust's `{}` never switches to an exponent and
+/// would spell 1e-300 with 300 zeros).
+struct Num(f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
 }
 
 /// Writes `dataset` to `path` as the fitter CSV ([`write()`]), atomically: a reader never sees half

@@ -228,21 +228,45 @@ fn read_any(path: &Path, selector: Option<&str>) -> Result<(Vec<Dataset>, Format
 /// [`DataError::Parse`] naming the line and the column of a bad row.
 pub fn load(path: &Path) -> Result<Dataset, DataError> {
     let (file, selector) = split_selector(path);
-    let (mut sets, format) = read_any(&file, selector.as_deref())?;
-    if sets.len() > 1 {
-        let names: Vec<&str> = sets.iter().take(12).map(|d| d.name.as_str()).collect();
-        return Err(rows::format_error(
-            &file,
-            format!(
-                "a {} with {} materials: pick one with FILE#NUMBER or FILE#NAME ({}{})",
-                format.name(),
-                sets.len(),
-                names.join(", "),
-                if sets.len() > 12 { ", …" } else { "" }
-            ),
-        ));
+    if selector.is_none() {
+        // A file of several materials is refused before its values are read.
+        let names = materials(&file)?;
+        if names.len() > 1 {
+            let format = format_of(&file)?;
+            let shown: Vec<&str> = names.iter().take(12).map(String::as_str).collect();
+            return Err(rows::format_error(
+                &file,
+                format!(
+                    "a {} with {} materials: pick one with FILE#NUMBER or FILE#NAME ({}{})",
+                    format.name(),
+                    names.len(),
+                    shown.join(", "),
+                    if names.len() > 12 { ", …" } else { "" }
+                ),
+            ));
+        }
     }
+    let (mut sets, _) = read_any(&file, selector.as_deref())?;
     Ok(sets.remove(0))
+}
+
+/// The names of the materials in `path` ([`Dataset::name`] of each), without reading the values
+/// of a file of several (CUReT); a file of one material is read whole.
+///
+/// # Errors
+/// As [`load`].
+pub fn materials(path: &Path) -> Result<Vec<String>, DataError> {
+    let (file, selector) = split_selector(path);
+    let bytes = rows::read_file(&file)?;
+    match (detect(&file, &bytes)?, selector) {
+        (Format::CuretDat, None) => curet::list_dat(&file, &bytes),
+        (Format::CuretCsv, None) => curet::list_csv(&file, &bytes),
+        (_, selector) => Ok(read_any(&file, selector.as_deref())?
+            .0
+            .into_iter()
+            .map(|d| d.name)
+            .collect()),
+    }
 }
 
 /// Reads every material in `path` (one for most formats; each sample of a CUReT file), or the one
