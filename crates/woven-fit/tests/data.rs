@@ -497,18 +497,46 @@ fn tensor_file() -> Vec<u8> {
 }
 
 #[test]
-fn rgl_bsdf_directory_is_parsed_and_evaluation_is_refused_with_a_pointer() {
+fn rgl_bsdf_evaluates_to_its_grid() {
+    // The white felt's .bsdf, evaluated by our port of RGL's parameterisation, against the grid
+    // RGL's reference loader made of it (6 significant digits).
+    let dir = data::data_dir().join("rgl");
+    let bsdf = data::load(&dir.join("acrylic_felt_white_rgb.bsdf")).unwrap();
+    let grid = data::load(&dir.join("acrylic_felt_white_rgb.grid.csv")).unwrap();
+    assert_eq!(bsdf.name, "acrylic_felt_white_rgb");
+    assert_eq!(bsdf.samples.len(), grid.samples.len());
+    let mut worst: (f64, usize) = (0.0, 0);
+    for (k, (a, b)) in bsdf.samples.iter().zip(&grid.samples).enumerate() {
+        assert!((a.theta_i - b.theta_i).abs() < 1e-12 && (a.theta_r - b.theta_r).abs() < 1e-12);
+        assert!((a.phi_r - b.phi_r).abs() < 1e-12 && a.phi_i == b.phi_i);
+        for (x, y) in rgb(a).iter().zip(rgb(b)) {
+            let err = (x - y).abs() / y.abs().max(1e-3);
+            if err > worst.0 {
+                worst = (err, k);
+            }
+        }
+    }
+    let (err, k) = worst;
+    println!("worst relative error {err:e}");
+    assert!(
+        err < 1e-4,
+        "worst relative error {err:e} at {:?} vs {:?}",
+        bsdf.samples[k],
+        grid.samples[k]
+    );
+}
+
+#[test]
+fn rgl_bsdf_directory_is_parsed_and_checked() {
     let bytes = tensor_file();
     let path = Path::new("felt.bsdf");
     let file = rgl_bsdf::TensorFile::parse(path, &bytes).unwrap();
     assert_eq!(file.fields.len(), 2);
     assert_eq!(file.description(&bytes).as_deref(), Some("felt"));
     assert_eq!(file.f32s(&bytes, "theta_i"), Some(vec![0.0, 0.5]));
+    // Not a BSDF: the fields are missing.
     let e = rgl_bsdf::read(path, &bytes).unwrap_err().to_string();
-    assert!(
-        e.contains("not implemented") && e.contains("felt.grid.csv"),
-        "{e}"
-    );
+    assert!(e.contains("not an RGL RGB BSDF: no field `phi_i`"), "{e}");
     // Every truncation is an error, never a panic.
     for n in 0..bytes.len() {
         assert!(
@@ -793,6 +821,25 @@ proptest! {
         let dir = temp_dir("prop-rows");
         load_bytes(&dir, "x.csv", text.as_bytes());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn mutated_rgl_bsdf_files_never_panic(
+        edits in proptest::collection::vec((0usize..400, any::<u8>()), 1..6),
+        tail_edits in proptest::collection::vec((0usize..700_000, any::<u8>()), 0..4),
+    ) {
+        // The directory (the first few hundred bytes: names, types, offsets, shapes) and the
+        // data of the real white felt, altered: an error or a dataset, never a panic.
+        let mut bytes = std::fs::read(data::data_dir().join("rgl/acrylic_felt_white_rgb.bsdf")).unwrap();
+        for (at, b) in edits.into_iter().chain(tail_edits) {
+            let n = bytes.len();
+            bytes[at % n] = b;
+        }
+        if let Ok(d) = rgl_bsdf::read(Path::new("x.bsdf"), &bytes) {
+            for s in &d.samples {
+                prop_assert!(rgb(s).iter().all(|v| v.is_finite() && *v >= 0.0));
+            }
+        }
     }
 
     #[test]

@@ -14,8 +14,8 @@ radians, the BRDF in sr⁻¹, with `# name = …` and `# relative = true|false` 
 Formats, recognised by content: the fitter CSV itself; the goniometer CSV of `woven gonio` \
 (radiance, divided by cos θi into the BRDF); the BRDF grids `*.grid.csv` (RGL felts, NBRDF fits \
 of MERL/RGL/DTU materials; RGB); CUReT `abrdf.dat` (with table.txt beside it) and CUReT's \
-long-format CSV (relative values; pick a sample with FILE#NUMBER or FILE#NAME). RGL `.bsdf` files \
-are recognised and refused (evaluating them is not implemented: use their grids).
+long-format CSV (relative values; pick a sample with FILE#NUMBER or FILE#NAME); RGL's measured \
+`.bsdf` files (RGB, isotropic), evaluated on the grid of the `*.grid.csv` files.
 
 Rows with a direction at or below the horizon are dropped, and the count is reported on standard \
 error. A bad row is an error naming the file, its line and its column. --list prints what a file \

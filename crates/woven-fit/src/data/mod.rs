@@ -13,7 +13,7 @@
 //! | the goniometer CSV of `woven gonio` | [`gonio`] | its header | radiance ÷ cos θi → BRDF |
 //! | the grids `*.grid.csv` (RGL felts, NBRDF fits of MERL/RGL/DTU) | [`grid`] | its header | BRDF, RGB |
 //! | CUReT `abrdf.dat` (+ `table.txt` beside it), CUReT long-format CSV | [`curet`] | the `.dat` name; the header | relative |
-//! | RGL `.bsdf` (tensor file) | [`rgl_bsdf`] | its magic bytes | refused with a pointer to the grid, see there |
+//! | RGL `.bsdf` (RGB tensor file) | [`rgl_bsdf`] | its magic bytes | evaluated on the grid of the `*.grid.csv` files, RGB |
 //!
 //! Rules common to every reader:
 //! - a row whose light or view direction is at or below the horizon (`θ ≥ π/2`) is dropped and
