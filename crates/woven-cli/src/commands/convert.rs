@@ -170,6 +170,32 @@ mod tests {
     }
 
     #[test]
+    fn the_goniometer_csv_loads_as_the_model_brdf() {
+        // What `woven gonio` writes, read back: radiance / cos θi is the model's BRDF there.
+        let material = woven::material::Material::from_preset_or_path("belt-cloth").unwrap();
+        let model = material.build(550.0).unwrap();
+        let readings =
+            crate::goniometer::sweep(&model, &[0.0, 90.0], &[-44.0, -15.0, 0.0, 30.0], || {});
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("gonio.csv");
+        crate::io::write_atomically(&path, |out| super::super::gonio::write_csv(out, &readings))
+            .unwrap();
+        let d = data::load(&path).unwrap();
+        assert_eq!(
+            (d.samples.len(), d.dropped_below_horizon, d.relative),
+            (8, 0, false)
+        );
+        for (s, r) in d.samples.iter().zip(&readings) {
+            let (wi, wo) = woven::gonio::directions(r.azimuth_deg, r.tilt_deg);
+            let want = model.eval(wi, wo);
+            let Value::Mono(got) = s.value else {
+                panic!("one channel expected")
+            };
+            assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+        }
+    }
+
+    #[test]
     fn a_bad_file_is_an_error_naming_line_and_column_and_writes_nothing() {
         let dir = tempfile::tempdir().unwrap();
         let input = dir.path().join("bad.csv");

@@ -215,10 +215,18 @@ fn read_any(path: &Path, selector: Option<&str>) -> Result<(Vec<Dataset>, Format
 /// table). A file that holds several materials (CUReT) needs a selector: `abrdf.dat#44`,
 /// `abrdf.dat#linen`.
 ///
-/// ```no_run
-/// let linen = woven_fit::data::load("data/curet/abrdf.dat#linen".as_ref())?;
-/// assert_eq!(linen.samples.len(), 205);
+/// ```
+/// use woven_fit::data::{self, Value};
+///
+/// // CUReT's linen (sample 44) in the repository's data/ folder: 205 measurements, relative.
+/// let path = data::data_dir().join("curet/abrdf.dat#linen");
+/// let linen = data::load(&path)?;
+/// assert_eq!((linen.name.as_str(), linen.samples.len()), ("curet-44-linen", 205));
 /// assert!(linen.relative);
+/// // The first measurement: light at θi = 78.75°, viewer at θr = 79.6°, BRDF 0.156 (relative).
+/// let s = linen.samples[0];
+/// assert!((s.theta_i.to_degrees() - 78.75).abs() < 0.01);
+/// assert_eq!(s.value, Value::Mono(0.156));
 /// # Ok::<(), woven_fit::data::DataError>(())
 /// ```
 ///
