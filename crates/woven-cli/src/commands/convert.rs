@@ -15,7 +15,8 @@ Formats, recognised by content: the fitter CSV itself; the goniometer CSV of `wo
 (radiance, divided by cos θi into the BRDF); the BRDF grids `*.grid.csv` (RGL felts, NBRDF fits \
 of MERL/RGL/DTU materials; RGB); CUReT `abrdf.dat` (with table.txt beside it) and CUReT's \
 long-format CSV (relative values; pick a sample with FILE#NUMBER or FILE#NAME); RGL's measured \
-`.bsdf` files (RGB, isotropic), evaluated on the grid of the `*.grid.csv` files.
+`.bsdf` files (RGB, isotropic) and NBRDF networks `*.nbrdf.json`, both evaluated on the grid of \
+the `*.grid.csv` files.
 
 Rows with a direction at or below the horizon are dropped, and the count is reported on standard \
 error. A bad row is an error naming the file, its line and its column. --list prints what a file \

@@ -75,6 +75,19 @@ impl Bundled {
         PathBuf::from(s)
     }
 
+    /// The NBRDF network the grid was made from (`*.nbrdf.json` beside it), for the families
+    /// known through one (MERL, DTU, the RGL felts without a `.bsdf`): evaluate it at any
+    /// directions with [`super::nbrdf::Nbrdf`].
+    pub fn network(&self) -> Option<PathBuf> {
+        match self.family {
+            Family::Merl | Family::Nielsen | Family::RglNbrdf => self
+                .file
+                .strip_suffix(".grid.csv")
+                .map(|stem| data_dir().join(format!("{stem}.nbrdf.json"))),
+            Family::Curet | Family::RglFelt => None,
+        }
+    }
+
     /// Reads the dataset.
     ///
     /// # Errors

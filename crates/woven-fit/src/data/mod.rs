@@ -14,6 +14,7 @@
 //! | the grids `*.grid.csv` (RGL felts, NBRDF fits of MERL/RGL/DTU) | [`grid`] | its header | BRDF, RGB |
 //! | CUReT `abrdf.dat` (+ `table.txt` beside it), CUReT long-format CSV | [`curet`] | the `.dat` name; the header | relative |
 //! | RGL `.bsdf` (RGB tensor file) | [`rgl_bsdf`] | its magic bytes | evaluated on the grid of the `*.grid.csv` files, RGB |
+//! | NBRDF network `*.nbrdf.json` (MERL, RGL, DTU) | [`nbrdf`] | the `.json` name | evaluated on the same grid, RGB |
 //!
 //! Rules common to every reader:
 //! - a row whose light or view direction is at or below the horizon (`θ ≥ π/2`) is dropped and
@@ -33,6 +34,7 @@ mod error;
 pub mod fitcsv;
 pub mod gonio;
 pub mod grid;
+pub mod nbrdf;
 pub mod published;
 pub mod rgl_bsdf;
 mod rows;
@@ -100,6 +102,8 @@ pub enum Format {
     CuretCsv,
     /// An RGL `.bsdf` tensor file ([`rgl_bsdf`]).
     RglBsdf,
+    /// An NBRDF network, `*.nbrdf.json` ([`nbrdf`]).
+    Nbrdf,
 }
 
 impl Format {
@@ -112,6 +116,7 @@ impl Format {
             Format::CuretDat => "CUReT abrdf.dat",
             Format::CuretCsv => "CUReT long-format CSV",
             Format::RglBsdf => "RGL .bsdf",
+            Format::Nbrdf => "NBRDF network",
         }
     }
 }
@@ -145,6 +150,9 @@ fn detect(path: &Path, bytes: &[u8]) -> Result<Format, DataError> {
     }
     if name.ends_with(".bsdf") {
         return Ok(Format::RglBsdf);
+    }
+    if name.ends_with(".json") {
+        return Ok(Format::Nbrdf);
     }
     if name == "table.txt" {
         return Err(rows::format_error(
@@ -201,6 +209,7 @@ fn read_any(path: &Path, selector: Option<&str>) -> Result<(Vec<Dataset>, Format
         Format::Gonio => single(gonio::read(path, &bytes)?)?,
         Format::Grid => single(grid::read(path, &bytes)?)?,
         Format::RglBsdf => single(rgl_bsdf::read(path, &bytes)?)?,
+        Format::Nbrdf => single(nbrdf::read(path, &bytes)?)?,
         Format::CuretCsv => curet::read_csv(path, &bytes, selector)?,
         Format::CuretDat => {
             let table = path.with_file_name("table.txt");

@@ -517,43 +517,5 @@ impl RglBsdf {
 /// As [`RglBsdf::parse`]; [`DataError::Format`] if an evaluation is not finite.
 pub fn read(path: &Path, bytes: &[u8]) -> Result<Dataset, DataError> {
     let brdf = RglBsdf::parse(path, bytes)?;
-    let mut samples = Vec::with_capacity(17 * 17 * 13);
-    for ti in 0..17 {
-        for to in 0..17 {
-            for p in 0..13 {
-                let theta_i = (5.0 * ti as f64).to_radians();
-                let theta_r = (5.0 * to as f64).to_radians();
-                let phi_r = (15.0 * p as f64).to_radians();
-                let wi = Vec3::from_spherical(theta_i, 0.0);
-                let wo = Vec3::from_spherical(theta_r, phi_r);
-                let f = brdf.eval(wi, wo);
-                if f.iter().any(|v| !v.is_finite()) {
-                    return Err(format_error(
-                        path,
-                        format!(
-                            "the BSDF evaluates to a non-finite value at θi = {}°, θo = {}°, \
-                             φ = {}°",
-                            5 * ti,
-                            5 * to,
-                            15 * p
-                        ),
-                    ));
-                }
-                samples.push(super::rows::sample(
-                    theta_i,
-                    0.0,
-                    theta_r,
-                    phi_r,
-                    super::Value::Rgb(f),
-                ));
-            }
-        }
-    }
-    Ok(Dataset {
-        name: super::rows::stem(path),
-        source: path.to_path_buf(),
-        samples,
-        dropped_below_horizon: 0,
-        relative: false,
-    })
+    super::rows::on_grid(path, super::rows::stem(path), |wi, wo| brdf.eval(wi, wo))
 }
