@@ -99,7 +99,12 @@ impl Bundled {
 
 /// The repository's `data/` folder (found from this crate's source location at build time).
 pub fn data_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data")
+    let krate = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    // crates/woven-fit → the repository's root.
+    match krate.parent().and_then(|crates| crates.parent()) {
+        Some(root) => root.join("data"),
+        None => krate.join("../../data"),
+    }
 }
 
 /// The MERL materials with NBRDF grids in `data/merl/`: name, file, whether a textile.
