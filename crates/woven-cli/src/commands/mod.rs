@@ -1,6 +1,7 @@
 //! One module per subcommand: its clap arguments and its `run`.
 
 pub mod albedo;
+pub mod convert;
 pub mod default_job;
 pub mod eval;
 pub mod export;
