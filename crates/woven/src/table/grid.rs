@@ -64,11 +64,23 @@ pub fn v_of_slopes(s: Vec3, px: f64, py: f64) -> Option<(Vec3, Vec3)> {
 pub fn jacobian(s: Vec3, tx: f64, ty: f64) -> Option<(Vec3, f64)> {
     let (px, py) = (slope_of_t(tx), slope_of_t(ty));
     let (v, h) = v_of_slopes(s, px, py)?;
+    Some((v, jacobian_factor(s, h, (tx, px), (ty, py))))
+}
+
+/// [`jacobian`] where the slopes are already known, `(t, p)` per axis with `p` the slope of
+/// `t` (a density look-up has them from the pair's half vector: no tangents); `None` where `v`
+/// falls below the horizon.
+#[inline]
+pub fn jacobian_at_slopes(s: Vec3, x: (f64, f64), y: (f64, f64)) -> Option<f64> {
+    let (_, h) = v_of_slopes(s, x.1, y.1)?;
+    Some(jacobian_factor(s, h, x, y))
+}
+
+/// `4 (s·h) / (1 + |p|²)^{3/2} · p′(t_x) p′(t_y)`.
+#[inline]
+fn jacobian_factor(s: Vec3, h: Vec3, (tx, px): (f64, f64), (ty, py): (f64, f64)) -> f64 {
     let q = 1.0 + px * px + py * py;
-    Some((
-        v,
-        4.0 * s.dot(h) / (q * q.sqrt()) * dslope_dt_at(tx, px) * dslope_dt_at(ty, py),
-    ))
+    4.0 * s.dot(h) / (q * q.sqrt()) * dslope_dt_at(tx, px) * dslope_dt_at(ty, py)
 }
 
 /// An axis of `n ≥ 1` nodes on `[lo, hi]`, at `lo + (hi − lo) g(k/(n−1))` with the grading

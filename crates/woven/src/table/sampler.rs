@@ -17,7 +17,7 @@
 //! between `∫ pdf dω` and 1.
 
 use super::eval::{locate_axis, Incidence, Query};
-use super::grid::{jacobian, t_of_slope};
+use super::grid::{jacobian, jacobian_at_slopes, slope_of_t, t_of_slope};
 use super::{Half, Table};
 use crate::math::Vec3;
 
@@ -174,8 +174,12 @@ impl Sampler {
             return 0.0;
         }
         let h = s + v;
-        let (tx, ty) = (t_of_slope(h.x / h.z), t_of_slope(h.y / h.z));
-        let Some((_, j)) = jacobian(s, tx, ty) else {
+        let (px, py) = (h.x / h.z, h.y / h.z);
+        let (tx, ty) = (t_of_slope(px), t_of_slope(py));
+        // Past the grid's last slope `t` is clamped to ±1: the Jacobian there is the clamped
+        // slope's (as the draw's would be).
+        let at = |t: f64, p: f64| (t, if t.abs() < 1.0 { p } else { slope_of_t(t) });
+        let Some(j) = jacobian_at_slopes(s, at(tx, px), at(ty, py)) else {
             return 0.0;
         };
         if j <= 0.0 {
