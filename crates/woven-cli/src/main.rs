@@ -10,7 +10,6 @@ mod commands;
 mod figures;
 mod glyphs;
 mod goniometer;
-mod hemisphere;
 mod io;
 mod progress;
 mod summary;
