@@ -50,6 +50,7 @@ Exit status: 0 on success, 1 on an error, 2 on a command-line usage error.",
   woven export --material silk --format merl -o silk.binary
   woven plot fig3 -o fig3.svg
   woven plot hemisphere --material polyester-sateen -o sateen.png
+  woven serve
 
 Run `woven help <COMMAND>` for a command's options and examples.",
     propagate_version = true
@@ -70,6 +71,7 @@ enum Command {
     Tabulate(commands::tabulate::TabulateArgs),
     Export(commands::export::ExportArgs),
     Render(commands::render::RenderArgs),
+    Serve(commands::serve::ServeArgs),
 }
 
 fn main() -> ExitCode {
@@ -85,6 +87,7 @@ fn main() -> ExitCode {
         Some(Command::Tabulate(args)) => commands::tabulate::run(args),
         Some(Command::Export(args)) => commands::export::run(args),
         Some(Command::Render(args)) => commands::render::run(args),
+        Some(Command::Serve(args)) => commands::serve::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
