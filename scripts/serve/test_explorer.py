@@ -104,6 +104,23 @@ def test_the_page_edits_a_material_and_its_views_follow(page, tmp_path):
         assert math.isclose(p["f"], w, rel_tol=1e-12, abs_tol=1e-300), (p, w)
 
 
+def test_plots_and_the_material_download(page):
+    pg = page
+    with pg.expect_download() as d:
+        pg.click('[data-csv="plane"]')
+    lines = open(d.value.path()).read().splitlines()
+    rows = plane_rows(pg)
+    assert lines[0] == "theta_i,phi_i,theta_r,phi_r,value"
+    assert len(lines) == 1 + len(rows)
+    assert float(lines[1].split(",")[4]) == rows[0]["f"]
+    with pg.expect_download() as d:
+        pg.click("#download-toml")
+    assert "roughness = 0.075" in open(d.value.path()).read()
+    with pg.expect_download() as d:
+        pg.click('[data-png="gonio-canvas"]')
+    assert open(d.value.path(), "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+
+
 def test_measured_data_is_laid_over_the_model(page, tmp_path):
     pg = page
     rows = plane_rows(pg)[::10]

@@ -9,6 +9,7 @@ use crate::data;
 use crate::error::{ApiError, ApiResult};
 use crate::job::{self, Channels};
 use crate::material::{self, PatternView};
+use crate::models::ModelCache;
 use crate::preview::{self, Preview, Shape};
 use crate::views::{self, Which};
 use axum::body::Bytes;
@@ -45,6 +46,7 @@ const MAX_CHANNEL_CHARS: usize = 64;
 pub struct AppState {
     jobs: Arc<Semaphore>,
     channels: Channels,
+    models: Arc<ModelCache>,
 }
 
 impl Default for AppState {
@@ -52,6 +54,7 @@ impl Default for AppState {
         AppState {
             jobs: Arc::new(Semaphore::new(MAX_JOBS)),
             channels: Channels::default(),
+            models: Arc::default(),
         }
     }
 }
@@ -135,9 +138,10 @@ fn check_channel(channel: &Option<String>) -> ApiResult<Option<&str>> {
     }
 }
 
-/// Builds `material` at `wavelength_nm` on the blocking pool.
-async fn build(material: Material, wavelength_nm: f64) -> ApiResult<Model> {
-    tokio::task::spawn_blocking(move || material.build(wavelength_nm))
+/// Builds `material` at `wavelength_nm` on the blocking pool (or finds it built).
+async fn build(app: &AppState, material: Material, wavelength_nm: f64) -> ApiResult<Arc<Model>> {
+    let models = app.models.clone();
+    tokio::task::spawn_blocking(move || models.build(&material, wavelength_nm))
         .await
         .map_err(|e| ApiError::Internal(format!("model build: {e}")))?
         .map_err(ApiError::from)
@@ -293,7 +297,7 @@ async fn views_stream(
         }
     }
     let channel = check_channel(&req.channel)?;
-    let model = build(m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
+    let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
     let generation = app.channels.begin(channel);
     let permit = app
         .jobs
@@ -431,7 +435,7 @@ async fn compare_stream(
     let name = req.name.as_deref().unwrap_or("<upload>.csv");
     let samples = data::parse_csv(&req.csv, name)?;
     let channel = check_channel(&req.channel)?;
-    let model = build(m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
+    let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
     let generation = app.channels.begin(channel);
     let permit = app
         .jobs

@@ -17,7 +17,8 @@
 //! ## Modules
 //! - [`api`]: routes, request checks, handlers; [`error`]: every error as JSON.
 //! - [`views`]: hemisphere map, in-plane and goniometer curves; [`preview`]: the render.
-//! - [`data`]: measured CSVs and the model's error on them; [`material`]: the page's materials.
+//! - [`data`]: measured CSVs and the model's error on them; [`material`]: the page's materials;
+//!   [`models`]: built models kept for the next request.
 //! - [`job`]: computations off the event loop, streamed, cancelled when stale; [`assets`]: the
 //!   embedded page.
 
@@ -27,6 +28,7 @@ pub mod data;
 pub mod error;
 pub mod job;
 pub mod material;
+pub mod models;
 pub mod preview;
 pub mod views;
 

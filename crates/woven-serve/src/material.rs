@@ -24,6 +24,18 @@ pub fn from_json(value: &Value) -> ApiResult<Material> {
             "an object with a `fiber` table (and optionally `yarn`, `weave`)",
         ));
     }
+    // A `{ wif = "file" }` pattern would have the library read a file on the server: the page
+    // uploads drafts through `/api/wif` and sends their matrix instead.
+    if value
+        .pointer("/weave/pattern")
+        .is_some_and(Value::is_object)
+    {
+        return Err(ApiError::invalid(
+            "weave.pattern",
+            short(&value["weave"]["pattern"]),
+            "a pattern name or a 0/1 matrix (upload a WIF draft to /api/wif for its matrix)",
+        ));
+    }
     let toml_value = to_toml(value, "material")?;
     let text = toml::to_string(&toml_value)
         .map_err(|e| ApiError::unprocessable(format!("material: {e}")))?;
@@ -145,6 +157,13 @@ mod tests {
             from_json(&v).unwrap_err(),
             ApiError::Malformed { .. }
         ));
+        // No file on the server is ever read: a WIF path is refused before the library sees it.
+        let v = serde_json::json!({"fiber": {"eta": 1.6, "roughness": 0.1},
+            "yarn": {"lateral_length": 2.0, "slope_mean": 0.3},
+            "weave": {"pattern": {"wif": "/etc/passwd"}}});
+        assert!(
+            matches!(from_json(&v).unwrap_err(), ApiError::Invalid { field, .. } if field == "weave.pattern")
+        );
         let v = serde_json::json!({"fiber": {"eta": null, "roughness": 0.1}});
         assert!(
             matches!(from_json(&v).unwrap_err(), ApiError::Invalid { field, .. } if field == "fiber.eta")

@@ -233,6 +233,14 @@ async fn out_of_range_values_name_the_field_the_value_and_the_range() {
             "material",
         ),
         (
+            "/api/views",
+            json!({"material": {"fiber": {"eta": 1.6, "roughness": 0.1},
+                                "yarn": {"lateral_length": 2, "slope_mean": 0.3},
+                                "weave": {"pattern": {"wif": "../../etc/passwd"}}},
+                   "theta_i_deg": 30}),
+            "weave.pattern",
+        ),
+        (
             "/api/preview",
             json!({"material": flat(), "size": 100000}),
             "size",
@@ -487,4 +495,17 @@ async fn the_preview_refines_pass_by_pass() {
     }
     assert!(msgs.iter().any(|m| m["kind"] == "table"));
     assert_eq!(msgs.last().unwrap()["kind"], "done");
+    // The draped cloth, with dyes.
+    let got = post_json(
+        "/api/preview",
+        json!({"material": sateen, "size": 16, "passes": 1, "shape": "drape",
+               "weft_color": [0.8, 0.2, 0.1], "warp_color": [0.1, 0.3, 0.8]}),
+    )
+    .await;
+    let msgs = lines(&got);
+    assert_eq!(
+        msgs.iter().filter(|m| m["kind"] == "image").count(),
+        1,
+        "{msgs:?}"
+    );
 }
