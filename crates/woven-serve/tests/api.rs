@@ -509,3 +509,49 @@ async fn the_preview_refines_pass_by_pass() {
         "{msgs:?}"
     );
 }
+
+#[tokio::test]
+async fn a_newer_request_on_the_channel_stops_the_older() {
+    let router = woven_serve::router();
+    let silk = woven_serve::material::to_json(&Material::preset("silk").unwrap());
+    let request = |views: &[&str]| {
+        Request::builder()
+            .method("POST")
+            .uri("/api/views")
+            .body(Body::from(
+                json!({"material": silk, "theta_i_deg": 30, "views": views, "channel": "tab-1"})
+                    .to_string(),
+            ))
+            .unwrap()
+    };
+    // Silk's views cost seconds of CPU; the second request follows the first within
+    // milliseconds, so the first is superseded long before it could finish.
+    let first = router
+        .clone()
+        .oneshot(request(&["hemisphere", "plane", "gonio"]))
+        .await
+        .unwrap();
+    // The second asks for the in-plane curve only (a fraction of a second).
+    let second = router.oneshot(request(&["plane"])).await.unwrap();
+    let first = first.into_body().collect().await.unwrap().to_bytes();
+    let second = second.into_body().collect().await.unwrap().to_bytes();
+    let kinds = |b: &[u8]| -> Vec<String> {
+        std::str::from_utf8(b)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                serde_json::from_str::<Value>(l).unwrap()["kind"]
+                    .as_str()
+                    .unwrap()
+                    .to_owned()
+            })
+            .collect()
+    };
+    let (first, second) = (kinds(&first), kinds(&second));
+    assert!(!first.contains(&"done".to_owned()), "{first:?}");
+    assert_eq!(
+        second.last().map(String::as_str),
+        Some("done"),
+        "{second:?}"
+    );
+}
