@@ -10,7 +10,6 @@ mod commands;
 mod figures;
 mod glyphs;
 mod goniometer;
-mod hemisphere;
 mod io;
 mod progress;
 mod summary;
@@ -51,6 +50,7 @@ Exit status: 0 on success, 1 on an error, 2 on a command-line usage error.",
   woven export --material silk --format merl -o silk.binary
   woven plot fig3 -o fig3.svg
   woven plot hemisphere --material polyester-sateen -o sateen.png
+  woven serve
 
 Run `woven help <COMMAND>` for a command's options and examples.",
     propagate_version = true
@@ -72,6 +72,7 @@ enum Command {
     Export(commands::export::ExportArgs),
     Render(commands::render::RenderArgs),
     Convert(commands::convert::ConvertArgs),
+    Serve(commands::serve::ServeArgs),
 }
 
 fn main() -> ExitCode {
@@ -88,6 +89,7 @@ fn main() -> ExitCode {
         Some(Command::Export(args)) => commands::export::run(args),
         Some(Command::Render(args)) => commands::render::run(args),
         Some(Command::Convert(args)) => commands::convert::run(args),
+        Some(Command::Serve(args)) => commands::serve::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -49,12 +49,6 @@ impl Progress {
         }
     }
 
-    /// A bar that never draws.
-    #[cfg(test)]
-    pub fn hidden() -> Self {
-        Progress::new(None, "", false)
-    }
-
     /// Records `n` more units done (callable from any thread).
     pub fn inc(&self, n: u64) {
         self.bar.inc(n);

@@ -10,4 +10,5 @@ pub mod materials;
 pub mod plot;
 pub mod plot_hemisphere;
 pub mod render;
+pub mod serve;
 pub mod tabulate;

@@ -1,5 +1,5 @@
 //! `woven plot hemisphere`: a material's BRDF over the whole view hemisphere as a false-colour
-//! disc (data in [`crate::hemisphere`]).
+//! disc (data in [`woven::figures::hemisphere`]).
 
 use super::plot::{
     check_output_dirs, encode_png, plot_error, register_embedded_font, tick_label, ImageFormat,
@@ -7,7 +7,6 @@ use super::plot::{
 };
 use crate::args::{parse_degrees, parse_finite, MaterialArgs};
 use crate::glyphs::CrispText;
-use crate::hemisphere::{self, Grid};
 use crate::io;
 use crate::progress::Progress;
 use crate::summary::short;
@@ -19,6 +18,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontTransform;
 use std::f64::consts::FRAC_1_SQRT_2;
 use std::path::PathBuf;
+use woven::figures::hemisphere::{self, Grid};
 use woven::Vec3;
 
 /// The long help of `woven plot hemisphere` (also set on its `plot` subcommand entry, whose doc
@@ -190,7 +190,7 @@ pub fn run(args: &HemisphereArgs) -> Result<()> {
     let n = (args.grid as usize).min(layout.diameter as usize).max(8);
     let s = Vec3::from_spherical(args.theta_i_deg.to_radians(), args.phi_i_deg.to_radians());
     let bar = Progress::new(Some(hemisphere::nodes_needed(n)), "directions", true);
-    let grid = hemisphere::evaluate(&model, s, n, &bar);
+    let grid = hemisphere::evaluate(&model, s, n, |k| bar.inc(k));
     bar.finish();
     let words = Words {
         title: format!(

@@ -1,6 +1,7 @@
 //! The data behind the paper's figures, computed from the model and kept apart from drawing so
 //! that tests can check what each figure claims. Figures 8–10 (the cloth presets on the virtual
-//! goniometer) are in [`cloth`].
+//! goniometer) are in [`cloth`]; the BRDF over the view hemisphere (`woven plot hemisphere`) in
+//! [`hemisphere`].
 //!
 //! Figures 3–5 of the paper (docs/spec.md §5) show planar fiber surfaces (the rough limit, Eq. (16'),
 //! docs/spec.md §1.3) with `σ_h/τ = 0.05` unless varied, as the reflected radiance against the view
@@ -20,6 +21,7 @@ use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, PI};
 
 pub mod cloth;
+pub mod hemisphere;
 pub mod words;
 
 /// Refractive index assumed for the paper's fiber surfaces (polyester; the paper gives none).

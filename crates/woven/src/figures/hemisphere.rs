@@ -5,10 +5,11 @@
 //! the weft (`x`) to the right and the warp (`y`) up. The BRDF is evaluated on an `n × n` grid of
 //! cell centres over `[−1, 1]²` and read back anywhere in the disc by bilinear interpolation, so
 //! that a slow material can be drawn at any image size from a coarse grid.
+//!
+//! `woven plot hemisphere` and the explorer (`woven serve`) draw this map; both compute it here.
 
-use crate::progress::Progress;
+use crate::{Model, Vec3};
 use rayon::prelude::*;
-use woven::{Model, Vec3};
 
 /// The largest `sin θr` evaluated (θr = 89.9°): the BRDF is 0 at the horizon itself, while its
 /// limit there is not; grid nodes on or outside the rim take the value just inside it.
@@ -56,22 +57,36 @@ pub fn nodes_needed(n: usize) -> u64 {
 }
 
 /// Evaluates `model` for light from `s` at the nodes of an `n × n` grid, rows in parallel;
-/// `progress` counts the nodes done.
-pub fn evaluate(model: &Model, s: Vec3, n: usize, progress: &Progress) -> Grid {
+/// `progress` is called with the number of nodes each finished row computed (from any thread).
+///
+/// # Panics
+/// If `n < 2`.
+pub fn evaluate(model: &Model, s: Vec3, n: usize, progress: impl Fn(u64) + Sync) -> Grid {
     assert!(n >= 2, "a grid needs at least 2 nodes per side");
     let mut values = vec![f64::NAN; n * n];
     values.par_chunks_mut(n).enumerate().for_each(|(row, out)| {
-        let y = -centre(row, n);
-        let mut done = 0;
-        for (col, value) in out.iter_mut().enumerate() {
-            if needed(row, col, n) {
-                *value = model.eval(s, view_direction(centre(col, n), y));
-                done += 1;
-            }
-        }
-        progress.inc(done);
+        progress(evaluate_row(model, s, n, row, out));
     });
     Grid { n, values }
+}
+
+/// Evaluates row `row` of an `n × n` grid into `out` (length `n`; nodes that are not needed
+/// are left as they are) and returns the number of nodes computed: the unit of work of
+/// [`evaluate`], for callers that schedule rows themselves (to stop between rows, say).
+///
+/// # Panics
+/// If `out.len() != n` or `row >= n`.
+pub fn evaluate_row(model: &Model, s: Vec3, n: usize, row: usize, out: &mut [f64]) -> u64 {
+    assert!(out.len() == n && row < n, "row {row} of an {n}-grid");
+    let y = -centre(row, n);
+    let mut done = 0;
+    for (col, value) in out.iter_mut().enumerate() {
+        if needed(row, col, n) {
+            *value = model.eval(s, view_direction(centre(col, n), y));
+            done += 1;
+        }
+    }
+    done
 }
 
 impl Grid {
@@ -127,8 +142,8 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use woven::fiber::FiberParams;
-    use woven::material::Material;
+    use crate::fiber::FiberParams;
+    use crate::material::Material;
 
     fn model() -> Model {
         Material::flat(FiberParams::rough(1.5, 0.2, 0.1))
@@ -141,7 +156,7 @@ mod tests {
         let m = model();
         let s = Vec3::from_spherical(0.6, 0.3);
         let n = 24;
-        let grid = evaluate(&m, s, n, &Progress::hidden());
+        let grid = evaluate(&m, s, n, |_| {});
         let image = grid.upsample(n);
         for row in 0..n {
             for col in 0..n {
@@ -193,7 +208,7 @@ mod tests {
             .unwrap();
         let s = Vec3::from_spherical(40f64.to_radians(), 0.0);
         let n = 64;
-        let grid = evaluate(&m, s, n, &Progress::hidden());
+        let grid = evaluate(&m, s, n, |_| {});
         let best = (0..n * n)
             .filter(|&k| grid.values[k].is_finite())
             .max_by(|&a, &b| grid.values[a].total_cmp(&grid.values[b]))

@@ -1,0 +1,476 @@
+//! The HTTP API: routes, request types and their checks, handlers.
+//!
+//! Every request body is JSON (a WIF upload is its text) of at most [`MAX_BODY_BYTES`]; every
+//! error is a JSON object ([`crate::error::ErrorBody`]). Computations stream newline-delimited
+//! JSON ([`crate::job`]).
+
+use crate::assets;
+use crate::data;
+use crate::error::{ApiError, ApiResult};
+use crate::job::{self, Channels};
+use crate::material::{self, PatternView};
+use crate::models::ModelCache;
+use crate::preview::{self, Preview, Shape};
+use crate::views::{self, Which};
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{DefaultBodyLimit, State};
+use axum::http::{Method, Uri};
+use axum::response::Response;
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use rayon::prelude::*;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+use std::sync::Arc;
+use tokio::sync::Semaphore;
+use woven::material::Material;
+use woven::weave::{Pattern, MAX_THREADS};
+use woven::Model;
+
+/// The largest request body, bytes: room for a CSV of [`data::MAX_ROWS`] rows or a WIF draft.
+pub const MAX_BODY_BYTES: usize = 2 << 20;
+/// Computations that may run at once; more wait for a slot (the page cancels stale ones, so
+/// waiting is short).
+pub const MAX_JOBS: usize = 4;
+/// The wavelength the explorer evaluates at unless a request says otherwise, nm (the CLI's and
+/// the renderer's default).
+pub const DEFAULT_WAVELENGTH_NM: f64 = 550.0;
+/// The most polar angle of the light, degrees: at 90° no light arrives.
+pub const THETA_I_MAX_DEG: f64 = 89.0;
+/// The longest channel name.
+const MAX_CHANNEL_CHARS: usize = 64;
+
+/// The server's shared state.
+pub struct AppState {
+    jobs: Arc<Semaphore>,
+    channels: Channels,
+    models: Arc<ModelCache>,
+}
+
+impl Default for AppState {
+    fn default() -> Self {
+        AppState {
+            jobs: Arc::new(Semaphore::new(MAX_JOBS)),
+            channels: Channels::default(),
+            models: Arc::default(),
+        }
+    }
+}
+
+type Shared = State<Arc<AppState>>;
+
+/// The router: the page's assets and the API; anything else is a JSON 404.
+pub fn router() -> Router {
+    Router::new()
+        .route("/", get(assets::index))
+        .route("/index.html", get(assets::index))
+        .route("/app.js", get(assets::script))
+        .route("/style.css", get(assets::style))
+        .route("/favicon.svg", get(assets::icon))
+        .route("/api/presets", get(presets))
+        .route("/api/material", post(material_info))
+        .route("/api/pattern", post(pattern))
+        .route("/api/wif", post(wif))
+        .route("/api/views", post(views_stream))
+        .route("/api/preview", post(preview_stream))
+        .route("/api/compare", post(compare_stream))
+        .fallback(not_found)
+        .method_not_allowed_fallback(method_not_allowed)
+        .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .with_state(Arc::new(AppState::default()))
+}
+
+async fn not_found(uri: Uri) -> ApiError {
+    ApiError::NotFound(uri.path().to_owned())
+}
+
+async fn method_not_allowed(method: Method, uri: Uri) -> ApiError {
+    ApiError::MethodNotAllowed {
+        method: method.to_string(),
+        path: uri.path().to_owned(),
+    }
+}
+
+/// The body's bytes, or the JSON error for one too large or unreadable.
+fn body_bytes(body: Result<Bytes, BytesRejection>) -> ApiResult<Bytes> {
+    body.map_err(|r| {
+        if r.status() == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::TooLarge {
+                limit: MAX_BODY_BYTES,
+            }
+        } else {
+            ApiError::bad_request(format!("unreadable request body: {}", r.body_text()))
+        }
+    })
+}
+
+/// Parses a JSON request body.
+fn parse<T: DeserializeOwned>(body: Result<Bytes, BytesRejection>) -> ApiResult<T> {
+    let bytes = body_bytes(body)?;
+    serde_json::from_slice(&bytes)
+        .map_err(|e| ApiError::bad_request(format!("malformed JSON request: {e}")))
+}
+
+/// Checks `lo ≤ x ≤ hi`.
+fn check_range(field: &str, x: f64, lo: f64, hi: f64) -> ApiResult<f64> {
+    if x.is_finite() && (lo..=hi).contains(&x) {
+        Ok(x)
+    } else {
+        Err(ApiError::invalid(
+            field,
+            x,
+            format!("a number in [{lo}, {hi}]"),
+        ))
+    }
+}
+
+/// Checks a channel name.
+fn check_channel(channel: &Option<String>) -> ApiResult<Option<&str>> {
+    match channel {
+        Some(c) if c.is_empty() || c.chars().count() > MAX_CHANNEL_CHARS => Err(ApiError::invalid(
+            "channel",
+            format!("{c:?}"),
+            format!("a name of 1 to {MAX_CHANNEL_CHARS} characters"),
+        )),
+        c => Ok(c.as_deref()),
+    }
+}
+
+/// Builds `material` at `wavelength_nm` on the blocking pool (or finds it built).
+async fn build(app: &AppState, material: Material, wavelength_nm: f64) -> ApiResult<Arc<Model>> {
+    let models = app.models.clone();
+    tokio::task::spawn_blocking(move || models.build(&material, wavelength_nm))
+        .await
+        .map_err(|e| ApiError::Internal(format!("model build: {e}")))?
+        .map_err(ApiError::from)
+}
+
+/// `GET /api/presets`: the built-in materials (as the JSON the other endpoints take) and the
+/// named weave patterns.
+async fn presets() -> ApiResult<Json<Value>> {
+    let mut list = Vec::new();
+    for name in Material::preset_names() {
+        let m = Material::preset(name)?;
+        list.push(json!({"name": name, "material": material::to_json(&m)}));
+    }
+    Ok(Json(json!({
+        "presets": list,
+        "patterns": ["plain", "twill-2/1", "twill-2/2", "twill-3/1", "satin-5", "sateen-5", "satin-8", "sateen-8"],
+        "wavelength_nm": DEFAULT_WAVELENGTH_NM,
+        "limits": {
+            "max_body_bytes": MAX_BODY_BYTES,
+            "max_csv_rows": data::MAX_ROWS,
+            "theta_i_max_deg": THETA_I_MAX_DEG,
+        },
+    })))
+}
+
+/// A request that carries a material.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialRequest {
+    material: Value,
+}
+
+/// `POST /api/material`: validates a material and answers its TOML file, `γ` and pattern.
+async fn material_info(body: Result<Bytes, BytesRejection>) -> ApiResult<Json<Value>> {
+    let req: MaterialRequest = parse(body)?;
+    let m = material::from_json(&req.material)?;
+    let pattern = match &m.weave {
+        Some(woven::material::Weave::Pattern { pattern, .. }) => Some(PatternView::of(pattern)),
+        _ => None,
+    };
+    Ok(Json(json!({
+        "toml": m.to_toml_string(),
+        "weft_fraction": m.weft_fraction(),
+        "pattern": pattern,
+        "summary": woven::figures::words::Summary::of(&m).one_line(),
+    })))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PatternRequest {
+    pattern: Value,
+}
+
+/// `POST /api/pattern`: a named weave or a 0/1 matrix, as its matrix and `γ`.
+async fn pattern(body: Result<Bytes, BytesRejection>) -> ApiResult<Json<PatternView>> {
+    let req: PatternRequest = parse(body)?;
+    let p = match &req.pattern {
+        Value::String(name) => Pattern::from_name(name)?,
+        Value::Array(rows) => {
+            if rows.len() > MAX_THREADS {
+                return Err(ApiError::invalid(
+                    "weave.pattern",
+                    format!("{} rows", rows.len()),
+                    format!("at most {MAX_THREADS} rows"),
+                ));
+            }
+            let m: Vec<Vec<u8>> = serde_json::from_value(req.pattern.clone()).map_err(|_| {
+                ApiError::invalid(
+                    "weave.pattern",
+                    material::short(&req.pattern),
+                    "a matrix of 0 and 1",
+                )
+            })?;
+            if m.iter().flatten().any(|&c| c > 1) {
+                return Err(ApiError::invalid(
+                    "weave.pattern",
+                    material::short(&req.pattern),
+                    "a matrix of 0 and 1",
+                ));
+            }
+            Pattern::from_matrix(m)?
+        }
+        other => {
+            return Err(ApiError::invalid(
+                "weave.pattern",
+                material::short(other),
+                "a pattern name or a 0/1 matrix",
+            ))
+        }
+    };
+    Ok(Json(PatternView::of(&p)))
+}
+
+/// `POST /api/wif`: a WIF draft (the body is its text), as its matrix and `γ`.
+async fn wif(body: Result<Bytes, BytesRejection>) -> ApiResult<Json<PatternView>> {
+    let bytes = body_bytes(body)?;
+    let text = std::str::from_utf8(&bytes)
+        .map_err(|e| ApiError::unprocessable(format!("<upload>.wif: not UTF-8 text: {e}")))?;
+    let p = Pattern::from_wif_str(text, "<upload>.wif")?;
+    Ok(Json(PatternView::of(&p)))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ViewsRequest {
+    material: Value,
+    theta_i_deg: f64,
+    #[serde(default)]
+    phi_i_deg: f64,
+    #[serde(default)]
+    views: Option<Vec<String>>,
+    #[serde(default)]
+    wavelength_nm: Option<f64>,
+    #[serde(default)]
+    channel: Option<String>,
+}
+
+/// `POST /api/views`: the hemisphere map, the in-plane curve and the goniometer curves,
+/// streamed ([`views::Message`]).
+async fn views_stream(
+    State(app): Shared,
+    body: Result<Bytes, BytesRejection>,
+) -> ApiResult<Response> {
+    let req: ViewsRequest = parse(body)?;
+    let m = material::from_json(&req.material)?;
+    let theta_i = check_range("theta_i_deg", req.theta_i_deg, 0.0, THETA_I_MAX_DEG)?.to_radians();
+    let phi_i = check_range("phi_i_deg", req.phi_i_deg, -360.0, 360.0)?.to_radians();
+    let mut which = Which {
+        hemisphere: true,
+        plane: true,
+        gonio: true,
+    };
+    if let Some(list) = &req.views {
+        which = Which {
+            hemisphere: false,
+            plane: false,
+            gonio: false,
+        };
+        for v in list {
+            match v.as_str() {
+                "hemisphere" => which.hemisphere = true,
+                "plane" => which.plane = true,
+                "gonio" => which.gonio = true,
+                other => {
+                    return Err(ApiError::invalid(
+                        "views",
+                        format!("{other:?}"),
+                        "a list of \"hemisphere\", \"plane\", \"gonio\"",
+                    ))
+                }
+            }
+        }
+    }
+    let channel = check_channel(&req.channel)?;
+    let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
+    let generation = app.channels.begin(channel);
+    let permit = app
+        .jobs
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|e| ApiError::Internal(e.to_string()))?;
+    Ok(job::stream(generation, permit, move |out| {
+        views::compute(&model, theta_i, phi_i, which, out)
+    }))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PreviewRequest {
+    material: Value,
+    #[serde(default = "default_shape")]
+    shape: Shape,
+    #[serde(default = "default_size")]
+    size: usize,
+    #[serde(default = "default_passes")]
+    passes: usize,
+    #[serde(default)]
+    weft_color: Option<[f64; 3]>,
+    #[serde(default)]
+    warp_color: Option<[f64; 3]>,
+    #[serde(default = "default_cells")]
+    cells: f64,
+    #[serde(default)]
+    channel: Option<String>,
+}
+
+fn default_shape() -> Shape {
+    Shape::Sphere
+}
+fn default_size() -> usize {
+    96
+}
+fn default_passes() -> usize {
+    64
+}
+fn default_cells() -> f64 {
+    24.0
+}
+
+/// `POST /api/preview`: a progressively refined render of the material ([`preview::Message`]).
+async fn preview_stream(
+    State(app): Shared,
+    body: Result<Bytes, BytesRejection>,
+) -> ApiResult<Response> {
+    let req: PreviewRequest = parse(body)?;
+    let material = material::from_json(&req.material)?;
+    let (lo, hi) = preview::SIZE_RANGE;
+    if !(lo..=hi).contains(&req.size) {
+        return Err(ApiError::invalid(
+            "size",
+            req.size,
+            format!("pixels in [{lo}, {hi}]"),
+        ));
+    }
+    let (lo, hi) = preview::PASSES_RANGE;
+    if !(lo..=hi).contains(&req.passes) {
+        return Err(ApiError::invalid(
+            "passes",
+            req.passes,
+            format!("an integer in [{lo}, {hi}]"),
+        ));
+    }
+    let cells = check_range("cells", req.cells, 1.0, 200.0)?;
+    let colors = [
+        req.weft_color
+            .map(|c| preview::check_color("weft_color", c))
+            .transpose()?,
+        req.warp_color
+            .map(|c| preview::check_color("warp_color", c))
+            .transpose()?,
+    ];
+    let channel = check_channel(&req.channel)?;
+    let p = Preview {
+        material,
+        shape: req.shape,
+        size: req.size,
+        passes: req.passes,
+        colors,
+        cells,
+    };
+    let generation = app.channels.begin(channel);
+    let permit = app
+        .jobs
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|e| ApiError::Internal(e.to_string()))?;
+    Ok(job::stream(generation, permit, move |out| {
+        preview::run(&p, out)
+    }))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CompareRequest {
+    material: Value,
+    csv: String,
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    wavelength_nm: Option<f64>,
+    #[serde(default)]
+    channel: Option<String>,
+}
+
+/// One line of a comparison stream.
+#[derive(Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+enum CompareMessage {
+    Progress {
+        done: usize,
+        total: usize,
+    },
+    Compare {
+        samples: Vec<data::Sample>,
+        model: Vec<f64>,
+        error: data::ErrorSummary,
+    },
+}
+
+/// `POST /api/compare`: measured data (the fitter's CSV) against the model at the same
+/// directions, with the error.
+async fn compare_stream(
+    State(app): Shared,
+    body: Result<Bytes, BytesRejection>,
+) -> ApiResult<Response> {
+    let req: CompareRequest = parse(body)?;
+    let m = material::from_json(&req.material)?;
+    let name = req.name.as_deref().unwrap_or("<upload>.csv");
+    let samples = data::parse_csv(&req.csv, name)?;
+    let channel = check_channel(&req.channel)?;
+    let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
+    let generation = app.channels.begin(channel);
+    let permit = app
+        .jobs
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|e| ApiError::Internal(e.to_string()))?;
+    Ok(job::stream(generation, permit, move |out| {
+        let total = samples.len();
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        let values: Option<Vec<f64>> = samples
+            .par_iter()
+            .with_max_len(16)
+            .map(|s| {
+                if out.cancelled() {
+                    return None;
+                }
+                let f = model.eval(
+                    woven::Vec3::from_spherical(s.theta_i, s.phi_i),
+                    woven::Vec3::from_spherical(s.theta_r, s.phi_r),
+                );
+                let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                if k % 256 == 0 {
+                    out.send(&CompareMessage::Progress { done: k, total });
+                }
+                Some(f)
+            })
+            .collect();
+        let Some(values) = values else { return };
+        let measured: Vec<f64> = samples.iter().map(|s| s.value).collect();
+        let error = data::summarize(&measured, &values);
+        out.send(&CompareMessage::Compare {
+            samples,
+            model: values,
+            error,
+        });
+    }))
+}
