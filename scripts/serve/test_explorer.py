@@ -131,9 +131,9 @@ def test_measured_data_is_laid_over_the_model(page, tmp_path):
         f"{r['ti']},{r['pi']},{r['tr']},{r['pr']},{1.1 * f!r}\n" for r, f in zip(rows, model)))
     # A malformed file first: its error, naming the line, in place of the comparison.
     bad = tmp_path / "bad.csv"
-    bad.write_text("theta,phi\n1,2\n")
+    bad.write_text("theta_i,phi_i,theta_r,phi_r,value\n0.1,0,x,0,1\n")
     pg.set_input_files("#data-file", str(bad))
-    expect(pg.locator("#data-status")).to_contain_text("bad.csv:1: header")
+    expect(pg.locator("#data-status")).to_contain_text("bad.csv: line 2, column `theta_r`")
     pg.set_input_files("#data-file", str(data))
     pg.wait_for_function("document.getElementById('data-status').dataset.rows !== undefined", timeout=SLOW_MS)
     assert int(pg.get_attribute("#data-status", "data-rows")) == len(rows)

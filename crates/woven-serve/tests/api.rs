@@ -461,13 +461,16 @@ async fn measured_data_is_compared_with_the_model() {
     let v = error(
         post_json(
             "/api/compare",
-            json!({"material": flat(), "csv": "a,b,c\n1,2,3\n", "name": "m.csv"}),
+            json!({"material": flat(), "csv": "theta_i,phi_i,theta_r,phi_r,value\n0.1,0,x,0,1\n", "name": "m.csv"}),
         )
         .await,
         StatusCode::UNPROCESSABLE_ENTITY,
     );
     assert!(
-        v["error"].as_str().unwrap().starts_with("m.csv:1: header"),
+        v["error"]
+            .as_str()
+            .unwrap()
+            .starts_with("m.csv: line 2, column `theta_r`"),
         "{v}"
     );
 }
