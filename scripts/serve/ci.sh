@@ -8,7 +8,7 @@
 # pytest from PyPI (scripts/serve/requirements.txt; WOVEN_SERVE_VENV, default
 # target/serve-venv), starts `woven serve --port 0` (a free port), runs
 # scripts/serve/test_explorer.py against it and stops the server. SCREENSHOT=path.png keeps a
-# picture of the page (docs/images/serve.png is made so). Skips, with a message and exit 0, when
+# picture of the page (docs/img/serve.png is made so). Skips, with a message and exit 0, when
 # Chromium, python3's venv or PyPI is not to be had; fails (exit 1) when a test fails.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
