@@ -141,6 +141,13 @@ def test_measured_data_is_laid_over_the_model(page, tmp_path):
     assert math.isclose(log_rms, math.log(1.1), rel_tol=1e-9), log_rms
 
 
+    # A bundled measurement, picked by name: CUReT's linen, 205 rows.
+    pg.select_option("#data-bundled", "curet-44-linen")
+    pg.wait_for_function(
+        "document.getElementById('data-status').dataset.rows === '205'", timeout=SLOW_MS
+    )
+    expect(pg.locator("#data-status")).to_contain_text("relatively calibrated")
+
 
 def test_an_out_of_range_value_is_shown_next_to_its_field(page):
     pg = page

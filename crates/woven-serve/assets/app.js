@@ -524,13 +524,15 @@ async function refreshCompare() {
   const status = $('data-status');
   status.textContent = `comparing ${state.data.name}…`;
   try {
-    await stream('api/compare', { material: state.material, csv: state.data.text, name: state.data.name, channel: 'compare-' + tab }, c, (m) => {
+    const source = state.data.dataset ? { dataset: state.data.dataset } : { csv: state.data.text, name: state.data.name };
+    await stream('api/compare', { material: state.material, ...source, channel: 'compare-' + tab }, c, (m) => {
       if (m.kind === 'progress') status.textContent = `comparing… ${m.done} / ${m.total} rows`;
       else if (m.kind === 'compare') {
         state.data.result = m;
         drawData();
         const e = m.error;
-        status.textContent = `${state.data.name}: ${e.rows} rows; RMS error ${(100 * e.relative_rms).toFixed(1)} % of the mean value; RMS log ratio ${e.log_rms.toFixed(3)} (typical factor ${Math.exp(e.log_rms).toFixed(2)}×)`;
+        const rel = state.data.relative ? ' (relatively calibrated: the error includes an unknown scale)' : '';
+        status.textContent = `${state.data.name}${rel}: ${e.rows} rows; RMS error ${(100 * e.relative_rms).toFixed(1)} % of the mean value; RMS log ratio ${e.log_rms.toFixed(3)} (typical factor ${Math.exp(e.log_rms).toFixed(2)}×)`;
         status.dataset.relativeRms = e.relative_rms;
         status.dataset.logRms = e.log_rms;
         status.dataset.rows = e.rows;
@@ -634,6 +636,21 @@ async function start() {
     delete $('data-status').dataset.error;
     delete $('data-status').dataset.rows;
     state.data = { name: f.name, text: await f.text() };
+    $('data-bundled').value = '';
+    refreshCompare();
+  });
+  const ds = await (await fetch('api/datasets')).json();
+  const relative = {};
+  for (const d of ds.datasets) {
+    relative[d.name] = d.relative;
+    $('data-bundled').add(new Option(`${d.name} (${d.family}, ${d.samples} rows)`, d.name));
+  }
+  $('data-bundled').addEventListener('change', (e) => {
+    const name = e.target.value;
+    if (!name) return;
+    delete $('data-status').dataset.error;
+    delete $('data-status').dataset.rows;
+    state.data = { name, dataset: name, relative: relative[name] };
     refreshCompare();
   });
   loadPreset(j.presets[0].name);

@@ -76,6 +76,7 @@ pub fn router() -> Router {
         .route("/api/views", post(views_stream))
         .route("/api/preview", post(preview_stream))
         .route("/api/compare", post(compare_stream))
+        .route("/api/datasets", get(datasets))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
@@ -165,6 +166,24 @@ async fn presets() -> ApiResult<Json<Value>> {
             "theta_i_max_deg": THETA_I_MAX_DEG,
         },
     })))
+}
+
+/// `GET /api/datasets`: the real measurements bundled in `data/` the page can lay over the
+/// model.
+async fn datasets() -> Json<Value> {
+    let list: Vec<Value> = data::bundled()
+        .iter()
+        .map(|b| {
+            json!({
+                "name": b.name,
+                "family": b.family.name(),
+                "samples": b.samples,
+                "relative": b.relative,
+                "textile": b.textile,
+            })
+        })
+        .collect();
+    Json(json!({ "datasets": list }))
 }
 
 /// A request that carries a material.
@@ -400,7 +419,12 @@ async fn preview_stream(
 #[serde(deny_unknown_fields)]
 struct CompareRequest {
     material: Value,
-    csv: String,
+    /// The fitter's CSV, or …
+    #[serde(default)]
+    csv: Option<String>,
+    /// … the name of a bundled dataset (`GET /api/datasets`).
+    #[serde(default)]
+    dataset: Option<String>,
     #[serde(default)]
     name: Option<String>,
     #[serde(default)]
@@ -432,8 +456,15 @@ async fn compare_stream(
 ) -> ApiResult<Response> {
     let req: CompareRequest = parse(body)?;
     let m = material::from_json(&req.material)?;
-    let name = req.name.as_deref().unwrap_or("<upload>.csv");
-    let samples = data::parse_csv(&req.csv, name)?;
+    let samples = match (&req.csv, &req.dataset) {
+        (Some(csv), None) => data::parse_csv(csv, req.name.as_deref().unwrap_or("<upload>.csv"))?,
+        (None, Some(name)) => data::load_bundled(name)?.0,
+        _ => {
+            return Err(ApiError::unprocessable(
+                "give either `csv` (the fitter's CSV) or `dataset` (a bundled dataset's name)",
+            ))
+        }
+    };
     let channel = check_channel(&req.channel)?;
     let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
     let generation = app.channels.begin(channel);

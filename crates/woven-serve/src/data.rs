@@ -50,7 +50,43 @@ pub fn parse_csv(text: &str, origin: &str) -> ApiResult<Vec<Sample>> {
     if dataset.samples.is_empty() {
         return Err(ApiError::unprocessable(format!("{origin}: no data rows")));
     }
-    Ok(dataset
+    Ok(samples_of(&dataset))
+}
+
+/// The real measurements bundled in the repository's `data/` (`woven_fit::data::bundled`) that
+/// the page offers: name, family, rows, whether relatively calibrated. Those of more than
+/// [`MAX_ROWS`] rows are left out.
+pub fn bundled() -> Vec<woven_fit::data::Bundled> {
+    woven_fit::data::bundled()
+        .into_iter()
+        .filter(|b| b.samples <= MAX_ROWS)
+        .collect()
+}
+
+/// The samples of the bundled dataset `name` (one of [`bundled`]), read from `data/`.
+///
+/// # Errors
+/// [`ApiError::Malformed`] (422) for a name not in the list (no path is ever taken from the
+/// request), or when `data/` is not where the binary was built from.
+pub fn load_bundled(name: &str) -> ApiResult<(Vec<Sample>, bool)> {
+    let Some(b) = bundled().into_iter().find(|b| b.name == name) else {
+        return Err(ApiError::unprocessable(format!(
+            "dataset = `{name}`: not a bundled dataset (GET /api/datasets lists them)"
+        )));
+    };
+    let dataset = b.load().map_err(|e| {
+        ApiError::unprocessable(format!(
+            "dataset `{name}` could not be read from {} ({e}): the bundled data lives in the \
+             repository the binary was built from",
+            woven_fit::data::data_dir().display()
+        ))
+    })?;
+    Ok((samples_of(&dataset), dataset.relative))
+}
+
+/// The explorer's rows of a dataset; a colour row as the mean of its channels.
+fn samples_of(dataset: &woven_fit::data::Dataset) -> Vec<Sample> {
+    dataset
         .samples
         .iter()
         .map(|m| Sample {
@@ -63,7 +99,7 @@ pub fn parse_csv(text: &str, origin: &str) -> ApiResult<Vec<Sample>> {
                 Value::Rgb(c) => (c[0] + c[1] + c[2]) / 3.0,
             },
         })
-        .collect())
+        .collect()
 }
 
 /// How far the model is from the data.

@@ -122,7 +122,7 @@ async fn malformed_json_and_unknown_fields_are_400() {
         ("/api/views", ""),
         ("/api/material", "[1, 2]"),
         ("/api/preview", "{\"material\": {}, \"size\": \"big\"}"),
-        ("/api/compare", "{\"material\": {}}"),
+        ("/api/compare", "{\"material\": {}, \"csv\": 3}"),
     ] {
         let v = error(send("POST", uri, body).await, StatusCode::BAD_REQUEST);
         assert!(
@@ -473,6 +473,52 @@ async fn measured_data_is_compared_with_the_model() {
             .starts_with("m.csv: line 2, column `theta_r`"),
         "{v}"
     );
+}
+
+/// The bundled measurements: listed, compared by name with the library's model at their own
+/// directions (CUReT's linen: 205 rows), and no name outside the list — never a path — read.
+#[tokio::test]
+async fn bundled_datasets_are_listed_and_compared_by_name() {
+    let got = send("GET", "/api/datasets", Vec::new()).await;
+    assert_eq!(got.0, StatusCode::OK);
+    let list: Value = serde_json::from_slice(&got.2).unwrap();
+    let names: Vec<&str> = list["datasets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["name"].as_str().unwrap())
+        .collect();
+    assert!(names.contains(&"curet-44-linen"), "{names:?}");
+    assert!(names.len() >= 20, "{names:?}");
+    let got = post_json(
+        "/api/compare",
+        json!({"material": flat(), "dataset": "curet-44-linen"}),
+    )
+    .await;
+    let msgs = lines(&got);
+    let c = msgs.iter().find(|m| m["kind"] == "compare").unwrap();
+    assert_eq!(c["error"]["rows"], 205);
+    let model = woven_serve::material::from_json(&flat())
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    let s = &c["samples"][17];
+    let at = |k: &str| s[k].as_f64().unwrap();
+    let f = model.eval(
+        Vec3::from_spherical(at("theta_i"), at("phi_i")),
+        Vec3::from_spherical(at("theta_r"), at("phi_r")),
+    );
+    assert!((c["model"][17].as_f64().unwrap() - f).abs() <= 1e-15 * f);
+    for bad in [
+        json!({"material": flat(), "dataset": "../../etc/passwd"}),
+        json!({"material": flat(), "dataset": "curet-44-linen", "csv": "x"}),
+        json!({"material": flat()}),
+    ] {
+        error(
+            post_json("/api/compare", bad).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+        );
+    }
 }
 
 #[tokio::test]
