@@ -48,9 +48,13 @@ pub struct FitOptions {
     pub refine_iterations: usize,
     /// Jacobians the final run may take.
     pub max_iterations: usize,
-    /// The most measurements the screening and the refinements use (an even subset); the final
-    /// run uses all.
+    /// The most measurements the screening and the refinements use (an even subset).
     pub subset: usize,
+    /// The most measurements the final run uses; larger datasets are fitted on an even subset
+    /// of this size, then polished on every measurement.
+    pub final_subset: usize,
+    /// Jacobians the polish on every measurement may take (large datasets only).
+    pub polish_iterations: usize,
     /// Measurements at or above this value are dropped as saturated.
     pub saturation: Option<f64>,
 }
@@ -62,9 +66,11 @@ impl Default for FitOptions {
             seed: 1,
             starts: 32,
             refine: 2,
-            refine_iterations: 5,
+            refine_iterations: 4,
             max_iterations: 25,
-            subset: 128,
+            subset: 64,
+            final_subset: 768,
+            polish_iterations: 1,
             saturation: None,
         }
     }
@@ -288,7 +294,8 @@ impl<'a> Problem<'a> {
         let mut set = self.set.clone();
         set.set_free_u(u);
         let prepared = Prepared::with_cache(&set, Some(self.cache)).ok()?;
-        self.evaluations.set(self.evaluations.get() + 1);
+        self.evaluations
+            .set(self.evaluations.get() + self.data.obs.len());
         Some((set.clone(), prepared.parts_all(&self.data.obs)))
     }
 
@@ -348,7 +355,8 @@ impl<'a> Problem<'a> {
                 Some(prepared.parts_all(&data.obs))
             })
             .collect();
-        self.evaluations.set(self.evaluations.get() + fd_cols.len());
+        self.evaluations
+            .set(self.evaluations.get() + fd_cols.len() * data.obs.len());
         for (&j, parts) in fd_cols.iter().zip(stepped) {
             let Some(parts) = parts else {
                 continue; // a step the library refuses: a zero column (that direction is frozen)
@@ -410,7 +418,8 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 }
 
 /// Runs Levenberg–Marquardt from `set` on `data` for at most `max_jacobians` iterations; returns
-/// the best point found, its cost, and the model evaluations (passes over the data) spent.
+/// the best point found, its cost, the model evaluations (at single points) spent and how the
+/// run ended.
 fn levenberg_marquardt(
     set: ParamSet,
     data: &Observations,
@@ -421,8 +430,8 @@ fn levenberg_marquardt(
 ) -> (ParamSet, f64, usize, String) {
     let problem = Problem::new(set, data, kind, max_jacobians, progress, cache);
     let (problem, report) = LevenbergMarquardt::new()
-        .with_ftol(1e-7)
-        .with_xtol(1e-6)
+        .with_ftol(1e-5)
+        .with_xtol(1e-5)
         .with_patience(100)
         .minimize(problem);
     let (cost, u) = problem.best.borrow().clone();
@@ -446,7 +455,8 @@ pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
 /// The stages: the initial values and `options.starts` quasi-random points of the free
 /// parameters' start ranges are scored on a subset of the data; the best `options.refine` are
 /// refined by short Levenberg–Marquardt runs on the subset; the best of those by a full run on
-/// every measurement. With a free `scale`, each start takes the scale that matches the data's
+/// every measurement (a dataset larger than `options.final_subset` on an even subset of that
+/// size, then polished on every measurement). With a free `scale`, each start takes the scale that matches the data's
 /// median level. The result carries standard errors and warnings ([`FitResult`]).
 ///
 /// # Errors
@@ -472,8 +482,11 @@ pub fn fit(
     Prepared::with_cache(set, Some(&cache))?;
     let subset = data.subset(options.subset.max(1));
     let free = set.free_indices();
-    let total =
-        options.starts + 1 + options.refine * options.refine_iterations + options.max_iterations;
+    let total = options.starts
+        + 1
+        + options.refine * options.refine_iterations
+        + options.max_iterations
+        + options.polish_iterations;
     let done = std::sync::atomic::AtomicUsize::new(0);
     let tick = || {
         let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -518,7 +531,7 @@ pub fn fit(
             (cost, c)
         })
         .collect();
-    let mut evaluations = scored.len();
+    let mut evaluations = scored.len() * subset.obs.len();
     // A stable sort: equal costs keep the candidates' order, so the result is deterministic.
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
 
@@ -540,16 +553,33 @@ pub fn fit(
     }
     let (_, start) = best.expect("at least one start");
 
-    // Stage 3: the full run.
-    let (mut fitted, _, evals, termination) = levenberg_marquardt(
+    // Stage 3: the final run (on an even subset of a large dataset, then polished on all of it).
+    let work = data.subset(options.final_subset.max(1));
+    let (mut fitted, _, evals, mut termination) = levenberg_marquardt(
         start,
-        &data,
+        &work,
         options.residual,
         options.max_iterations,
         &tick,
         &cache,
     );
     evaluations += evals;
+    if work.obs.len() < data.obs.len() {
+        let (polished, _, evals, t) = levenberg_marquardt(
+            fitted,
+            &data,
+            options.residual,
+            options.polish_iterations,
+            &tick,
+            &cache,
+        );
+        fitted = polished;
+        evaluations += evals;
+        termination = format!(
+            "{termination} on {} points; polish on all: {t}",
+            work.obs.len()
+        );
+    }
     progress(total, total);
 
     // The Jacobian at the optimum for the standard errors.

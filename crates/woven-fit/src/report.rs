@@ -56,7 +56,7 @@ pub struct FitResult {
     pub channels: usize,
     /// Measurements dropped (negative, not finite, saturated, zero weight).
     pub dropped: usize,
-    /// Model evaluations over the whole data (or its subset) the fit took.
+    /// Evaluations of the model at single pairs of directions the fit took.
     pub evaluations: usize,
     /// How the final Levenberg–Marquardt run ended.
     pub termination: String,
@@ -143,8 +143,8 @@ pub(crate) fn assemble(
         let at_bound = p.at_bound();
         if at_bound {
             warnings.push(format!(
-                "`{}` ended on a bound of its range [{}, {}] ({}): the data pushes it past \
-                 what the model allows; no standard error",
+                "`{}` ended on a bound of its range [{}, {}] ({}): held there for the error \
+                 analysis, so it has no standard error",
                 p.name,
                 fmt(p.lo),
                 fmt(p.hi),
