@@ -71,6 +71,8 @@ enum Command {
     Tabulate(commands::tabulate::TabulateArgs),
     Export(commands::export::ExportArgs),
     Render(commands::render::RenderArgs),
+    Convert(commands::convert::ConvertArgs),
+    Fit(commands::fit::FitArgs),
 }
 
 fn main() -> ExitCode {
@@ -86,6 +88,8 @@ fn main() -> ExitCode {
         Some(Command::Tabulate(args)) => commands::tabulate::run(args),
         Some(Command::Export(args)) => commands::export::run(args),
         Some(Command::Render(args)) => commands::render::run(args),
+        Some(Command::Convert(args)) => commands::convert::run(args),
+        Some(Command::Fit(args)) => commands::fit::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

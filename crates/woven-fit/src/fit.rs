@@ -430,8 +430,8 @@ fn levenberg_marquardt(
 ) -> (ParamSet, f64, usize, String) {
     let problem = Problem::new(set, data, kind, max_jacobians, progress, cache);
     let (problem, report) = LevenbergMarquardt::new()
-        .with_ftol(1e-5)
-        .with_xtol(1e-5)
+        .with_ftol(1e-4)
+        .with_xtol(1e-4)
         .with_patience(100)
         .minimize(problem);
     let (cost, u) = problem.best.borrow().clone();

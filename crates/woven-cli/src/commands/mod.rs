@@ -1,9 +1,11 @@
 //! One module per subcommand: its clap arguments and its `run`.
 
 pub mod albedo;
+pub mod convert;
 pub mod default_job;
 pub mod eval;
 pub mod export;
+pub mod fit;
 pub mod gonio;
 pub mod materials;
 pub mod plot;
