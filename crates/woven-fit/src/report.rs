@@ -523,3 +523,36 @@ pub fn comparison_table(rows: &[Comparison]) -> String {
     );
     s
 }
+
+/// The published SGD and ABC fits' errors on a MERL dataset (`data/published/`), measured as a
+/// fit's are (the same measurements, `ε` and statistics): `[("sgd", …), ("abc", …)]`, or nothing
+/// when no published fit has the dataset's name.
+pub fn published_errors(dataset: &Dataset) -> Vec<(String, Outcome)> {
+    let Ok((sgd, abc)) = crate::data::published::for_material(&dataset.name) else {
+        return Vec::new();
+    };
+    let data = match Observations::new(dataset, None) {
+        Ok(d) => d,
+        Err(e) => {
+            return vec![
+                ("sgd".into(), Err(e.to_string())),
+                ("abc".into(), Err(e.to_string())),
+            ]
+        }
+    };
+    let errors = |eval: &dyn Fn(woven::Vec3, woven::Vec3) -> [f64; 3]| {
+        let predicted: Vec<[f64; 3]> = data.obs.iter().map(|o| eval(o.s, o.v)).collect();
+        let mut p = predicted;
+        if data.channels == 1 {
+            // A grey dataset against a colour fit: the channels' mean.
+            for x in &mut p {
+                x[0] = (x[0] + x[1] + x[2]) / 3.0;
+            }
+        }
+        Ok(statistics(&data, &p))
+    };
+    vec![
+        ("sgd".into(), errors(&|s, v| sgd.eval(s, v))),
+        ("abc".into(), errors(&|s, v| abc.eval(s, v))),
+    ]
+}

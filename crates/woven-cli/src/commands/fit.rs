@@ -206,8 +206,10 @@ fn param_set(
     model: ModelKind,
     dataset: &woven_fit::data::Dataset,
 ) -> Result<ParamSet> {
-    let init = match (&args.init, model.is_material()) {
-        (Some(src), true) => Some(src.load()?),
+    // With --compare, --init is the woven models' start and the baselines ignore it; a single
+    // baseline fit given one is an error (ParamSet::new says so).
+    let init = match &args.init {
+        Some(src) if model.is_material() || args.compare.is_empty() => Some(src.load()?),
         _ => None,
     };
     let channels = match dataset.samples.first().map(|s| s.value) {
@@ -260,6 +262,8 @@ fn compare(args: &FitArgs, options: &FitOptions) -> Result<()> {
             );
             fits.push((model.name().to_string(), outcome));
         }
+        // MERL materials: the published SGD and ABC fits, scored alike.
+        fits.extend(woven_fit::report::published_errors(&dataset));
         let points = dataset.samples.len();
         rows.push(Comparison {
             dataset: dataset.name.clone(),
