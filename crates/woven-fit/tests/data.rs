@@ -9,7 +9,8 @@ use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::{Path, PathBuf};
 use woven_fit::data::{
-    self, bundled, fitcsv, published, rgl_bsdf, DataError, Dataset, Family, Format, Sample, Value,
+    self, bundled, fitcsv, nbrdf, published, rgl_bsdf, DataError, Dataset, Family, Format, Sample,
+    Value,
 };
 
 /// A fresh temporary folder for one test.
@@ -497,18 +498,46 @@ fn tensor_file() -> Vec<u8> {
 }
 
 #[test]
-fn rgl_bsdf_directory_is_parsed_and_evaluation_is_refused_with_a_pointer() {
+fn rgl_bsdf_evaluates_to_its_grid() {
+    // The white felt's .bsdf, evaluated by our port of RGL's parameterisation, against the grid
+    // RGL's reference loader made of it (6 significant digits).
+    let dir = data::data_dir().join("rgl");
+    let bsdf = data::load(&dir.join("acrylic_felt_white_rgb.bsdf")).unwrap();
+    let grid = data::load(&dir.join("acrylic_felt_white_rgb.grid.csv")).unwrap();
+    assert_eq!(bsdf.name, "acrylic_felt_white_rgb");
+    assert_eq!(bsdf.samples.len(), grid.samples.len());
+    let mut worst: (f64, usize) = (0.0, 0);
+    for (k, (a, b)) in bsdf.samples.iter().zip(&grid.samples).enumerate() {
+        assert!((a.theta_i - b.theta_i).abs() < 1e-12 && (a.theta_r - b.theta_r).abs() < 1e-12);
+        assert!((a.phi_r - b.phi_r).abs() < 1e-12 && a.phi_i == b.phi_i);
+        for (x, y) in rgb(a).iter().zip(rgb(b)) {
+            let err = (x - y).abs() / y.abs().max(1e-3);
+            if err > worst.0 {
+                worst = (err, k);
+            }
+        }
+    }
+    let (err, k) = worst;
+    println!("worst relative error {err:e}");
+    assert!(
+        err < 1e-4,
+        "worst relative error {err:e} at {:?} vs {:?}",
+        bsdf.samples[k],
+        grid.samples[k]
+    );
+}
+
+#[test]
+fn rgl_bsdf_directory_is_parsed_and_checked() {
     let bytes = tensor_file();
     let path = Path::new("felt.bsdf");
     let file = rgl_bsdf::TensorFile::parse(path, &bytes).unwrap();
     assert_eq!(file.fields.len(), 2);
     assert_eq!(file.description(&bytes).as_deref(), Some("felt"));
     assert_eq!(file.f32s(&bytes, "theta_i"), Some(vec![0.0, 0.5]));
+    // Not a BSDF: the fields are missing.
     let e = rgl_bsdf::read(path, &bytes).unwrap_err().to_string();
-    assert!(
-        e.contains("not implemented") && e.contains("felt.grid.csv"),
-        "{e}"
-    );
+    assert!(e.contains("not an RGL RGB BSDF: no field `phi_i`"), "{e}");
     // Every truncation is an error, never a panic.
     for n in 0..bytes.len() {
         assert!(
@@ -521,6 +550,102 @@ fn rgl_bsdf_directory_is_parsed_and_evaluation_is_refused_with_a_pointer() {
     let p = write(&dir, "felt.bin", &bytes);
     assert_eq!(data::format_of(&p).unwrap(), Format::RglBsdf);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+// ---------------------------------------------------------------------------------------------
+// NBRDF networks
+
+#[test]
+fn nbrdf_matches_its_reference_test_vectors() {
+    let dir = data::data_dir().join("merl");
+    let path = dir.join("beige-fabric.nbrdf.json");
+    let net = nbrdf::Nbrdf::parse(&path, &std::fs::read(&path).unwrap()).unwrap();
+    assert_eq!(net.name, "beige-fabric");
+    let text = std::fs::read_to_string(dir.join("beige-fabric.testvec.csv")).unwrap();
+    let mut n = 0;
+    for line in text.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let f = net.eval_hd(v[0], v[1], v[2]);
+        for c in 0..3 {
+            // The vectors come from the float32 network: agreement to its rounding (~1e-5).
+            assert!(
+                (f[c] - v[3 + c]).abs() <= 2e-5 * v[3 + c].abs() + 1e-9,
+                "{line}: {f:?}"
+            );
+        }
+        n += 1;
+    }
+    assert_eq!(n, 64);
+}
+
+#[test]
+fn every_bundled_network_evaluates_to_its_grid() {
+    // The grids were made from the networks (the light's direction as the difference vector):
+    // the port reproduces them to their six significant digits.
+    let mut checked = 0;
+    for b in bundled() {
+        let Some(net) = b.network() else { continue };
+        let from_net = data::load(&net).unwrap();
+        let grid = b.load().unwrap();
+        assert_eq!(from_net.name, b.name);
+        assert_eq!(from_net.samples.len(), grid.samples.len());
+        for (a, g) in from_net.samples.iter().zip(&grid.samples) {
+            assert!((a.theta_r - g.theta_r).abs() < 1e-12 && (a.phi_r - g.phi_r).abs() < 1e-12);
+            for (x, y) in rgb(a).iter().zip(rgb(g)) {
+                assert!(
+                    (x - y).abs() <= 1e-5 * y.abs() + 1e-6,
+                    "{}: {:?} vs {:?}",
+                    b.name,
+                    a,
+                    g
+                );
+            }
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 19);
+}
+
+#[test]
+fn nbrdf_evaluates_at_another_datasets_geometry() {
+    let curet = bundled_named("curet-44-linen").load().unwrap();
+    let beige = bundled_named("beige-fabric");
+    let path = beige.network().unwrap();
+    let net = nbrdf::Nbrdf::parse(&path, &std::fs::read(&path).unwrap()).unwrap();
+    let d = net.dataset_at(&curet);
+    assert_eq!(
+        (d.name.as_str(), d.samples.len(), d.relative),
+        ("beige-fabric", 205, false)
+    );
+    for (s, c) in d.samples.iter().zip(&curet.samples) {
+        assert_eq!((s.theta_i, s.phi_r), (c.theta_i, c.phi_r));
+        // Within the grid's range of values (0.046–0.24 sr⁻¹ averaged), a little beyond at
+        // CUReT's more grazing angles.
+        assert!(rgb(s).iter().all(|v| (0.01..2.0).contains(v)), "{s:?}");
+    }
+    // Isotropic: turning both directions about the normal changes nothing.
+    let wi = woven::Vec3::from_spherical(0.5, 0.3);
+    let wo = woven::Vec3::from_spherical(0.9, 2.5);
+    let (a, b) = (
+        net.eval(wi, wo),
+        net.eval(
+            woven::Vec3::from_spherical(0.5, 1.3),
+            woven::Vec3::from_spherical(0.9, 3.5),
+        ),
+    );
+    for c in 0..3 {
+        assert!((a[c] - b[c]).abs() < 1e-12 * a[c].max(1.0), "{a:?} {b:?}");
+    }
+    // Bad networks are errors.
+    for (text, what) in [
+        ("not json", "not NBRDF JSON"),
+        ("{\"W1\": [[1, 2]]}", "`W1` is not a 6 × 21"),
+    ] {
+        let e = load_text("nbrdf-bad", "x.nbrdf.json", text)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(what), "{e}");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -771,7 +896,7 @@ proptest! {
     fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..600)) {
         let dir = temp_dir("prop-bytes");
         write(&dir, "table.txt", TABLE);
-        for name in ["x.csv", "x.grid.csv", "abrdf.dat", "x.bsdf", "x"] {
+        for name in ["x.csv", "x.grid.csv", "abrdf.dat", "x.bsdf", "x.nbrdf.json", "x"] {
             load_bytes(&dir, name, &bytes);
         }
         std::fs::remove_dir_all(&dir).unwrap();
@@ -793,6 +918,25 @@ proptest! {
         let dir = temp_dir("prop-rows");
         load_bytes(&dir, "x.csv", text.as_bytes());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn mutated_rgl_bsdf_files_never_panic(
+        edits in proptest::collection::vec((0usize..400, any::<u8>()), 1..6),
+        tail_edits in proptest::collection::vec((0usize..700_000, any::<u8>()), 0..4),
+    ) {
+        // The directory (the first few hundred bytes: names, types, offsets, shapes) and the
+        // data of the real white felt, altered: an error or a dataset, never a panic.
+        let mut bytes = std::fs::read(data::data_dir().join("rgl/acrylic_felt_white_rgb.bsdf")).unwrap();
+        for (at, b) in edits.into_iter().chain(tail_edits) {
+            let n = bytes.len();
+            bytes[at % n] = b;
+        }
+        if let Ok(d) = rgl_bsdf::read(Path::new("x.bsdf"), &bytes) {
+            for s in &d.samples {
+                prop_assert!(rgb(s).iter().all(|v| v.is_finite() && *v >= 0.0));
+            }
+        }
     }
 
     #[test]

@@ -14,8 +14,9 @@ radians, the BRDF in sr⁻¹, with `# name = …` and `# relative = true|false` 
 Formats, recognised by content: the fitter CSV itself; the goniometer CSV of `woven gonio` \
 (radiance, divided by cos θi into the BRDF); the BRDF grids `*.grid.csv` (RGL felts, NBRDF fits \
 of MERL/RGL/DTU materials; RGB); CUReT `abrdf.dat` (with table.txt beside it) and CUReT's \
-long-format CSV (relative values; pick a sample with FILE#NUMBER or FILE#NAME). RGL `.bsdf` files \
-are recognised and refused (evaluating them is not implemented: use their grids).
+long-format CSV (relative values; pick a sample with FILE#NUMBER or FILE#NAME); RGL's measured \
+`.bsdf` files (RGB, isotropic) and NBRDF networks `*.nbrdf.json`, both evaluated on the grid of \
+the `*.grid.csv` files.
 
 Rows with a direction at or below the horizon are dropped, and the count is reported on standard \
 error. A bad row is an error naming the file, its line and its column. --list prints what a file \
@@ -167,6 +168,32 @@ mod tests {
         let want = linen.load().unwrap();
         assert_eq!(back.samples, want.samples);
         assert_eq!((back.name, back.relative), (want.name, true));
+    }
+
+    #[test]
+    fn the_goniometer_csv_loads_as_the_model_brdf() {
+        // What `woven gonio` writes, read back: radiance / cos θi is the model's BRDF there.
+        let material = woven::material::Material::from_preset_or_path("belt-cloth").unwrap();
+        let model = material.build(550.0).unwrap();
+        let readings =
+            crate::goniometer::sweep(&model, &[0.0, 90.0], &[-44.0, -15.0, 0.0, 30.0], || {});
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("gonio.csv");
+        crate::io::write_atomically(&path, |out| super::super::gonio::write_csv(out, &readings))
+            .unwrap();
+        let d = data::load(&path).unwrap();
+        assert_eq!(
+            (d.samples.len(), d.dropped_below_horizon, d.relative),
+            (8, 0, false)
+        );
+        for (s, r) in d.samples.iter().zip(&readings) {
+            let (wi, wo) = woven::gonio::directions(r.azimuth_deg, r.tilt_deg);
+            let want = model.eval(wi, wo);
+            let Value::Mono(got) = s.value else {
+                panic!("one channel expected")
+            };
+            assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+        }
     }
 
     #[test]

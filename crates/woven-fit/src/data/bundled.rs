@@ -75,6 +75,19 @@ impl Bundled {
         PathBuf::from(s)
     }
 
+    /// The NBRDF network the grid was made from (`*.nbrdf.json` beside it), for the families
+    /// known through one (MERL, DTU, the RGL felts without a `.bsdf`): evaluate it at any
+    /// directions with [`super::nbrdf::Nbrdf`].
+    pub fn network(&self) -> Option<PathBuf> {
+        match self.family {
+            Family::Merl | Family::Nielsen | Family::RglNbrdf => self
+                .file
+                .strip_suffix(".grid.csv")
+                .map(|stem| data_dir().join(format!("{stem}.nbrdf.json"))),
+            Family::Curet | Family::RglFelt => None,
+        }
+    }
+
     /// Reads the dataset.
     ///
     /// # Errors
@@ -86,7 +99,12 @@ impl Bundled {
 
 /// The repository's `data/` folder (found from this crate's source location at build time).
 pub fn data_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data")
+    let krate = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    // crates/woven-fit → the repository's root.
+    match krate.parent().and_then(|crates| crates.parent()) {
+        Some(root) => root.join("data"),
+        None => krate.join("../../data"),
+    }
 }
 
 /// The MERL materials with NBRDF grids in `data/merl/`: name, file, whether a textile.

@@ -13,7 +13,8 @@
 //! | the goniometer CSV of `woven gonio` | [`gonio`] | its header | radiance ÷ cos θi → BRDF |
 //! | the grids `*.grid.csv` (RGL felts, NBRDF fits of MERL/RGL/DTU) | [`grid`] | its header | BRDF, RGB |
 //! | CUReT `abrdf.dat` (+ `table.txt` beside it), CUReT long-format CSV | [`curet`] | the `.dat` name; the header | relative |
-//! | RGL `.bsdf` (tensor file) | [`rgl_bsdf`] | its magic bytes | refused with a pointer to the grid, see there |
+//! | RGL `.bsdf` (RGB tensor file) | [`rgl_bsdf`] | its magic bytes | evaluated on the grid of the `*.grid.csv` files, RGB |
+//! | NBRDF network `*.nbrdf.json` (MERL, RGL, DTU) | [`nbrdf`] | the `.json` name | evaluated on the same grid, RGB |
 //!
 //! Rules common to every reader:
 //! - a row whose light or view direction is at or below the horizon (`θ ≥ π/2`) is dropped and
@@ -33,6 +34,7 @@ mod error;
 pub mod fitcsv;
 pub mod gonio;
 pub mod grid;
+pub mod nbrdf;
 pub mod published;
 pub mod rgl_bsdf;
 mod rows;
@@ -100,6 +102,8 @@ pub enum Format {
     CuretCsv,
     /// An RGL `.bsdf` tensor file ([`rgl_bsdf`]).
     RglBsdf,
+    /// An NBRDF network, `*.nbrdf.json` ([`nbrdf`]).
+    Nbrdf,
 }
 
 impl Format {
@@ -112,6 +116,7 @@ impl Format {
             Format::CuretDat => "CUReT abrdf.dat",
             Format::CuretCsv => "CUReT long-format CSV",
             Format::RglBsdf => "RGL .bsdf",
+            Format::Nbrdf => "NBRDF network",
         }
     }
 }
@@ -145,6 +150,9 @@ fn detect(path: &Path, bytes: &[u8]) -> Result<Format, DataError> {
     }
     if name.ends_with(".bsdf") {
         return Ok(Format::RglBsdf);
+    }
+    if name.ends_with(".json") {
+        return Ok(Format::Nbrdf);
     }
     if name == "table.txt" {
         return Err(rows::format_error(
@@ -201,6 +209,7 @@ fn read_any(path: &Path, selector: Option<&str>) -> Result<(Vec<Dataset>, Format
         Format::Gonio => single(gonio::read(path, &bytes)?)?,
         Format::Grid => single(grid::read(path, &bytes)?)?,
         Format::RglBsdf => single(rgl_bsdf::read(path, &bytes)?)?,
+        Format::Nbrdf => single(nbrdf::read(path, &bytes)?)?,
         Format::CuretCsv => curet::read_csv(path, &bytes, selector)?,
         Format::CuretDat => {
             let table = path.with_file_name("table.txt");
@@ -215,10 +224,18 @@ fn read_any(path: &Path, selector: Option<&str>) -> Result<(Vec<Dataset>, Format
 /// table). A file that holds several materials (CUReT) needs a selector: `abrdf.dat#44`,
 /// `abrdf.dat#linen`.
 ///
-/// ```no_run
-/// let linen = woven_fit::data::load("data/curet/abrdf.dat#linen".as_ref())?;
-/// assert_eq!(linen.samples.len(), 205);
+/// ```
+/// use woven_fit::data::{self, Value};
+///
+/// // CUReT's linen (sample 44) in the repository's data/ folder: 205 measurements, relative.
+/// let path = data::data_dir().join("curet/abrdf.dat#linen");
+/// let linen = data::load(&path)?;
+/// assert_eq!((linen.name.as_str(), linen.samples.len()), ("curet-44-linen", 205));
 /// assert!(linen.relative);
+/// // The first measurement: light at θi = 78.75°, viewer at θr = 79.6°, BRDF 0.156 (relative).
+/// let s = linen.samples[0];
+/// assert!((s.theta_i.to_degrees() - 78.75).abs() < 0.01);
+/// assert_eq!(s.value, Value::Mono(0.156));
 /// # Ok::<(), woven_fit::data::DataError>(())
 /// ```
 ///

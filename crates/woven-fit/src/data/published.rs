@@ -325,3 +325,15 @@ pub fn for_material(name: &str) -> Result<(SgdFit, AbcFit), DataError> {
         .ok_or_else(|| missing(&abc_table()))?;
     Ok((sgd, abc))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_of_glass_at_normal_incidence_is_four_percent() {
+        assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-12);
+        // Grazing incidence reflects everything.
+        assert!((fresnel_dielectric(0.0, 1.5) - 1.0).abs() < 1e-12);
+    }
+}

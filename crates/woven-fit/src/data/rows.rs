@@ -207,6 +207,58 @@ pub(crate) fn sample(theta_i: f64, phi_i: f64, theta_r: f64, phi_r: f64, value: 
     }
 }
 
+/// The polar angles of the standard grid, degrees: 0, 5, …, 80.
+pub(crate) const GRID_THETA_DEG: std::ops::RangeInclusive<u32> = 0..=16;
+/// The relative azimuths of the standard grid, in steps of 15°: 0, 15, …, 180.
+pub(crate) const GRID_PHI_STEPS: std::ops::RangeInclusive<u32> = 0..=12;
+
+/// `eval(wi, wo)` (RGB, sr⁻¹) on the grid of the `*.grid.csv` files: θi, θo ∈ {0, 5, …, 80}°,
+/// φo − φi ∈ {0, 15, …, 180}° (θi outermost, the azimuth innermost), the light at φi = 0; an
+/// absolute RGB dataset.
+///
+/// # Errors
+/// [`DataError::Format`] when an evaluation is not finite or is negative.
+pub(crate) fn on_grid(
+    path: &Path,
+    name: String,
+    eval: impl Fn(woven::Vec3, woven::Vec3) -> [f64; 3],
+) -> Result<Dataset, DataError> {
+    let mut samples = Vec::with_capacity(17 * 17 * 13);
+    for ti in GRID_THETA_DEG {
+        for to in GRID_THETA_DEG {
+            for p in GRID_PHI_STEPS {
+                let theta_i = (5.0 * ti as f64).to_radians();
+                let theta_r = (5.0 * to as f64).to_radians();
+                let phi_r = (15.0 * p as f64).to_radians();
+                let f = eval(
+                    woven::Vec3::from_spherical(theta_i, 0.0),
+                    woven::Vec3::from_spherical(theta_r, phi_r),
+                );
+                if f.iter().any(|v| !v.is_finite() || *v < 0.0) {
+                    return Err(format_error(
+                        path,
+                        format!(
+                            "the BRDF evaluates to {f:?} at θi = {}°, θo = {}°, φ = {}°: not a \
+                             finite value ≥ 0",
+                            5 * ti,
+                            5 * to,
+                            15 * p
+                        ),
+                    ));
+                }
+                samples.push(sample(theta_i, 0.0, theta_r, phi_r, Value::Rgb(f)));
+            }
+        }
+    }
+    Ok(Dataset {
+        name,
+        source: path.to_path_buf(),
+        samples,
+        dropped_below_horizon: 0,
+        relative: false,
+    })
+}
+
 /// The file's stem (`felt.grid.csv` → `felt.grid`), or `measurements`.
 pub(crate) fn stem(path: &Path) -> String {
     path.file_stem()
