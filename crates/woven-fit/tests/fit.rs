@@ -237,6 +237,8 @@ fn a_fit_is_deterministic_for_a_seed() {
             &start,
             &FitOptions {
                 seed: 9,
+                starts: 4,
+                max_iterations: 6,
                 ..FitOptions::default()
             },
             &|_, _| {},
