@@ -8,7 +8,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use woven::material::Material;
 use woven::math::rng::SplitMix;
-use woven_fit::evaluate::{Observation, Prepared};
+use woven_fit::evaluate::{FiberCache, Observation, Prepared};
 use woven_fit::{ModelKind, ParamSet};
 
 /// 205 random direction pairs up to 80° (a CUReT-sized dataset).
@@ -33,6 +33,14 @@ fn bench(c: &mut Criterion) {
         let set = ParamSet::new(ModelKind::Cloth, Some(&m), 1, false).unwrap();
         group.bench_function(format!("prepare/{preset}"), |b| {
             b.iter(|| black_box(Prepared::new(&set).unwrap()))
+        });
+        // A parameter vector differing from a cached one in anything but the roughness.
+        let cache = FiberCache::default();
+        Prepared::with_cache(&set, Some(&cache)).unwrap();
+        let mut moved = set.clone();
+        moved.fix("yarn.slope_std", 0.3).unwrap();
+        group.bench_function(format!("prepare-cached/{preset}"), |b| {
+            b.iter(|| black_box(Prepared::with_cache(&moved, Some(&cache)).unwrap()))
         });
         let prepared = Prepared::new(&set).unwrap();
         group.bench_function(format!("pass-205/{preset}"), |b| {
