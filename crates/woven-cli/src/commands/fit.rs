@@ -44,7 +44,7 @@ statistics), --plot the data against the fit (SVG or PNG).",
   woven fit --data sample.csv --model cloth -o fitted.toml --report fit.md --plot fit.png
   woven fit --data sample.csv --model cloth --init polyester-sateen --fix eta=1.6 --free twist_std
   woven fit --data sample.csv --model microfacet
-  woven fit --compare data/curet/*.csv"
+  woven fit --compare 'data/curet/abrdf.dat#linen' data/merl/beige-fabric.grid.csv"
 )]
 pub struct FitArgs {
     /// The measurements to fit.
