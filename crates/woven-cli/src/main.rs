@@ -73,6 +73,7 @@ enum Command {
     Render(commands::render::RenderArgs),
     Convert(commands::convert::ConvertArgs),
     Serve(commands::serve::ServeArgs),
+    Fit(commands::fit::FitArgs),
 }
 
 fn main() -> ExitCode {
@@ -90,6 +91,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => commands::render::run(args),
         Some(Command::Convert(args)) => commands::convert::run(args),
         Some(Command::Serve(args)) => commands::serve::run(args),
+        Some(Command::Fit(args)) => commands::fit::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

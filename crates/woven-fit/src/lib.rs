@@ -1,6 +1,53 @@
 //! Fitting the Yang–Ikeuchi woven-cloth BRDF, and the usual analytic baselines, to measured
 //! reflectance.
 //!
+//! ```
+//! use woven_fit::data::{Dataset, Sample, Value};
+//! use woven_fit::{fit, FitOptions, ModelKind, ParamSet};
+//!
+//! // A Lambertian surface of albedo 0.4 seen at a few angles...
+//! let samples = (0..12)
+//!     .map(|k| Sample {
+//!         theta_i: 0.1 * k as f64,
+//!         phi_i: 0.0,
+//!         theta_r: 0.5,
+//!         phi_r: 3.0,
+//!         value: Value::Mono(0.4 / std::f64::consts::PI),
+//!         weight: 1.0,
+//!     })
+//!     .collect();
+//! let data = Dataset {
+//!     name: "grey".into(),
+//!     source: "grey.csv".into(),
+//!     samples,
+//!     dropped_below_horizon: 0,
+//!     relative: false,
+//! };
+//! // ... fitted by the Lambert baseline.
+//! let set = ParamSet::new(ModelKind::Lambert, None, 1, false)?;
+//! let result = fit(&data, &set, &FitOptions::default(), &|_, _| {})?;
+//! assert!((result.estimates[0].value - 0.4).abs() < 1e-6);
+//! assert!(result.rms_log < 1e-6);
+//! # Ok::<(), woven_fit::FitError>(())
+//! ```
+//!
 //! - [`data`]: measurements (one type for every source) and the readers that produce them.
+//! - [`params`]: the parameter registry of each model: names, bounds, transforms, `--fix`/`--free`.
+//! - [`evaluate`]: a parameter set made ready to evaluate at every measurement (the woven model,
+//!   the Lambert and microfacet baselines).
+//! - [`fit`](mod@fit): the objective (log or relative residuals) and the optimizer (quasi-random
+//!   multi-start, then bounded Levenberg–Marquardt).
+//! - [`report`]: standard errors, warnings, statistics, the Markdown report, plot data and the
+//!   comparison table.
 
 pub mod data;
+pub mod error;
+pub mod evaluate;
+pub mod fit;
+pub mod params;
+pub mod report;
+
+pub use error::FitError;
+pub use fit::{fit, FitOptions, Residual};
+pub use params::{ModelKind, ParamSet, Quantity};
+pub use report::{Comparison, FitResult};

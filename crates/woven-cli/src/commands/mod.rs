@@ -5,6 +5,7 @@ pub mod convert;
 pub mod default_job;
 pub mod eval;
 pub mod export;
+pub mod fit;
 pub mod gonio;
 pub mod materials;
 pub mod plot;

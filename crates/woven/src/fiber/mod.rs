@@ -206,6 +206,40 @@ impl Fiber {
         Ok(fiber)
     }
 
+    /// A fiber with other parameters at this fiber's wavelength, sharing this fiber's β table
+    /// when the new parameters need the same one: in the rough limit β depends only on the
+    /// roughness (docs/spec.md §1.5: `Ω₁` has `F = 1` and `ρ0 = 0`), so fibers that differ only
+    /// in `η` or `ρ0` share it exactly. Otherwise the same as [`Fiber::new`]. For fitters, which
+    /// build many fibers differing in one parameter; building a table costs ~0.2 s.
+    ///
+    /// # Errors
+    /// As [`Fiber::new`].
+    ///
+    /// ```
+    /// use woven::{fiber::{Fiber, FiberParams}, Vec3};
+    /// let a = Fiber::new(&FiberParams::rough(1.5, 0.1, 0.0), 550.0)?;
+    /// let b = a.with_params(&FiberParams::rough(1.6, 0.1, 0.2))?; // shares a's table
+    /// let c = Fiber::new(&FiberParams::rough(1.6, 0.1, 0.2), 550.0)?;
+    /// let (s, v) = (Vec3::from_spherical(0.5, 0.0), Vec3::from_spherical(0.6, 3.0));
+    /// assert_eq!(b.eval(s, v), c.eval(s, v));
+    /// # Ok::<(), woven::Error>(())
+    /// ```
+    pub fn with_params(&self, params: &FiberParams) -> Result<Self> {
+        let same_table = matches!(
+            (self.params.model, params.model),
+            (FiberModel::Rough { roughness: a }, FiberModel::Rough { roughness: b }) if a == b
+        ) && self.params.normalization == params.normalization
+            && !self.unit_fresnel;
+        if !same_table {
+            return Fiber::new(params, self.lambda_nm);
+        }
+        params.validate()?;
+        params.eta.checked_at(self.lambda_nm)?;
+        let mut fiber = Self::unnormalized(params, self.lambda_nm);
+        fiber.beta = self.beta.clone();
+        Ok(fiber)
+    }
+
     fn unnormalized(params: &FiberParams, wavelength_nm: f64) -> Self {
         let lambda_um = wavelength_nm * 1e-3;
         let (sigma_h, tau) = match params.model {

@@ -1,0 +1,124 @@
+//! End-to-end tests of `woven fit`: a fit's files, and bad input met with clear errors.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+fn woven() -> Command {
+    Command::cargo_bin("woven").unwrap()
+}
+
+/// A measurement CSV of a Lambertian surface of albedo `albedo` with a mild specular bump, in a
+/// fresh directory (kept alive by the returned guard).
+fn measurements(dir: &Path, name: &str, albedo: f64) -> PathBuf {
+    let mut s = String::from("theta_i,phi_i,theta_r,phi_r,value\n");
+    for i in 0..6 {
+        for j in 0..6 {
+            let (ti, tr) = (0.12 * i as f64 + 0.1, 0.13 * j as f64 + 0.05);
+            let bump = 1.0 + 0.3 * (-((ti - tr) / 0.2).powi(2)).exp();
+            s.push_str(&format!("{ti},0,{tr},{PI},{}\n", albedo / PI * bump));
+        }
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, s).unwrap();
+    path
+}
+
+#[test]
+fn a_fit_writes_its_material_report_and_plot() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = measurements(dir.path(), "grey.csv", 0.5);
+    let (out, report, plot) = (
+        dir.path().join("fitted.toml"),
+        dir.path().join("fit.md"),
+        dir.path().join("fit.svg"),
+    );
+    woven()
+        .args(["fit", "--model", "fiber", "--data"])
+        .arg(&data)
+        .arg("-o")
+        .arg(&out)
+        .arg("--report")
+        .arg(&report)
+        .arg("--plot")
+        .arg(&plot)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("RMS log error"));
+    // The material file is one woven reads.
+    let material = woven::material::Material::from_path(&out).unwrap();
+    assert!(material.yarn.is_none());
+    let text = std::fs::read_to_string(&report).unwrap();
+    assert!(
+        text.contains("fiber.roughness") && text.contains("standard error"),
+        "{text}"
+    );
+    assert!(std::fs::read_to_string(&plot).unwrap().starts_with("<svg"));
+    woven()
+        .args(["eval", "--material"])
+        .arg(&out)
+        .args(["--input", "-"])
+        .write_stdin("theta_i,phi_i,theta_r,phi_r\n0.3,0,0.4,3\n")
+        .assert()
+        .success();
+}
+
+#[test]
+fn compare_prints_one_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = measurements(dir.path(), "a.csv", 0.5);
+    let b = measurements(dir.path(), "b.csv", 0.2);
+    woven()
+        .args(["fit", "--models", "lambert,microfacet", "--compare"])
+        .arg(&a)
+        .arg(&b)
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("| dataset | points | lambert | microfacet |")
+                .and(predicate::str::contains("| a | 36 |"))
+                .and(predicate::str::contains("| b | 36 |")),
+        );
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = measurements(dir.path(), "grey.csv", 0.5);
+    let run = |args: &[&str]| {
+        let mut cmd = woven();
+        cmd.args(["fit", "--data"]).arg(&data).args(args);
+        cmd.assert()
+    };
+    run(&["--fix", "nonsense=1"]).failure().stderr(
+        predicate::str::contains("nonsense").and(predicate::str::contains("fiber.roughness")),
+    );
+    run(&["--fix", "roughness=7"]).failure().stderr(
+        predicate::str::contains("fiber.roughness").and(predicate::str::contains("[0.005, 2]")),
+    );
+    run(&["--fix", "roughness"])
+        .failure()
+        .stderr(predicate::str::contains("name=value"));
+    run(&["--model", "phong"])
+        .code(2)
+        .stderr(predicate::str::contains("phong"));
+    run(&["--model", "lambert", "--init", "silk"])
+        .failure()
+        .stderr(predicate::str::contains("--init"));
+    run(&["--init", "no-such-preset"])
+        .failure()
+        .stderr(predicate::str::contains("no-such-preset"));
+    run(&["--plot", "fit.jpg"])
+        .failure()
+        .stderr(predicate::str::contains(".svg or .png"));
+    run(&["-o", "/no/such/dir/fitted.toml"])
+        .failure()
+        .stderr(predicate::str::contains("/no/such/dir"));
+    woven()
+        .args(["fit", "--data", "/no/such/file.csv"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("/no/such/file.csv"));
+    woven().args(["fit"]).assert().code(2);
+}

@@ -1,0 +1,636 @@
+//! The objective and the optimizer: a quasi-random multi-start, then bounded Levenberg–Marquardt
+//! (the `levenberg-marquardt` crate, a MINPACK port) in the transformed parameters.
+//!
+//! The residual of a measurement `m` and a prediction `p` in one channel, with weight `w`, is
+//! `√w (ln(p + ε) − ln(m + ε))` ([`Residual::Log`], the default: every decade of a BRDF counts
+//! alike, and a factor off is the same error at the peak and in the tail) or `√w (p − m)/(m + ε)`
+//! ([`Residual::Relative`]); `ε` is 10⁻³ of the channel's median measurement, so that zeros and
+//! values drowned in noise neither dominate nor break the logarithm.
+//!
+//! The Jacobian is exact for the parameters the BRDF is affine in (albedos, `ħ`, the scale, the
+//! baseline's specular weight; one evaluation gives them all, [`woven::Model::eval_affine`]) and
+//! a forward difference for the others, all columns evaluated together over every core.
+//! Everything is deterministic for a seed: the starts are a scrambled Sobol sequence and parallel
+//! results are collected in order.
+
+use crate::data::{Dataset, Value};
+use crate::error::FitError;
+use crate::evaluate::{FiberCache, Linear, Observation, Parts, Prepared};
+use crate::params::{ParamSet, Quantity};
+use crate::report::{self, FitResult};
+use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
+use nalgebra::{storage::Owned, DMatrix, DVector, Dyn};
+use rayon::prelude::*;
+use std::cell::{Cell, RefCell};
+
+/// The residual of one measurement (see the module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Residual {
+    /// `√w (ln(p + ε) − ln(m + ε))`.
+    #[default]
+    Log,
+    /// `√w (p − m)/(m + ε)`.
+    Relative,
+}
+
+/// How a fit runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitOptions {
+    /// The residual.
+    pub residual: Residual,
+    /// Scrambles the quasi-random starts; the same seed gives the same fit.
+    pub seed: u32,
+    /// Quasi-random starting points screened (besides the initial values).
+    pub starts: usize,
+    /// The best starts refined by a short Levenberg–Marquardt run.
+    pub refine: usize,
+    /// Jacobians each refinement may take.
+    pub refine_iterations: usize,
+    /// Jacobians the final run may take.
+    pub max_iterations: usize,
+    /// The most measurements the screening and the refinements use (an even subset).
+    pub subset: usize,
+    /// The most measurements the final run uses; larger datasets are fitted on an even subset
+    /// of this size, then polished on every measurement.
+    pub final_subset: usize,
+    /// Jacobians the polish on every measurement may take (large datasets only).
+    pub polish_iterations: usize,
+    /// Measurements at or above this value are dropped as saturated.
+    pub saturation: Option<f64>,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            residual: Residual::Log,
+            seed: 1,
+            starts: 32,
+            refine: 2,
+            refine_iterations: 4,
+            max_iterations: 25,
+            subset: 64,
+            final_subset: 768,
+            polish_iterations: 1,
+            saturation: None,
+        }
+    }
+}
+
+/// The measurements a fit uses, with what was left out.
+#[derive(Clone, Debug)]
+pub struct Observations {
+    /// The measurements kept.
+    pub obs: Vec<Observation>,
+    /// 1 or 3.
+    pub channels: usize,
+    /// The floor `ε` of each channel (see the module docs).
+    pub eps: [f64; 3],
+    /// Measurements dropped: negative or not finite values, zero weights, saturated values.
+    pub dropped: usize,
+}
+
+impl Observations {
+    /// The measurements of `dataset` the fit can use.
+    ///
+    /// # Errors
+    /// [`FitError::Data`] for a dataset with no usable measurement or with both mono and colour
+    /// values.
+    pub fn new(dataset: &Dataset, saturation: Option<f64>) -> Result<Self, FitError> {
+        let err = |message: String| FitError::Data {
+            name: dataset.name.clone(),
+            message,
+        };
+        let rgb = dataset
+            .samples
+            .iter()
+            .filter(|s| matches!(s.value, Value::Rgb(_)))
+            .count();
+        if rgb != 0 && rgb != dataset.samples.len() {
+            return Err(err(format!(
+                "{rgb} of {} measurements are colour and the rest mono: one kind per dataset",
+                dataset.samples.len()
+            )));
+        }
+        let channels = if rgb > 0 { 3 } else { 1 };
+        let mut obs = Vec::with_capacity(dataset.samples.len());
+        let mut dropped = 0;
+        for s in &dataset.samples {
+            let value = match s.value {
+                Value::Mono(x) => [x, 0.0, 0.0],
+                Value::Rgb(v) => v,
+            };
+            let ok = value[..channels]
+                .iter()
+                .all(|&x| x.is_finite() && x >= 0.0 && saturation.is_none_or(|cap| x < cap))
+                && s.weight.is_finite()
+                && s.weight > 0.0
+                && s.theta_i < std::f64::consts::FRAC_PI_2
+                && s.theta_r < std::f64::consts::FRAC_PI_2;
+            if !ok {
+                dropped += 1;
+                continue;
+            }
+            obs.push(Observation {
+                s: woven::Vec3::from_spherical(s.theta_i, s.phi_i),
+                v: woven::Vec3::from_spherical(s.theta_r, s.phi_r),
+                value,
+                weight: s.weight,
+            });
+        }
+        if obs.is_empty() {
+            return Err(err(format!(
+                "no usable measurement ({} dropped: negative, not finite, saturated or of zero weight)",
+                dropped
+            )));
+        }
+        let mut eps = [1e-12; 3];
+        for (c, e) in eps.iter_mut().enumerate().take(channels) {
+            let mut v: Vec<f64> = obs
+                .iter()
+                .map(|o| o.value[c])
+                .filter(|&x| x > 0.0)
+                .collect();
+            if !v.is_empty() {
+                v.sort_by(f64::total_cmp);
+                *e = 1e-3 * v[v.len() / 2];
+            }
+        }
+        Ok(Observations {
+            obs,
+            channels,
+            eps,
+            dropped,
+        })
+    }
+
+    /// An even subset of at most `n` measurements (all of them when there are no more).
+    pub fn subset(&self, n: usize) -> Observations {
+        if self.obs.len() <= n {
+            return self.clone();
+        }
+        let step = self.obs.len() as f64 / n as f64;
+        let obs = (0..n)
+            .map(|k| self.obs[((k as f64 + 0.5) * step) as usize])
+            .collect();
+        Observations {
+            obs,
+            ..self.clone()
+        }
+    }
+
+    /// Number of residuals.
+    pub fn len(&self) -> usize {
+        self.obs.len() * self.channels
+    }
+
+    /// Whether there is nothing to fit.
+    pub fn is_empty(&self) -> bool {
+        self.obs.is_empty()
+    }
+
+    /// The residuals of predictions from `parts` under the linear parameters `lin`.
+    pub fn residuals(&self, kind: Residual, parts: &[Parts], lin: &Linear) -> Vec<f64> {
+        let mut r = Vec::with_capacity(self.len());
+        for (o, p) in self.obs.iter().zip(parts) {
+            for c in 0..self.channels {
+                r.push(residual(
+                    kind,
+                    o.value[c],
+                    lin.predict(p, c),
+                    self.eps[c],
+                    o.weight.sqrt(),
+                ));
+            }
+        }
+        r
+    }
+}
+
+/// One residual (module docs).
+#[inline]
+pub fn residual(kind: Residual, measured: f64, predicted: f64, eps: f64, sqrt_w: f64) -> f64 {
+    match kind {
+        Residual::Log => sqrt_w * ((predicted.max(0.0) + eps).ln() - (measured + eps).ln()),
+        Residual::Relative => sqrt_w * (predicted - measured) / (measured + eps),
+    }
+}
+
+/// `∂residual/∂prediction`.
+#[inline]
+fn dresidual(kind: Residual, measured: f64, predicted: f64, eps: f64, sqrt_w: f64) -> f64 {
+    match kind {
+        Residual::Log => sqrt_w / (predicted.max(0.0) + eps),
+        Residual::Relative => sqrt_w / (measured + eps),
+    }
+}
+
+/// The forward-difference step in the unconstrained variables (the model's quadrature is
+/// accurate to ~1e-6 relative, so the difference quotient keeps ~3 digits).
+const FD_STEP: f64 = 1e-3;
+
+/// The roughness levels the multi-start draws from (evenly in log over the start range).
+const ROUGHNESS_LEVELS: f64 = 6.0;
+
+/// A sum of squares that is not a number counts as infinitely bad.
+fn cost_of(r: &[f64]) -> f64 {
+    let c = 0.5 * r.iter().map(|x| x * x).sum::<f64>();
+    if c.is_finite() {
+        c
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The least-squares problem in the free parameters' unconstrained variables.
+struct Problem<'a> {
+    set: ParamSet,
+    free: Vec<usize>,
+    data: &'a Observations,
+    kind: Residual,
+    u: DVector<f64>,
+    parts: Vec<Parts>,
+    res: Option<DVector<f64>>,
+    jacobians: Cell<usize>,
+    max_jacobians: usize,
+    /// The lowest cost seen and its variables.
+    best: RefCell<(f64, Vec<f64>)>,
+    evaluations: Cell<usize>,
+    progress: &'a (dyn Fn() + Sync),
+    cache: &'a FiberCache,
+}
+
+impl<'a> Problem<'a> {
+    fn new(
+        set: ParamSet,
+        data: &'a Observations,
+        kind: Residual,
+        max_jacobians: usize,
+        progress: &'a (dyn Fn() + Sync),
+        cache: &'a FiberCache,
+    ) -> Self {
+        let free = set.free_indices();
+        let u = DVector::from_vec(set.free_u());
+        let mut p = Problem {
+            set,
+            free,
+            data,
+            kind,
+            u: u.clone(),
+            parts: Vec::new(),
+            res: None,
+            jacobians: Cell::new(0),
+            max_jacobians,
+            best: RefCell::new((f64::INFINITY, u.as_slice().to_vec())),
+            evaluations: Cell::new(0),
+            progress,
+            cache,
+        };
+        p.set_params(&u);
+        p
+    }
+
+    /// Parts at every observation for the set moved to `u`, or `None` if it does not build.
+    fn parts_at(&self, u: &[f64]) -> Option<(ParamSet, Vec<Parts>)> {
+        let mut set = self.set.clone();
+        set.set_free_u(u);
+        let prepared = Prepared::with_cache(&set, Some(self.cache)).ok()?;
+        self.evaluations
+            .set(self.evaluations.get() + self.data.obs.len());
+        Some((set.clone(), prepared.parts_all(&self.data.obs)))
+    }
+
+    /// The Jacobian at the current point (see the module docs).
+    fn jacobian_here(&self) -> DMatrix<f64> {
+        let data = self.data;
+        let (m, n) = (data.len(), self.free.len());
+        let mut jac = DMatrix::zeros(m, n);
+        let lin = Linear::of(&self.set);
+        let res = self.res.as_ref().expect("residuals at the current point");
+        // Analytic columns: the BRDF is affine in these given the parts.
+        let hbar = self.set.get(Quantity::Interreflection, 0).unwrap_or(0.0);
+        let mut fd_cols = Vec::new();
+        for (j, &i) in self.free.iter().enumerate() {
+            let p = &self.set.params[i];
+            if !p.quantity.is_linear() {
+                fd_cols.push(j);
+                continue;
+            }
+            let dx = p.dx_du(self.u[j]);
+            for (k, (o, parts)) in data.obs.iter().zip(&self.parts).enumerate() {
+                for c in 0..data.channels {
+                    let pred = lin.predict(parts, c);
+                    let dpred = match p.quantity {
+                        Quantity::Diffuse if p.channel == c => lin.scale * parts.per_diffuse,
+                        Quantity::InterreflectionAlbedo if p.channel == c => {
+                            lin.scale * parts.per_interreflection
+                        }
+                        Quantity::Specular => lin.scale * parts.fixed,
+                        Quantity::Scale => pred / lin.scale,
+                        Quantity::Interreflection => {
+                            // fixed and per_diffuse carry (1 − ħ); per_interreflection is ħ/π.
+                            let body =
+                                lin.specular * parts.fixed + lin.diffuse[c] * parts.per_diffuse;
+                            lin.scale
+                                * (-body / (1.0 - hbar)
+                                    + lin.interreflection_albedo[c] * parts.per_interreflection
+                                        / hbar.max(1e-300))
+                        }
+                        _ => 0.0,
+                    };
+                    let d = dresidual(self.kind, o.value[c], pred, data.eps[c], o.weight.sqrt());
+                    jac[(k * data.channels + c, j)] = d * dpred * dx;
+                }
+            }
+        }
+        // Forward differences for the rest, every column at once.
+        let (u0, set0, cache) = (self.u.as_slice(), &self.set, self.cache);
+        let stepped: Vec<Option<Vec<Parts>>> = fd_cols
+            .par_iter()
+            .map(|&j| {
+                let mut u = u0.to_vec();
+                u[j] += FD_STEP;
+                let mut set = set0.clone();
+                set.set_free_u(&u);
+                let prepared = Prepared::with_cache(&set, Some(cache)).ok()?;
+                Some(prepared.parts_all(&data.obs))
+            })
+            .collect();
+        self.evaluations
+            .set(self.evaluations.get() + fd_cols.len() * data.obs.len());
+        for (&j, parts) in fd_cols.iter().zip(stepped) {
+            let Some(parts) = parts else {
+                continue; // a step the library refuses: a zero column (that direction is frozen)
+            };
+            let r = data.residuals(self.kind, &parts, &lin);
+            for (row, rv) in r.iter().enumerate() {
+                let d = (rv - res[row]) / FD_STEP;
+                jac[(row, j)] = if d.is_finite() { d } else { 0.0 };
+            }
+        }
+        jac
+    }
+}
+
+impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, u: &DVector<f64>) {
+        self.u = u.clone();
+        match self.parts_at(u.as_slice()) {
+            Some((set, parts)) => {
+                let r = self.data.residuals(self.kind, &parts, &Linear::of(&set));
+                self.set = set;
+                self.parts = parts;
+                let cost = cost_of(&r);
+                self.res = Some(DVector::from_vec(r));
+                let mut best = self.best.borrow_mut();
+                if cost < best.0 {
+                    *best = (cost, u.as_slice().to_vec());
+                }
+            }
+            None => {
+                self.set.set_free_u(u.as_slice());
+                self.res = None;
+            }
+        }
+    }
+
+    fn params(&self) -> DVector<f64> {
+        self.u.clone()
+    }
+
+    fn residuals(&self) -> Option<DVector<f64>> {
+        // A point the library refuses, or predictions that are not numbers, stop the step.
+        self.res.clone().filter(|r| r.iter().all(|x| x.is_finite()))
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        if self.jacobians.get() >= self.max_jacobians {
+            return None; // the iteration budget is spent: keep the best point
+        }
+        self.jacobians.set(self.jacobians.get() + 1);
+        (self.progress)();
+        self.res.as_ref()?;
+        Some(self.jacobian_here())
+    }
+}
+
+/// Runs Levenberg–Marquardt from `set` on `data` for at most `max_jacobians` iterations; returns
+/// the best point found, its cost, the model evaluations (at single points) spent and how the
+/// run ended.
+fn levenberg_marquardt(
+    set: ParamSet,
+    data: &Observations,
+    kind: Residual,
+    max_jacobians: usize,
+    progress: &(dyn Fn() + Sync),
+    cache: &FiberCache,
+) -> (ParamSet, f64, usize, String) {
+    let problem = Problem::new(set, data, kind, max_jacobians, progress, cache);
+    let (problem, report) = LevenbergMarquardt::new()
+        .with_ftol(1e-4)
+        .with_xtol(1e-4)
+        .with_patience(100)
+        .minimize(problem);
+    let (cost, u) = problem.best.borrow().clone();
+    let mut set = problem.set.clone();
+    set.set_free_u(&u);
+    let termination = match report.termination {
+        levenberg_marquardt::TerminationReason::User("jacobian") => {
+            "iteration limit reached".to_string()
+        }
+        t if t.was_successful() => "converged".to_string(),
+        t => format!("stopped: {t:?}"),
+    };
+    (set, cost, problem.evaluations.get(), termination)
+}
+
+/// What a fit reports while it runs: `(done, total)` steps (screened starts plus iterations).
+pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
+
+/// Fits the parameter set `set` (its free parameters) to `dataset`.
+///
+/// The stages: the initial values and `options.starts` quasi-random points of the free
+/// parameters' start ranges are scored on a subset of the data; the best `options.refine` are
+/// refined by short Levenberg–Marquardt runs on the subset; the best of those by a full run on
+/// every measurement (a dataset larger than `options.final_subset` on an even subset of that
+/// size, then polished on every measurement). With a free `scale`, each start takes the scale that matches the data's
+/// median level. The result carries standard errors and warnings ([`FitResult`]).
+///
+/// # Errors
+/// [`FitError::Data`] for a dataset with nothing to fit or whose channels do not match `set`;
+/// [`FitError::Material`] if the initial parameters do not build.
+pub fn fit(
+    dataset: &Dataset,
+    set: &ParamSet,
+    options: &FitOptions,
+    progress: ProgressFn<'_>,
+) -> Result<FitResult, FitError> {
+    let data = Observations::new(dataset, options.saturation)?;
+    if data.channels != set.channels {
+        return Err(FitError::Data {
+            name: dataset.name.clone(),
+            message: format!(
+                "the data has {} channel(s), the parameters were set up for {}",
+                data.channels, set.channels
+            ),
+        });
+    }
+    let cache = FiberCache::default();
+    Prepared::with_cache(set, Some(&cache))?;
+    let subset = data.subset(options.subset.max(1));
+    let free = set.free_indices();
+    let total = options.starts
+        + 1
+        + options.refine * options.refine_iterations
+        + options.max_iterations
+        + options.polish_iterations;
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let tick = || {
+        let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        progress(d.min(total), total);
+    };
+
+    // Stage 1: score the initial values and the quasi-random starts on the subset.
+    let mut candidates = vec![set.clone()];
+    for i in 0..options.starts {
+        let mut c = set.clone();
+        for (d, &pi) in free.iter().enumerate() {
+            let p = &mut c.params[pi];
+            if p.quantity == Quantity::Scale {
+                continue; // matched to the data below
+            }
+            let mut t = sobol_burley::sample(i as u32, d as u32, options.seed) as f64;
+            if p.quantity == Quantity::Roughness {
+                // A few roughness levels only: each needs its own β table (~0.2 s to build).
+                t = ((t * ROUGHNESS_LEVELS).floor() + 0.5) / ROUGHNESS_LEVELS;
+            }
+            p.value = p.start_at(t);
+        }
+        candidates.push(c);
+    }
+    let scale_free = free
+        .iter()
+        .any(|&i| set.params[i].quantity == Quantity::Scale);
+    let mut scored: Vec<(f64, ParamSet)> = candidates
+        .into_par_iter()
+        .map(|mut c| {
+            let cost = match Prepared::with_cache(&c, Some(&cache)) {
+                Ok(prepared) => {
+                    let parts = prepared.parts_all(&subset.obs);
+                    if scale_free {
+                        match_scale(&mut c, &subset, &parts);
+                    }
+                    cost_of(&subset.residuals(options.residual, &parts, &Linear::of(&c)))
+                }
+                Err(_) => f64::INFINITY,
+            };
+            tick();
+            (cost, c)
+        })
+        .collect();
+    let mut evaluations = scored.len() * subset.obs.len();
+    // A stable sort: equal costs keep the candidates' order, so the result is deterministic.
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+
+    // Stage 2: refine the best starts on the subset.
+    let mut best: Option<(f64, ParamSet)> = None;
+    for (_, start) in scored.into_iter().take(options.refine.max(1)) {
+        let (set, cost, evals, _) = levenberg_marquardt(
+            start,
+            &subset,
+            options.residual,
+            options.refine_iterations,
+            &tick,
+            &cache,
+        );
+        evaluations += evals;
+        if best.as_ref().is_none_or(|b| cost < b.0) {
+            best = Some((cost, set));
+        }
+    }
+    let (_, start) = best.expect("at least one start");
+
+    // Stage 3: the final run (on an even subset of a large dataset, then polished on all of it).
+    let work = data.subset(options.final_subset.max(1));
+    let (mut fitted, _, evals, mut termination) = levenberg_marquardt(
+        start,
+        &work,
+        options.residual,
+        options.max_iterations,
+        &tick,
+        &cache,
+    );
+    evaluations += evals;
+    if work.obs.len() < data.obs.len() {
+        let (polished, _, evals, t) = levenberg_marquardt(
+            fitted,
+            &data,
+            options.residual,
+            options.polish_iterations,
+            &tick,
+            &cache,
+        );
+        fitted = polished;
+        evaluations += evals;
+        termination = format!(
+            "{termination} on {} points; polish on all: {t}",
+            work.obs.len()
+        );
+    }
+    progress(total, total);
+
+    // The Jacobian at the optimum for the standard errors.
+    let noop = || {};
+    let problem = Problem::new(fitted.clone(), &data, options.residual, 1, &noop, &cache);
+    let jac = problem.jacobian_here();
+    let res = problem
+        .res
+        .clone()
+        .unwrap_or_else(|| DVector::zeros(data.len()));
+    evaluations += problem.evaluations.get();
+    fitted = problem.set.clone();
+    let parts = problem.parts.clone();
+    Ok(report::assemble(
+        dataset,
+        fitted,
+        &data,
+        options.residual,
+        &parts,
+        &jac,
+        &res,
+        evaluations,
+        termination,
+    ))
+}
+
+/// Sets a free `scale` so the predictions match the data's median level (the median of
+/// `ln m − ln p` over the measurements).
+fn match_scale(set: &mut ParamSet, data: &Observations, parts: &[Parts]) {
+    let Some(i) = set
+        .params
+        .iter()
+        .position(|p| p.quantity == Quantity::Scale)
+    else {
+        return;
+    };
+    set.params[i].value = 1.0;
+    let lin = Linear::of(set);
+    let mut logs: Vec<f64> = Vec::new();
+    for (o, p) in data.obs.iter().zip(parts) {
+        for c in 0..data.channels {
+            let (m, q) = (o.value[c], lin.predict(p, c));
+            if m > 0.0 && q > 0.0 {
+                logs.push(m.ln() - q.ln());
+            }
+        }
+    }
+    if logs.is_empty() {
+        return;
+    }
+    logs.sort_by(f64::total_cmp);
+    let p = &mut set.params[i];
+    p.value = logs[logs.len() / 2].exp().clamp(1e-12, 1e12);
+}

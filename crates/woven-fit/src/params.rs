@@ -1,0 +1,916 @@
+//! The parameter registry: every quantity a fit can adjust, its bounds, its transform to the
+//! optimizer's unconstrained space, and which are free.
+//!
+//! | model | parameters (free by default in bold) |
+//! |---|---|
+//! | `cloth` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, **`yarn.lateral_length`**, **`yarn.slope_mean`**, **`yarn.slope_std`**, **`yarn.interreflection`**, **`yarn.interreflection_albedo`**, `yarn.twist_std` (free when the initial yarn is twisted), `weave.weft_fraction` and `rotation` (free unless the yarn is isotropic), `scale` (free for relative data) |
+//! | `fiber` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, `scale` (free for relative data) |
+//! | `lambert` | **`diffuse`** (`f = diffuse/π`) |
+//! | `microfacet` | **`diffuse`**, **`specular`**, **`alpha`**, `eta` (`f = diffuse/π + specular·F·D·G/(4 cos θi cos θr)`) |
+//!
+//! With colour data the albedos (`fiber.diffuse`, `yarn.interreflection_albedo`, the baselines'
+//! `diffuse`) are one parameter per channel, named with `.r`, `.g`, `.b`; the geometry is shared.
+//! `rotation` (radians) turns the weave in the sample's plane: the weft lies at azimuth
+//! `rotation` in the measurement's frame. `scale` multiplies the whole BRDF (for data calibrated
+//! only up to a factor; absent from the baselines, whose amplitudes are free anyway).
+//!
+//! Bounded parameters reach the optimizer through smooth bijections ([`Transform`]), so it works
+//! unconstrained and every iterate is a valid material.
+
+use crate::error::FitError;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+use woven::fiber::{FiberModel, Ior};
+use woven::material::{Material, Weave};
+use woven::yarn::YarnParams;
+
+/// Which model is fitted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ModelKind {
+    /// The full woven material (fiber, yarn, weave; docs/spec.md §1–§2).
+    Cloth,
+    /// The fiber-surface BRDF alone (a flat fiber surface, docs/spec.md §1.3).
+    Fiber,
+    /// A Lambertian surface, `f = diffuse/π`.
+    Lambert,
+    /// Beckmann microfacet specular (Smith masking, dielectric Fresnel) plus Lambert.
+    Microfacet,
+}
+
+impl ModelKind {
+    /// Every model, in the order reports list them (baselines first).
+    pub const ALL: [ModelKind; 4] = [
+        ModelKind::Lambert,
+        ModelKind::Microfacet,
+        ModelKind::Fiber,
+        ModelKind::Cloth,
+    ];
+
+    /// The model's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelKind::Cloth => "cloth",
+            ModelKind::Fiber => "fiber",
+            ModelKind::Lambert => "lambert",
+            ModelKind::Microfacet => "microfacet",
+        }
+    }
+
+    /// Parses a model name.
+    ///
+    /// # Errors
+    /// [`FitError::InvalidParameter`] naming `--model` for an unknown name.
+    pub fn parse(name: &str) -> Result<Self, FitError> {
+        ModelKind::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| {
+                FitError::invalid("--model", name, "one of cloth, fiber, lambert, microfacet")
+            })
+    }
+
+    /// Whether the model is a woven material (written as a material file).
+    pub fn is_material(self) -> bool {
+        matches!(self, ModelKind::Cloth | ModelKind::Fiber)
+    }
+}
+
+impl std::fmt::Display for ModelKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What a parameter is (independent of its name and channel).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Quantity {
+    /// Refractive index `η` (the fiber's, or the microfacet baseline's).
+    Eta,
+    /// The fiber's `σ_h/τ`.
+    Roughness,
+    /// The fiber's diffuse albedo `ρ0`, or a baseline's Lambertian albedo (per channel).
+    Diffuse,
+    /// `L`.
+    LateralLength,
+    /// `μ`, radians.
+    SlopeMean,
+    /// `σ`, radians.
+    SlopeStd,
+    /// `ħ`.
+    Interreflection,
+    /// `ρ` (per channel).
+    InterreflectionAlbedo,
+    /// `σ_t`, radians.
+    TwistStd,
+    /// `γ`.
+    WeftFraction,
+    /// In-plane rotation of the weave, radians.
+    Rotation,
+    /// Overall factor on the BRDF.
+    Scale,
+    /// The microfacet baseline's specular weight.
+    Specular,
+    /// The microfacet baseline's Beckmann `α`.
+    Alpha,
+}
+
+impl Quantity {
+    /// Whether the BRDF is affine in this quantity given the others, so that its derivative
+    /// comes from one evaluation's parts (no finite difference).
+    pub fn is_linear(self) -> bool {
+        matches!(
+            self,
+            Quantity::Diffuse
+                | Quantity::InterreflectionAlbedo
+                | Quantity::Interreflection
+                | Quantity::Scale
+                | Quantity::Specular
+        )
+    }
+}
+
+/// How a bounded parameter maps to the optimizer's unconstrained variable `u`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Transform {
+    /// `x = lo + (hi − lo)·σ(u)`, `σ` the logistic function.
+    Logit,
+    /// `ln x = ln lo + (ln hi − ln lo)·σ(u)`: bounded, and even in log space (`lo > 0`).
+    LogLogit,
+    /// `x = e^u`: positive, unbounded above.
+    Log,
+    /// `x = u`: unbounded (angles that wrap).
+    Linear,
+}
+
+/// Keeps logistic arguments away from 0 and 1, where the transform's inverse is infinite.
+const EDGE: f64 = 1e-9;
+
+fn logistic(u: f64) -> f64 {
+    1.0 / (1.0 + (-u).exp())
+}
+
+/// One parameter of a fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    /// Its name in `--fix`, `--free` and reports (`fiber.roughness`, `fiber.diffuse.g`).
+    pub name: String,
+    /// What it is.
+    pub quantity: Quantity,
+    /// The colour channel (0, 1, 2) of a per-channel albedo; 0 otherwise.
+    pub channel: usize,
+    /// Its value, natural units.
+    pub value: f64,
+    /// Lower bound.
+    pub lo: f64,
+    /// Upper bound.
+    pub hi: f64,
+    /// Map to the unconstrained variable.
+    pub transform: Transform,
+    /// Whether the fit adjusts it.
+    pub free: bool,
+    /// The range the multi-start draws from (log-uniformly for logarithmic transforms).
+    pub start: (f64, f64),
+}
+
+impl Param {
+    fn new(
+        name: &str,
+        quantity: Quantity,
+        value: f64,
+        (lo, hi): (f64, f64),
+        transform: Transform,
+        start: (f64, f64),
+    ) -> Self {
+        Param {
+            name: name.to_string(),
+            quantity,
+            channel: 0,
+            value,
+            lo,
+            hi,
+            transform,
+            free: false,
+            start,
+        }
+    }
+
+    /// The unconstrained variable of a natural value (clamped inside the bounds).
+    pub fn to_u(&self, x: f64) -> f64 {
+        match self.transform {
+            Transform::Logit => {
+                let t = ((x - self.lo) / (self.hi - self.lo)).clamp(EDGE, 1.0 - EDGE);
+                (t / (1.0 - t)).ln()
+            }
+            Transform::LogLogit => {
+                let (a, b) = (self.lo.ln(), self.hi.ln());
+                let t = ((x.max(self.lo).ln() - a) / (b - a)).clamp(EDGE, 1.0 - EDGE);
+                (t / (1.0 - t)).ln()
+            }
+            Transform::Log => x.max(1e-300).ln(),
+            Transform::Linear => x,
+        }
+    }
+
+    /// The natural value of an unconstrained variable (always within the bounds).
+    pub fn from_u(&self, u: f64) -> f64 {
+        match self.transform {
+            Transform::Logit => {
+                let t = logistic(u).clamp(EDGE, 1.0 - EDGE);
+                self.lo + (self.hi - self.lo) * t
+            }
+            Transform::LogLogit => {
+                let (a, b) = (self.lo.ln(), self.hi.ln());
+                let t = logistic(u).clamp(EDGE, 1.0 - EDGE);
+                (a + (b - a) * t).exp()
+            }
+            Transform::Log => u.clamp(-700.0, 700.0).exp(),
+            Transform::Linear => u,
+        }
+    }
+
+    /// `dx/du` at `u`.
+    pub fn dx_du(&self, u: f64) -> f64 {
+        match self.transform {
+            Transform::Logit => {
+                let t = logistic(u);
+                (self.hi - self.lo) * t * (1.0 - t)
+            }
+            Transform::LogLogit => {
+                let t = logistic(u);
+                self.from_u(u) * (self.hi.ln() - self.lo.ln()) * t * (1.0 - t)
+            }
+            Transform::Log => self.from_u(u),
+            Transform::Linear => 1.0,
+        }
+    }
+
+    /// A point of the start range at fraction `t ∈ [0, 1)` (log-uniform for logarithmic
+    /// transforms).
+    pub fn start_at(&self, t: f64) -> f64 {
+        let (a, b) = self.start;
+        match self.transform {
+            Transform::Log | Transform::LogLogit if a > 0.0 => {
+                (a.ln() + (b.ln() - a.ln()) * t).exp()
+            }
+            _ => a + (b - a) * t,
+        }
+    }
+
+    /// The name without its channel suffix.
+    pub fn base_name(&self) -> &str {
+        match self.name.rsplit_once('.') {
+            Some((base, "r" | "g" | "b")) => base,
+            _ => &self.name,
+        }
+    }
+
+    /// Whether a user's name (`roughness`, `fiber.roughness`, `diffuse`, `fiber.diffuse.r`)
+    /// refers to this parameter.
+    pub fn matches(&self, query: &str) -> bool {
+        let dotted = format!(".{query}");
+        let base = self.base_name();
+        self.name == query
+            || self.name.ends_with(&dotted)
+            || base == query
+            || base.ends_with(&dotted)
+    }
+
+    /// Whether the value sits at (within 0.1 % of the range of) a finite bound.
+    pub fn at_bound(&self) -> bool {
+        match self.transform {
+            Transform::Logit | Transform::LogLogit => {
+                let tol = 1e-3 * (self.hi - self.lo);
+                self.value - self.lo < tol || self.hi - self.value < tol
+            }
+            Transform::Log | Transform::Linear => false,
+        }
+    }
+}
+
+/// The channels' suffixes.
+const CHANNELS: [&str; 3] = ["r", "g", "b"];
+
+/// The parameters of one fit: the model, every parameter (free and fixed) and, for the woven
+/// models, the material everything not fitted comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamSet {
+    /// The model.
+    pub model: ModelKind,
+    /// Every parameter, in a fixed order.
+    pub params: Vec<Param>,
+    /// Colour channels of the data (1 or 3).
+    pub channels: usize,
+    /// For `cloth` and `fiber`: the initial material (its fiber model, normalization, yarn kind
+    /// and weave pattern are kept).
+    pub template: Option<Material>,
+}
+
+/// The initial material of a `cloth` fit when `--init` is not given: the twisted belt cloth.
+pub const DEFAULT_CLOTH_INIT: &str = "belt-cloth";
+
+impl ParamSet {
+    /// The parameters of `model` for data with `channels` colour channels (1 or 3), starting at
+    /// `init` (`cloth` and `fiber`: a material; `None` takes the belt-cloth preset; the baselines
+    /// take no material). `relative`: the data is calibrated only up to a factor, so `scale` is
+    /// free.
+    ///
+    /// # Errors
+    /// [`FitError::InvalidParameter`] for a material the fitter cannot use (an `htsg` fiber, a
+    /// flat surface for `cloth`), or for `init` given to a baseline.
+    pub fn new(
+        model: ModelKind,
+        init: Option<&Material>,
+        channels: usize,
+        relative: bool,
+    ) -> Result<Self, FitError> {
+        assert!(channels == 1 || channels == 3, "1 or 3 channels");
+        let mut params = Vec::new();
+        let per_channel = |params: &mut Vec<Param>, p: Param| {
+            if channels == 1 {
+                params.push(p);
+            } else {
+                for (c, suffix) in CHANNELS.iter().enumerate() {
+                    let mut q = p.clone();
+                    q.name = format!("{}.{suffix}", p.name);
+                    q.channel = c;
+                    params.push(q);
+                }
+            }
+        };
+        let template = match model {
+            ModelKind::Lambert | ModelKind::Microfacet => {
+                if init.is_some() {
+                    return Err(FitError::invalid(
+                        "--init",
+                        "(a material)",
+                        format!(
+                            "no --init for --model {model}: it is not a woven material (set its \
+                             starting values with --fix and --free)"
+                        ),
+                    ));
+                }
+                None
+            }
+            ModelKind::Cloth | ModelKind::Fiber => {
+                let m = match init {
+                    Some(m) => m.clone(),
+                    None => Material::preset(DEFAULT_CLOTH_INIT)?,
+                };
+                if let FiberModel::Htsg { .. } = m.fiber.model {
+                    return Err(FitError::invalid(
+                        "fiber.model",
+                        "\"htsg\"",
+                        "an initial material with model = \"rough\" (the fitter adjusts σ_h/τ)",
+                    ));
+                }
+                if model == ModelKind::Cloth && m.yarn.is_none() {
+                    return Err(FitError::invalid(
+                        "--init",
+                        m.name.as_deref().unwrap_or("(material)"),
+                        "a material with a [yarn] table for --model cloth (or use --model fiber)",
+                    ));
+                }
+                Some(m)
+            }
+        };
+        match model {
+            ModelKind::Lambert => {
+                let mut d = Param::new(
+                    "diffuse",
+                    Quantity::Diffuse,
+                    0.5,
+                    (0.0, f64::INFINITY),
+                    Transform::Log,
+                    (0.02, 1.0),
+                );
+                d.free = true;
+                per_channel(&mut params, d);
+            }
+            ModelKind::Microfacet => {
+                let mut d = Param::new(
+                    "diffuse",
+                    Quantity::Diffuse,
+                    0.3,
+                    (0.0, f64::INFINITY),
+                    Transform::Log,
+                    (0.01, 1.0),
+                );
+                d.free = true;
+                per_channel(&mut params, d);
+                let mut s = Param::new(
+                    "specular",
+                    Quantity::Specular,
+                    0.3,
+                    (0.0, f64::INFINITY),
+                    Transform::Log,
+                    (0.01, 3.0),
+                );
+                s.free = true;
+                params.push(s);
+                let mut a = Param::new(
+                    "alpha",
+                    Quantity::Alpha,
+                    0.3,
+                    (0.005, 4.0),
+                    Transform::LogLogit,
+                    (0.02, 1.0),
+                );
+                a.free = true;
+                params.push(a);
+                params.push(Param::new(
+                    "eta",
+                    Quantity::Eta,
+                    1.5,
+                    (1.01, 3.0),
+                    Transform::Logit,
+                    (1.3, 1.8),
+                ));
+            }
+            ModelKind::Cloth | ModelKind::Fiber => {
+                let m = template.as_ref().expect("a template for woven models");
+                let f = &m.fiber;
+                let eta = f.eta.at(woven::fiber::DEFAULT_WAVELENGTH_NM);
+                params.push(Param::new(
+                    "fiber.eta",
+                    Quantity::Eta,
+                    eta,
+                    (1.01, 3.0),
+                    Transform::Logit,
+                    (1.3, 1.8),
+                ));
+                let mut r = Param::new(
+                    "fiber.roughness",
+                    Quantity::Roughness,
+                    f.model.roughness(),
+                    (0.005, 2.0),
+                    Transform::LogLogit,
+                    (0.02, 0.6),
+                );
+                r.free = true;
+                params.push(r);
+                let mut d = Param::new(
+                    "fiber.diffuse",
+                    Quantity::Diffuse,
+                    f.diffuse,
+                    (0.0, 0.99),
+                    Transform::Logit,
+                    (0.01, 0.8),
+                );
+                d.free = true;
+                per_channel(&mut params, d);
+                if let (ModelKind::Cloth, Some(y)) = (model, &m.yarn) {
+                    let free = |mut p: Param| {
+                        p.free = true;
+                        p
+                    };
+                    params.push(free(Param::new(
+                        "yarn.lateral_length",
+                        Quantity::LateralLength,
+                        y.lateral_length,
+                        (0.01, 100.0),
+                        Transform::LogLogit,
+                        (0.1, 20.0),
+                    )));
+                    params.push(free(Param::new(
+                        "yarn.slope_mean",
+                        Quantity::SlopeMean,
+                        y.slope_mean,
+                        (0.0, FRAC_PI_2 - 1e-3),
+                        Transform::Logit,
+                        (0.0, 1.2),
+                    )));
+                    params.push(free(Param::new(
+                        "yarn.slope_std",
+                        Quantity::SlopeStd,
+                        y.slope_std,
+                        (0.0, PI),
+                        Transform::Logit,
+                        (0.05, 1.5),
+                    )));
+                    params.push(free(Param::new(
+                        "yarn.interreflection",
+                        Quantity::Interreflection,
+                        y.interreflection,
+                        (0.0, 0.999),
+                        Transform::Logit,
+                        (0.0, 0.8),
+                    )));
+                    per_channel(
+                        &mut params,
+                        free(Param::new(
+                            "yarn.interreflection_albedo",
+                            Quantity::InterreflectionAlbedo,
+                            y.interreflection_albedo,
+                            (0.0, 1.0),
+                            Transform::Logit,
+                            (0.05, 0.95),
+                        )),
+                    );
+                    if !y.isotropic {
+                        let mut t = Param::new(
+                            "yarn.twist_std",
+                            Quantity::TwistStd,
+                            y.twist_std,
+                            (0.0, PI),
+                            Transform::Logit,
+                            (0.05, 1.0),
+                        );
+                        t.free = y.twist_std > 0.0;
+                        params.push(t);
+                    }
+                    let mut g = Param::new(
+                        "weave.weft_fraction",
+                        Quantity::WeftFraction,
+                        m.weft_fraction(),
+                        (0.0, 1.0),
+                        Transform::Logit,
+                        (0.0, 1.0),
+                    );
+                    g.free = !y.isotropic;
+                    params.push(g);
+                    let mut rot = Param::new(
+                        "rotation",
+                        Quantity::Rotation,
+                        0.0,
+                        (-PI, PI),
+                        Transform::Linear,
+                        (-FRAC_PI_4, FRAC_PI_4),
+                    );
+                    rot.free = !y.isotropic;
+                    params.push(rot);
+                }
+                let mut s = Param::new(
+                    "scale",
+                    Quantity::Scale,
+                    1.0,
+                    (0.0, f64::INFINITY),
+                    Transform::Log,
+                    (0.3, 3.0),
+                );
+                s.free = relative;
+                params.push(s);
+            }
+        }
+        Ok(ParamSet {
+            model,
+            params,
+            channels,
+            template,
+        })
+    }
+
+    /// The parameters' names, comma-separated (for messages).
+    pub fn names(&self) -> String {
+        let mut names: Vec<&str> = Vec::new();
+        for p in &self.params {
+            if !names.contains(&p.base_name()) {
+                names.push(p.base_name());
+            }
+        }
+        names.join(", ")
+    }
+
+    fn matching(&self, name: &str) -> Result<Vec<usize>, FitError> {
+        let hits: Vec<usize> = (0..self.params.len())
+            .filter(|&i| self.params[i].matches(name))
+            .collect();
+        if hits.is_empty() {
+            return Err(FitError::UnknownParameter {
+                name: name.to_string(),
+                model: self.model.name().to_string(),
+                known: self.names(),
+            });
+        }
+        let first = self.params[hits[0]].base_name();
+        if hits.iter().any(|&i| self.params[i].base_name() != first) {
+            return Err(FitError::invalid(
+                name,
+                "(ambiguous)",
+                format!("one of the full names: {}", self.names()),
+            ));
+        }
+        Ok(hits)
+    }
+
+    /// `--fix name=value`: sets the parameter (every channel of a per-channel one) and holds it.
+    ///
+    /// # Errors
+    /// [`FitError::UnknownParameter`], or [`FitError::InvalidParameter`] for a value outside
+    /// the parameter's range.
+    pub fn fix(&mut self, name: &str, value: f64) -> Result<(), FitError> {
+        for i in self.matching(name)? {
+            let p = &mut self.params[i];
+            if !value.is_finite() || value < p.lo || value > p.hi {
+                return Err(FitError::invalid(
+                    &p.name,
+                    value,
+                    format!("a value in [{}, {}]", p.lo, p.hi),
+                ));
+            }
+            p.value = value;
+            p.free = false;
+        }
+        Ok(())
+    }
+
+    /// Parses and applies a `--fix name=value` argument.
+    ///
+    /// # Errors
+    /// As [`fix`](Self::fix), and for text that is not `name=number`.
+    pub fn fix_arg(&mut self, arg: &str) -> Result<(), FitError> {
+        let Some((name, value)) = arg.split_once('=') else {
+            return Err(FitError::invalid(
+                "--fix",
+                arg,
+                "name=value, e.g. fiber.roughness=0.1",
+            ));
+        };
+        let v: f64 = value
+            .trim()
+            .parse()
+            .map_err(|_| FitError::invalid(name.trim(), value, "a number"))?;
+        self.fix(name.trim(), v)
+    }
+
+    /// `--free name`: lets the fit adjust the parameter (every channel). A value sitting on a
+    /// bound (a twist of 0, say) moves to the middle of its start range, where it can move.
+    ///
+    /// # Errors
+    /// [`FitError::UnknownParameter`].
+    pub fn free(&mut self, name: &str) -> Result<(), FitError> {
+        for i in self.matching(name)? {
+            let p = &mut self.params[i];
+            p.free = true;
+            if p.at_bound() {
+                p.value = p.start_at(0.5);
+            }
+        }
+        Ok(())
+    }
+
+    /// Indices of the free parameters.
+    pub fn free_indices(&self) -> Vec<usize> {
+        (0..self.params.len())
+            .filter(|&i| self.params[i].free)
+            .collect()
+    }
+
+    /// The value of `q` in `channel` (a per-channel quantity with one channel answers channel 0);
+    /// `None` if the model has no such parameter.
+    pub fn get(&self, q: Quantity, channel: usize) -> Option<f64> {
+        let mut found = None;
+        for p in &self.params {
+            if p.quantity == q {
+                if p.channel == channel {
+                    return Some(p.value);
+                }
+                found.get_or_insert(p.value);
+            }
+        }
+        found
+    }
+
+    /// The per-channel values of a quantity (`[x; 3]` for a shared one), or zeros.
+    pub fn channels_of(&self, q: Quantity) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for (c, o) in out.iter_mut().enumerate() {
+            *o = self.get(q, c).unwrap_or(0.0);
+        }
+        out
+    }
+
+    /// The fitted material (`cloth` and `fiber`), its albedos the mean over the channels (the
+    /// material file holds one value each). `rotation` and `scale` have no place in a material
+    /// file: [`crate::FitResult`] reports them. `None` for the baselines.
+    pub fn material(&self) -> Option<Material> {
+        let mut m = self.template.clone()?;
+        let mean = |q| {
+            let v = self.channels_of(q);
+            (v[0] + v[1] + v[2]) / 3.0
+        };
+        if self.model == ModelKind::Fiber {
+            m.yarn = None;
+            m.weave = None;
+        }
+        let eta_param = self.params.iter().find(|p| p.quantity == Quantity::Eta);
+        if let Some(p) = eta_param {
+            // A fixed Cauchy index stays dispersive; a fitted one is a constant.
+            if p.free || matches!(m.fiber.eta, Ior::Constant(_)) {
+                m.fiber.eta = Ior::Constant(p.value);
+            }
+        }
+        m.fiber.model = FiberModel::Rough {
+            roughness: self
+                .get(Quantity::Roughness, 0)
+                .unwrap_or(m.fiber.model.roughness()),
+        };
+        m.fiber.diffuse = mean(Quantity::Diffuse);
+        if let Some(y) = m.yarn.as_mut() {
+            let get = |q, old: f64| self.get(q, 0).unwrap_or(old);
+            *y = YarnParams {
+                lateral_length: get(Quantity::LateralLength, y.lateral_length),
+                slope_mean: get(Quantity::SlopeMean, y.slope_mean),
+                slope_std: get(Quantity::SlopeStd, y.slope_std),
+                interreflection: get(Quantity::Interreflection, y.interreflection),
+                interreflection_albedo: mean(Quantity::InterreflectionAlbedo),
+                twist_std: get(Quantity::TwistStd, y.twist_std),
+                isotropic: y.isotropic,
+            };
+            let gamma_param = self
+                .params
+                .iter()
+                .find(|p| p.quantity == Quantity::WeftFraction);
+            if let Some(p) = gamma_param {
+                // A weave pattern stays when its γ was not fitted.
+                let keep = matches!(m.weave, Some(Weave::Pattern { .. }))
+                    && !p.free
+                    && (p.value - m.weft_fraction()).abs() < 1e-12;
+                if !keep {
+                    m.weave = Some(Weave::WeftFraction(p.value));
+                }
+            }
+        }
+        Some(m)
+    }
+
+    /// The unconstrained variables of the free parameters.
+    pub fn free_u(&self) -> Vec<f64> {
+        self.free_indices()
+            .into_iter()
+            .map(|i| self.params[i].to_u(self.params[i].value))
+            .collect()
+    }
+
+    /// Sets the free parameters from their unconstrained variables (in [`free_indices`] order).
+    ///
+    /// [`free_indices`]: Self::free_indices
+    pub fn set_free_u(&mut self, u: &[f64]) {
+        for (k, i) in self.free_indices().into_iter().enumerate() {
+            let p = &mut self.params[i];
+            p.value = p.from_u(u[k]);
+        }
+    }
+
+    /// Puts the result in its canonical form: the rotation in `[−π/4, π/4)`, trading quarter
+    /// turns for `γ ↔ 1 − γ` (the weft turned by 90° is the warp), when both are parameters.
+    pub fn canonicalize(&mut self) {
+        let Some(ir) = self
+            .params
+            .iter()
+            .position(|p| p.quantity == Quantity::Rotation)
+        else {
+            return;
+        };
+        let gi = self
+            .params
+            .iter()
+            .position(|p| p.quantity == Quantity::WeftFraction);
+        let mut rot = self.params[ir].value;
+        // f is π-periodic in the rotation (a yarn axis has no sense).
+        rot = (rot + FRAC_PI_2).rem_euclid(PI) - FRAC_PI_2;
+        if let Some(gi) = gi {
+            if !(-FRAC_PI_4..FRAC_PI_4).contains(&rot) {
+                rot -= FRAC_PI_2 * rot.signum();
+                let g = &mut self.params[gi];
+                g.value = 1.0 - g.value;
+            }
+        }
+        self.params[ir].value = rot;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transforms_round_trip_and_stay_in_bounds() {
+        let set = ParamSet::new(ModelKind::Cloth, None, 3, true).unwrap();
+        for p in &set.params {
+            for &x in &[p.start.0, p.start_at(0.37), p.start.1] {
+                let back = p.from_u(p.to_u(x));
+                assert!(
+                    (back - x).abs() <= 1e-6 * (1.0 + x.abs()),
+                    "{}: {x} → {back}",
+                    p.name
+                );
+                // dx/du by a central difference.
+                let u = p.to_u(x);
+                let fd = (p.from_u(u + 1e-6) - p.from_u(u - 1e-6)) / 2e-6;
+                assert!(
+                    (fd - p.dx_du(u)).abs() <= 1e-5 * (1.0 + fd.abs()),
+                    "{}: {fd} vs {}",
+                    p.name,
+                    p.dx_du(u)
+                );
+            }
+            for u in [-1e3, -30.0, 0.0, 30.0, 1e3] {
+                if p.transform == Transform::Linear {
+                    continue; // the rotation wraps; it has no bounds to keep
+                }
+                let x = p.from_u(u);
+                assert!(
+                    x >= p.lo && x <= p.hi && x.is_finite(),
+                    "{} at u {u}: {x}",
+                    p.name
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn defaults_follow_the_yarn_and_the_data() {
+        let belt = ParamSet::new(ModelKind::Cloth, None, 1, false).unwrap();
+        let free: Vec<&str> = belt
+            .free_indices()
+            .iter()
+            .map(|&i| belt.params[i].name.as_str())
+            .collect();
+        assert!(
+            free.contains(&"yarn.twist_std") && free.contains(&"rotation"),
+            "{free:?}"
+        );
+        assert!(
+            !free.contains(&"scale") && !free.contains(&"fiber.eta"),
+            "{free:?}"
+        );
+        let silk = Material::preset("silk").unwrap();
+        let iso = ParamSet::new(ModelKind::Cloth, Some(&silk), 3, true).unwrap();
+        assert!(iso.params.iter().all(|p| p.quantity != Quantity::TwistStd));
+        let free: Vec<&str> = iso
+            .free_indices()
+            .iter()
+            .map(|&i| iso.params[i].name.as_str())
+            .collect();
+        assert!(
+            !free.contains(&"rotation")
+                && free.contains(&"scale")
+                && free.contains(&"fiber.diffuse.b"),
+            "{free:?}"
+        );
+    }
+
+    #[test]
+    fn fix_and_free_by_short_and_full_names() {
+        let mut set = ParamSet::new(ModelKind::Cloth, None, 3, false).unwrap();
+        set.fix_arg("roughness=0.3").unwrap();
+        assert_eq!(set.get(Quantity::Roughness, 0), Some(0.3));
+        set.fix("fiber.diffuse", 0.2).unwrap();
+        assert_eq!(set.channels_of(Quantity::Diffuse), [0.2; 3]);
+        set.free("diffuse.g").unwrap();
+        let d: Vec<bool> = set
+            .params
+            .iter()
+            .filter(|p| p.quantity == Quantity::Diffuse)
+            .map(|p| p.free)
+            .collect();
+        assert_eq!(d, [false, true, false]);
+        // Errors name the parameter, the value and the range.
+        let e = set.fix_arg("roughness=7").unwrap_err().to_string();
+        assert!(
+            e.contains("fiber.roughness") && e.contains('7') && e.contains("[0.005, 2]"),
+            "{e}"
+        );
+        let e = set.fix_arg("nonsense=1").unwrap_err().to_string();
+        assert!(
+            e.contains("nonsense") && e.contains("yarn.slope_std"),
+            "{e}"
+        );
+        assert!(set.fix_arg("roughness").is_err() && set.fix_arg("roughness=abc").is_err());
+        // A twist of 0 freed moves off its bound.
+        let mut sateen = ParamSet::new(
+            ModelKind::Cloth,
+            Some(&Material::preset("polyester-sateen").unwrap()),
+            1,
+            false,
+        )
+        .unwrap();
+        sateen.free("twist_std").unwrap();
+        assert!(sateen.get(Quantity::TwistStd, 0).unwrap() > 0.1);
+    }
+
+    #[test]
+    fn the_material_carries_the_values_and_builds() {
+        let mut set = ParamSet::new(ModelKind::Cloth, None, 3, false).unwrap();
+        set.fix("yarn.slope_std", 0.7).unwrap();
+        set.fix("fiber.diffuse.r", 0.3).unwrap();
+        let m = set.material().unwrap();
+        assert_eq!(m.yarn.unwrap().slope_std, 0.7);
+        assert!((m.fiber.diffuse - (0.3 + 0.1 + 0.1) / 3.0).abs() < 1e-12);
+        m.build(550.0).unwrap();
+        // The file reads back as the same material.
+        let back = Material::from_toml_str(&m.to_toml_string(), "fitted.toml").unwrap();
+        assert_eq!(back, m);
+        assert!(ParamSet::new(ModelKind::Lambert, Some(&m), 1, false).is_err());
+    }
+
+    #[test]
+    fn canonical_rotation_trades_quarter_turns_for_the_weft_fraction() {
+        let mut set = ParamSet::new(ModelKind::Cloth, None, 1, false).unwrap();
+        set.fix("rotation", 2.0).unwrap();
+        set.fix("weft_fraction", 0.3).unwrap();
+        set.canonicalize();
+        let rot = set.get(Quantity::Rotation, 0).unwrap();
+        assert!((rot - (2.0 - FRAC_PI_2)).abs() < 1e-12, "{rot}");
+        assert!((set.get(Quantity::WeftFraction, 0).unwrap() - 0.7).abs() < 1e-12);
+    }
+}

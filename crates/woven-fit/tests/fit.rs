@@ -1,0 +1,307 @@
+//! Synthetic recovery: data generated from known parameters, with 3 % multiplicative noise, is
+//! fitted back; the fit's residuals sit at the noise level and the parameters the data
+//! determines come back within their reported standard errors. Slow cases (every preset, all its
+//! parameters free) are `#[ignore]`d.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+use woven::material::Material;
+use woven::math::rng::SplitMix;
+use woven_fit::data::{Dataset, Sample, Value};
+use woven_fit::{fit, FitOptions, FitResult, ModelKind, ParamSet};
+
+/// The noise of the synthetic measurements: 3 % multiplicative.
+const NOISE: f64 = 0.03;
+
+/// 205 direction pairs spread over the hemisphere up to 80° (as many as CUReT's configurations):
+/// light and viewer uniform in solid angle, from a fixed seed.
+fn curet_like_geometry() -> Vec<(f64, f64, f64, f64)> {
+    let mut rng = SplitMix(205);
+    (0..205)
+        .map(|_| {
+            let (s, v) = (
+                rng.direction(80f64.to_radians()),
+                rng.direction(80f64.to_radians()),
+            );
+            let (ti, pi) = s.to_spherical();
+            let (tr, pr) = v.to_spherical();
+            (ti, pi, tr, pr)
+        })
+        .collect()
+}
+
+/// The paper's goniometer (docs/spec.md §4): sample azimuths 0°, 45°, 90°, tilts −42°…42° by 3°.
+fn goniometer_geometry() -> Vec<(f64, f64, f64, f64)> {
+    let mut out = Vec::new();
+    for a in [0.0f64, 45.0, 90.0] {
+        for t in woven::gonio::paper_tilts_deg() {
+            out.push((
+                (45.0 + t).to_radians(),
+                a.to_radians(),
+                (45.0 - t).to_radians(),
+                a.to_radians() + PI,
+            ));
+        }
+    }
+    out
+}
+
+/// A standard normal deviate (Box–Muller).
+fn normal(rng: &mut SplitMix) -> f64 {
+    let (u, v) = (rng.uniform().max(1e-300), rng.uniform());
+    (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
+}
+
+/// Measurements of the fitted model `truth` at `geometry`, with multiplicative noise.
+fn synthesize(
+    truth: &FitResult,
+    geometry: &[(f64, f64, f64, f64)],
+    noise: f64,
+    seed: u64,
+) -> Dataset {
+    let mut rng = SplitMix(seed);
+    let values = truth.predict_many(geometry);
+    let samples = geometry
+        .iter()
+        .zip(values)
+        .map(|(&(theta_i, phi_i, theta_r, phi_r), v)| {
+            let mut noisy = |x: f64| x * (1.0 + noise * normal(&mut rng));
+            let value = if truth.channels == 3 {
+                Value::Rgb([noisy(v[0]), noisy(v[1]), noisy(v[2])])
+            } else {
+                Value::Mono(noisy(v[0]))
+            };
+            Sample {
+                theta_i,
+                phi_i,
+                theta_r,
+                phi_r,
+                value,
+                weight: 1.0,
+            }
+        })
+        .collect();
+    Dataset {
+        name: "synthetic".into(),
+        source: "synthetic.csv".into(),
+        samples,
+        dropped_below_horizon: 0,
+        relative: false,
+    }
+}
+
+/// A "result" that only carries a parameter set, to evaluate the truth with the fitter's own
+/// evaluation path.
+fn truth_of(set: &ParamSet) -> FitResult {
+    // Fit nothing: every parameter fixed, one evaluation.
+    let mut fixed = set.clone();
+    for p in &mut fixed.params {
+        p.free = false;
+    }
+    let dummy = synthesize_flat(set.channels);
+    let options = FitOptions {
+        starts: 0,
+        refine: 1,
+        refine_iterations: 0,
+        max_iterations: 0,
+        ..FitOptions::default()
+    };
+    fit(&dummy, &fixed, &options, &|_, _| {}).expect("the truth evaluates")
+}
+
+fn synthesize_flat(channels: usize) -> Dataset {
+    let value = if channels == 3 {
+        Value::Rgb([0.1; 3])
+    } else {
+        Value::Mono(0.1)
+    };
+    Dataset {
+        name: "dummy".into(),
+        source: "dummy.csv".into(),
+        samples: vec![Sample {
+            theta_i: 0.3,
+            phi_i: 0.0,
+            theta_r: 0.3,
+            phi_r: PI,
+            value,
+            weight: 1.0,
+        }],
+        dropped_below_horizon: 0,
+        relative: false,
+    }
+}
+
+/// Asserts the fit's RMS log error is at the noise level and every named parameter came back
+/// within `k` standard errors of the truth (and the errors are informative: below `max_rel`).
+fn assert_recovered(result: &FitResult, truth: &ParamSet, names: &[&str], k: f64, max_rel: f64) {
+    println!("{}", result.to_markdown());
+    assert!(
+        result.rms_log < 1.3 * NOISE && result.rms_log > 0.7 * NOISE,
+        "RMS log error {} is not at the noise level {NOISE}",
+        result.rms_log
+    );
+    for name in names {
+        let e = result
+            .estimates
+            .iter()
+            .find(|e| e.name == *name)
+            .unwrap_or_else(|| panic!("{name} is not among the free parameters"));
+        let want = truth.params.iter().find(|p| p.name == *name).unwrap().value;
+        assert!(
+            (e.value - want).abs() <= k * e.std_error,
+            "{name}: fitted {} ± {}, truth {want} (more than {k} standard errors off)",
+            e.value,
+            e.std_error
+        );
+        assert!(
+            e.std_error <= max_rel * want.abs().max(0.05),
+            "{name}: standard error {} is not informative (truth {want})",
+            e.std_error
+        );
+    }
+}
+
+#[test]
+fn microfacet_baseline_recovers_its_parameters() {
+    let mut truth = ParamSet::new(ModelKind::Microfacet, None, 1, false).unwrap();
+    truth.fix("diffuse", 0.25).unwrap();
+    truth.fix("specular", 0.8).unwrap();
+    truth.fix("alpha", 0.15).unwrap();
+    let data = synthesize(&truth_of(&truth), &curet_like_geometry(), NOISE, 3);
+    let start = ParamSet::new(ModelKind::Microfacet, None, 1, false).unwrap();
+    let result = fit(&data, &start, &FitOptions::default(), &|_, _| {}).unwrap();
+    assert_recovered(&result, &truth, &["diffuse", "specular", "alpha"], 3.0, 0.2);
+}
+
+#[test]
+fn fiber_model_recovers_roughness_and_colour_albedos() {
+    let init = Material::flat(woven::fiber::FiberParams::rough(1.55, 0.2, 0.1));
+    let mut truth = ParamSet::new(ModelKind::Fiber, Some(&init), 3, false).unwrap();
+    truth.fix("roughness", 0.08).unwrap();
+    truth.fix("fiber.diffuse.r", 0.5).unwrap();
+    truth.fix("fiber.diffuse.g", 0.2).unwrap();
+    truth.fix("fiber.diffuse.b", 0.05).unwrap();
+    let data = synthesize(&truth_of(&truth), &curet_like_geometry(), NOISE, 4);
+    let start = ParamSet::new(ModelKind::Fiber, Some(&init), 3, false).unwrap();
+    let result = fit(&data, &start, &FitOptions::default(), &|_, _| {}).unwrap();
+    assert_recovered(
+        &result,
+        &truth,
+        &[
+            "fiber.roughness",
+            "fiber.diffuse.r",
+            "fiber.diffuse.g",
+            "fiber.diffuse.b",
+        ],
+        3.0,
+        0.2,
+    );
+    assert!(result.material_toml().unwrap().contains("roughness"));
+}
+
+/// The sateen's weave turned by 0.35 rad in the sample's plane, measured on the paper's
+/// goniometer: the rotation comes back.
+#[test]
+fn a_known_weave_rotation_is_recovered() {
+    let sateen = Material::preset("polyester-sateen").unwrap();
+    let mut truth = ParamSet::new(ModelKind::Cloth, Some(&sateen), 1, false).unwrap();
+    truth.fix("rotation", 0.35).unwrap();
+    truth.fix("roughness", 0.07).unwrap();
+    let data = synthesize(&truth_of(&truth), &goniometer_geometry(), NOISE, 5);
+    let mut start = ParamSet::new(ModelKind::Cloth, Some(&sateen), 1, false).unwrap();
+    for p in &mut start.params {
+        p.free = false;
+    }
+    start.free("rotation").unwrap();
+    start.free("roughness").unwrap();
+    start.free("fiber.diffuse").unwrap();
+    let result = fit(&data, &start, &FitOptions::default(), &|_, _| {}).unwrap();
+    assert_recovered(
+        &result,
+        &truth,
+        &["rotation", "fiber.roughness", "fiber.diffuse"],
+        3.0,
+        0.3,
+    );
+}
+
+#[test]
+fn a_fit_is_deterministic_for_a_seed() {
+    let init = Material::flat(woven::fiber::FiberParams::rough(1.55, 0.2, 0.1));
+    let mut truth = ParamSet::new(ModelKind::Fiber, Some(&init), 1, false).unwrap();
+    truth.fix("roughness", 0.12).unwrap();
+    let data = synthesize(&truth_of(&truth), &curet_like_geometry(), NOISE, 6);
+    let start = ParamSet::new(ModelKind::Fiber, Some(&init), 1, false).unwrap();
+    let run = || {
+        let r = fit(
+            &data,
+            &start,
+            &FitOptions {
+                seed: 9,
+                starts: 4,
+                max_iterations: 6,
+                ..FitOptions::default()
+            },
+            &|_, _| {},
+        )
+        .unwrap();
+        r.estimates
+            .iter()
+            .map(|e| (e.value.to_bits(), e.std_error.to_bits()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(run(), run());
+}
+
+#[test]
+fn unusable_data_is_an_error_that_names_the_dataset() {
+    let mut data = synthesize_flat(1);
+    data.samples[0].value = Value::Mono(-1.0);
+    let set = ParamSet::new(ModelKind::Lambert, None, 1, false).unwrap();
+    let e = fit(&data, &set, &FitOptions::default(), &|_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("dummy") && e.contains("no usable measurement"),
+        "{e}"
+    );
+    let colour = ParamSet::new(ModelKind::Lambert, None, 3, false).unwrap();
+    let e = fit(
+        &synthesize_flat(1),
+        &colour,
+        &FitOptions::default(),
+        &|_, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("channel"), "{e}");
+}
+
+/// Every preset, its default free parameters, at the CUReT-like geometry: the fit reaches the
+/// noise level, and every parameter it does not warn about is within 3 standard errors.
+#[test]
+#[ignore = "slow: three full cloth fits (minutes)"]
+fn every_preset_is_recovered_at_the_curet_geometry() {
+    for name in Material::preset_names() {
+        let m = Material::preset(name).unwrap();
+        let truth = ParamSet::new(ModelKind::Cloth, Some(&m), 1, false).unwrap();
+        let data = synthesize(&truth_of(&truth), &curet_like_geometry(), NOISE, 7);
+        // Start from another preset's yarn kind? No: the yarn kind is a model choice; start from
+        // the truth's kind with its values perturbed by the multi-start.
+        let result = fit(&data, &truth, &FitOptions::default(), &|_, _| {}).unwrap();
+        let determined: Vec<&str> = result
+            .estimates
+            .iter()
+            .filter(|e| {
+                !e.at_bound
+                    && !result
+                        .warnings
+                        .iter()
+                        .any(|w| w.contains(&format!("`{}`", e.name)))
+            })
+            .map(|e| e.name.as_str())
+            .collect();
+        println!("{name}: determined {determined:?}");
+        assert_recovered(&result, &truth, &determined, 3.0, f64::INFINITY);
+        let _ = FRAC_PI_2;
+    }
+}
