@@ -147,6 +147,12 @@ def test_measured_data_is_laid_over_the_model(page, tmp_path):
         "document.getElementById('data-status').dataset.rows === '205'", timeout=SLOW_MS
     )
     expect(pg.locator("#data-status")).to_contain_text("relatively calibrated")
+    # The fit button: the cloth model fitted to the linen from the page's material.
+    pg.click("#data-fit")
+    pg.wait_for_function(
+        "document.getElementById('fit-status').dataset.logRms !== undefined", timeout=3 * SLOW_MS
+    )
+    assert float(pg.get_attribute("#fit-status", "data-log-rms")) < 0.3
 
 
 def test_an_out_of_range_value_is_shown_next_to_its_field(page):

@@ -34,7 +34,7 @@ const $ = (id) => document.getElementById(id);
 const state = {
   material: null, presets: [], thetaDeg: 45, phiDeg: 0,
   hemi: null, plane: null, gonio: null, data: null, patternView: null,
-  views: null, preview: null, check: null, compare: null,
+  views: null, preview: null, check: null, compare: null, fit: null,
 };
 const tab = Math.random().toString(36).slice(2, 10);
 
@@ -519,13 +519,43 @@ async function refreshPreview() {
 }
 
 // ---- Measured data.
+const dataSource = () => state.data.dataset ? { dataset: state.data.dataset } : { csv: state.data.text, name: state.data.name };
+
+// The cloth model fitted to the data from the current material (woven fit --model cloth); the
+// fitted material replaces the editor's.
+async function runFit() {
+  if (!state.data) return;
+  const c = restart('fit');
+  const status = $('fit-status');
+  delete status.dataset.logRms;
+  status.textContent = 'fitting…';
+  $('data-fit').disabled = true;
+  try {
+    await stream('api/fit', { material: state.material, ...dataSource(), channel: 'fit-' + tab }, c, (m) => {
+      if (m.kind === 'progress') status.textContent = `fitting… step ${m.done} of ${m.total}`;
+      else if (m.kind === 'failed') status.textContent = 'not fitted: ' + m.error;
+      else if (m.kind === 'fit') {
+        state.material = m.material;
+        fillEditor();
+        changed();
+        const warn = m.warnings.length ? `; ${m.warnings.length} warning(s): ${m.warnings.join(' ')}` : '';
+        status.textContent = `fitted: RMS log error ${m.rms_log.toFixed(3)}, relative RMS ${(100 * m.relative_rms).toFixed(1)} %${warn}`;
+        status.dataset.logRms = m.rms_log;
+      }
+    });
+  } catch (e) {
+    if (!isAbort(e)) status.textContent = 'not fitted: ' + (e.api ? e.api.error : e);
+  } finally {
+    $('data-fit').disabled = false;
+  }
+}
+
 async function refreshCompare() {
   const c = restart('compare');
   const status = $('data-status');
   status.textContent = `comparing ${state.data.name}…`;
   try {
-    const source = state.data.dataset ? { dataset: state.data.dataset } : { csv: state.data.text, name: state.data.name };
-    await stream('api/compare', { material: state.material, ...source, channel: 'compare-' + tab }, c, (m) => {
+    await stream('api/compare', { material: state.material, ...dataSource(), channel: 'compare-' + tab }, c, (m) => {
       if (m.kind === 'progress') status.textContent = `comparing… ${m.done} / ${m.total} rows`;
       else if (m.kind === 'compare') {
         state.data.result = m;
@@ -637,6 +667,7 @@ async function start() {
     delete $('data-status').dataset.rows;
     state.data = { name: f.name, text: await f.text() };
     $('data-bundled').value = '';
+    $('data-fit').disabled = false;
     refreshCompare();
   });
   const ds = await (await fetch('api/datasets')).json();
@@ -645,12 +676,14 @@ async function start() {
     relative[d.name] = d.relative;
     $('data-bundled').add(new Option(`${d.name} (${d.family}, ${d.samples} rows)`, d.name));
   }
+  $('data-fit').addEventListener('click', runFit);
   $('data-bundled').addEventListener('change', (e) => {
     const name = e.target.value;
     if (!name) return;
     delete $('data-status').dataset.error;
     delete $('data-status').dataset.rows;
     state.data = { name, dataset: name, relative: relative[name] };
+    $('data-fit').disabled = false;
     refreshCompare();
   });
   loadPreset(j.presets[0].name);

@@ -77,6 +77,7 @@ pub fn router() -> Router {
         .route("/api/preview", post(preview_stream))
         .route("/api/compare", post(compare_stream))
         .route("/api/datasets", get(datasets))
+        .route("/api/fit", post(fit_stream))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
@@ -166,6 +167,96 @@ async fn presets() -> ApiResult<Json<Value>> {
             "theta_i_max_deg": THETA_I_MAX_DEG,
         },
     })))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FitRequest {
+    material: Value,
+    #[serde(default)]
+    csv: Option<String>,
+    #[serde(default)]
+    dataset: Option<String>,
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    seed: Option<u32>,
+    #[serde(default)]
+    channel: Option<String>,
+}
+
+/// One line of a fit's stream.
+#[derive(Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+enum FitMessage {
+    Progress {
+        done: usize,
+        total: usize,
+    },
+    Fit {
+        material: Value,
+        rms_log: f64,
+        relative_rms: f64,
+        warnings: Vec<String>,
+        report: String,
+    },
+    Failed {
+        error: String,
+    },
+}
+
+/// `POST /api/fit`: the cloth model fitted to measured data (`woven fit --model cloth`, the
+/// fitter's defaults), starting from the page's material, one channel (colour data as the mean
+/// of its channels); streams the fitter's progress, then the fitted material. A fit runs to its
+/// end once started (tens of seconds for a twisted or isotropic yarn).
+async fn fit_stream(
+    State(app): Shared,
+    body: Result<Bytes, BytesRejection>,
+) -> ApiResult<Response> {
+    let req: FitRequest = parse(body)?;
+    let m = material::from_json(&req.material)?;
+    let dataset = data::mono(data::source(
+        req.csv.as_deref(),
+        req.name.as_deref(),
+        req.dataset.as_deref(),
+    )?);
+    let set = woven_fit::ParamSet::new(woven_fit::ModelKind::Cloth, Some(&m), 1, dataset.relative)
+        .map_err(|e| ApiError::unprocessable(e.to_string()))?;
+    let options = woven_fit::FitOptions {
+        seed: req.seed.unwrap_or(1),
+        ..woven_fit::FitOptions::default()
+    };
+    let channel = check_channel(&req.channel)?;
+    let generation = app.channels.begin(channel);
+    let permit = app
+        .jobs
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|e| ApiError::Internal(e.to_string()))?;
+    Ok(job::stream(generation, permit, move |out| {
+        let progress = |done: usize, total: usize| {
+            out.send(&FitMessage::Progress { done, total });
+        };
+        let message = match woven_fit::fit(&dataset, &set, &options, &progress) {
+            Ok(r) => match r.material() {
+                Some(fitted) => FitMessage::Fit {
+                    material: material::to_json(&fitted),
+                    rms_log: r.rms_log,
+                    relative_rms: r.relative_rms,
+                    warnings: r.warnings.clone(),
+                    report: r.to_markdown(),
+                },
+                None => FitMessage::Failed {
+                    error: "the fit gave no material".into(),
+                },
+            },
+            Err(e) => FitMessage::Failed {
+                error: e.to_string(),
+            },
+        };
+        out.send(&message);
+    }))
 }
 
 /// `GET /api/datasets`: the real measurements bundled in `data/` the page can lay over the
@@ -456,15 +547,11 @@ async fn compare_stream(
 ) -> ApiResult<Response> {
     let req: CompareRequest = parse(body)?;
     let m = material::from_json(&req.material)?;
-    let samples = match (&req.csv, &req.dataset) {
-        (Some(csv), None) => data::parse_csv(csv, req.name.as_deref().unwrap_or("<upload>.csv"))?,
-        (None, Some(name)) => data::load_bundled(name)?.0,
-        _ => {
-            return Err(ApiError::unprocessable(
-                "give either `csv` (the fitter's CSV) or `dataset` (a bundled dataset's name)",
-            ))
-        }
-    };
+    let samples = data::samples_of(&data::source(
+        req.csv.as_deref(),
+        req.name.as_deref(),
+        req.dataset.as_deref(),
+    )?);
     let channel = check_channel(&req.channel)?;
     let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
     let generation = app.channels.begin(channel);

@@ -7,7 +7,7 @@
 use crate::error::{ApiError, ApiResult};
 use serde::Serialize;
 use std::path::Path;
-use woven_fit::data::Value;
+use woven_fit::data::{Dataset, Value};
 
 /// The header the CSV must start with.
 pub const HEADER: [&str; 5] = ["theta_i", "phi_i", "theta_r", "phi_r", "value"];
@@ -32,13 +32,12 @@ pub struct Sample {
 
 /// Reads the fitter's CSV with the fitter's own reader ([`woven_fit::data::fitcsv`]: the
 /// header `theta_i,phi_i,theta_r,phi_r,value` or `value_r,value_g,value_b`, an optional
-/// `weight`; blank and `#` lines skipped; rows at or below the horizon dropped). A colour row
-/// is shown as the mean of its channels.
+/// `weight`; blank and `#` lines skipped; rows at or below the horizon dropped).
 ///
 /// # Errors
 /// [`ApiError::Malformed`] (422) with the reader's message (it names the line and the column),
 /// more than [`MAX_ROWS`] rows, or no rows at all.
-pub fn parse_csv(text: &str, origin: &str) -> ApiResult<Vec<Sample>> {
+pub fn read_csv(text: &str, origin: &str) -> ApiResult<Dataset> {
     let dataset = woven_fit::data::fitcsv::read(Path::new(origin), text.as_bytes())
         .map_err(|e| ApiError::unprocessable(e.to_string()))?;
     if dataset.samples.len() > MAX_ROWS {
@@ -50,7 +49,42 @@ pub fn parse_csv(text: &str, origin: &str) -> ApiResult<Vec<Sample>> {
     if dataset.samples.is_empty() {
         return Err(ApiError::unprocessable(format!("{origin}: no data rows")));
     }
-    Ok(samples_of(&dataset))
+    Ok(dataset)
+}
+
+/// [`read_csv`]'s rows as the page shows them (a colour row as the mean of its channels).
+///
+/// # Errors
+/// As [`read_csv`].
+pub fn parse_csv(text: &str, origin: &str) -> ApiResult<Vec<Sample>> {
+    read_csv(text, origin).map(|d| samples_of(&d))
+}
+
+/// The measurements a request names: its CSV text (`csv`, shown as `name`) or a bundled
+/// dataset (`dataset`), exactly one of them.
+///
+/// # Errors
+/// [`ApiError::Malformed`] (422): neither or both given, or as [`read_csv`] and
+/// [`load_bundled`].
+pub fn source(csv: Option<&str>, name: Option<&str>, dataset: Option<&str>) -> ApiResult<Dataset> {
+    match (csv, dataset) {
+        (Some(csv), None) => read_csv(csv, name.unwrap_or("<upload>.csv")),
+        (None, Some(dataset)) => load_bundled(dataset),
+        _ => Err(ApiError::unprocessable(
+            "give either `csv` (the fitter's CSV) or `dataset` (a bundled dataset's name)",
+        )),
+    }
+}
+
+/// One channel: a colour dataset's rows as the mean of their channels (the page compares and
+/// fits one value per direction).
+pub fn mono(mut dataset: Dataset) -> Dataset {
+    for m in &mut dataset.samples {
+        if let Value::Rgb(c) = m.value {
+            m.value = Value::Mono((c[0] + c[1] + c[2]) / 3.0);
+        }
+    }
+    dataset
 }
 
 /// The real measurements bundled in the repository's `data/` (`woven_fit::data::bundled`) that
@@ -63,29 +97,28 @@ pub fn bundled() -> Vec<woven_fit::data::Bundled> {
         .collect()
 }
 
-/// The samples of the bundled dataset `name` (one of [`bundled`]), read from `data/`.
+/// The bundled dataset `name` (one of [`bundled`]), read from `data/`.
 ///
 /// # Errors
 /// [`ApiError::Malformed`] (422) for a name not in the list (no path is ever taken from the
 /// request), or when `data/` is not where the binary was built from.
-pub fn load_bundled(name: &str) -> ApiResult<(Vec<Sample>, bool)> {
+pub fn load_bundled(name: &str) -> ApiResult<Dataset> {
     let Some(b) = bundled().into_iter().find(|b| b.name == name) else {
         return Err(ApiError::unprocessable(format!(
             "dataset = `{name}`: not a bundled dataset (GET /api/datasets lists them)"
         )));
     };
-    let dataset = b.load().map_err(|e| {
+    b.load().map_err(|e| {
         ApiError::unprocessable(format!(
             "dataset `{name}` could not be read from {} ({e}): the bundled data lives in the \
              repository the binary was built from",
             woven_fit::data::data_dir().display()
         ))
-    })?;
-    Ok((samples_of(&dataset), dataset.relative))
+    })
 }
 
 /// The explorer's rows of a dataset; a colour row as the mean of its channels.
-fn samples_of(dataset: &woven_fit::data::Dataset) -> Vec<Sample> {
+pub fn samples_of(dataset: &woven_fit::data::Dataset) -> Vec<Sample> {
     dataset
         .samples
         .iter()

@@ -521,6 +521,37 @@ async fn bundled_datasets_are_listed_and_compared_by_name() {
     }
 }
 
+/// The fit button's route: the cloth model fitted to data made by the sateen itself comes back
+/// with the data's own level (log error ~0) and a material the API takes; a flat fiber (no
+/// yarn to fit) is refused, naming the missing [yarn] table.
+#[tokio::test]
+async fn a_fit_streams_progress_and_answers_the_fitted_material() {
+    let sateen = Material::preset("polyester-sateen").unwrap();
+    let model = sateen.build(550.0).unwrap();
+    let mut csv = String::from("theta_i,phi_i,theta_r,phi_r,value\n");
+    for k in 0..24 {
+        let (ti, pi) = (0.1 + 0.05 * k as f64, 0.3 * k as f64);
+        let (tr, pr) = (0.2 + 0.04 * k as f64, 2.5 + 0.2 * k as f64);
+        let f = model.eval(Vec3::from_spherical(ti, pi), Vec3::from_spherical(tr, pr));
+        csv.push_str(&format!("{ti},{pi},{tr},{pr},{f}\n"));
+    }
+    let m = woven_serve::material::to_json(&sateen);
+    let got = post_json("/api/fit", json!({"material": m, "csv": csv})).await;
+    assert_eq!(got.0, StatusCode::OK);
+    let msgs = lines(&got);
+    assert!(msgs.iter().any(|m| m["kind"] == "progress"), "{msgs:?}");
+    let fit = msgs.iter().find(|m| m["kind"] == "fit").expect("a fit");
+    assert!(fit["rms_log"].as_f64().unwrap() < 0.02, "{fit}");
+    assert!(fit["report"].as_str().unwrap().contains("RMS"), "{fit}");
+    let back = post_json("/api/material", json!({"material": fit["material"]})).await;
+    assert_eq!(back.0, StatusCode::OK);
+    let v = error(
+        post_json("/api/fit", json!({"material": flat(), "csv": csv})).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+    );
+    assert!(v["error"].as_str().unwrap().contains("[yarn]"), "{v}");
+}
+
 #[tokio::test]
 async fn the_preview_refines_pass_by_pass() {
     let sateen = woven_serve::material::to_json(&Material::preset("polyester-sateen").unwrap());
