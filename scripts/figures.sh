@@ -10,7 +10,7 @@ export CARGO_TERM_COLOR=never
 
 echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo), load $(cut -d' ' -f1-3 /proc/loadavg)"
 cargo build --release --locked -p woven-cli -q
-woven=target/release/woven
+woven=$(cd "${CARGO_TARGET_DIR:-target}/release" && pwd)/woven
 venv=${MITSUBA_VENV:-target/mitsuba-venv}
 want() { [ -z "${ONLY:-}" ] || [[ " $ONLY " == *" $1 "* ]]; }
 
@@ -54,16 +54,16 @@ time $woven eval -m belt-cloth --input "$OUT/dirs1k.csv" -o "$OUT/b.csv"
 TIMEFORMAT="   eval exact silk, 10^3 rows: %R s wall, %U s user"
 time $woven eval -m silk --input "$OUT/dirs1k.csv" -o "$OUT/s.csv"
 TIMEFORMAT="   woven gonio (the goniometer job): %R s wall"
-(cd "$OUT" && time "$OLDPWD/$woven" gonio > /dev/null)
+(cd "$OUT" && time "$woven" gonio > /dev/null)
 fi
 
 if want showcase; then
 echo
 echo "== bare woven: the showcase render, with a cold table cache (tables built) and a warm one"
 TIMEFORMAT="   bare woven, cold cache: %R s wall"
-(cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$OLDPWD/$woven")
+(cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$woven")
 TIMEFORMAT="   bare woven, warm cache: %R s wall"
-(cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$OLDPWD/$woven")
+(cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$woven")
 cp "$OUT/woven-out/showcase.png" "$OUT/showcase.png"
 fi
 
