@@ -28,6 +28,7 @@ use super::rows::{format_error, shorten, Cell, CsvTable};
 use super::{data_dir, DataError};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
+use woven::fiber::fresnel_dielectric;
 use woven::Vec3;
 
 /// One material's SGD fit, per channel (red, green, blue).
@@ -134,19 +135,6 @@ impl SgdFit {
         }
         out
     }
-}
-
-/// The unpolarised Fresnel reflectance of a dielectric of relative index `eta` at `cos θ = c`.
-fn fresnel_dielectric(c: f64, eta: f64) -> f64 {
-    let g2 = eta * eta - 1.0 + c * c;
-    if g2 < 0.0 {
-        // Total internal reflection (only for eta < 1).
-        return 1.0;
-    }
-    let g = g2.sqrt();
-    let a = (g - c) / (g + c);
-    let b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
-    0.5 * a * a * (1.0 + b * b)
 }
 
 impl AbcFit {
@@ -324,16 +312,4 @@ pub fn for_material(name: &str) -> Result<(SgdFit, AbcFit), DataError> {
         .find(|f| f.name == name)
         .ok_or_else(|| missing(&abc_table()))?;
     Ok((sgd, abc))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fresnel_of_glass_at_normal_incidence_is_four_percent() {
-        assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-12);
-        // Grazing incidence reflects everything.
-        assert!((fresnel_dielectric(0.0, 1.5) - 1.0).abs() < 1e-12);
-    }
 }
