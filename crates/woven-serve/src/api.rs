@@ -227,14 +227,7 @@ async fn fit_stream(
         ..woven_fit::FitOptions::default()
     };
     let channel = check_channel(&req.channel)?;
-    let generation = app.channels.begin(channel);
-    let permit = app
-        .jobs
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|e| ApiError::Internal(e.to_string()))?;
-    Ok(job::stream(generation, permit, move |out| {
+    start_job(&app, channel, move |out| {
         let progress = |done: usize, total: usize| {
             out.send(&FitMessage::Progress { done, total });
         };
@@ -256,7 +249,25 @@ async fn fit_stream(
             },
         };
         out.send(&message);
-    }))
+    })
+    .await
+}
+
+/// Starts `work` as a streamed job on `channel` (superseding the channel's older jobs) once a
+/// worker slot is free.
+async fn start_job(
+    app: &AppState,
+    channel: Option<&str>,
+    work: impl FnOnce(&job::Emitter) + Send + 'static,
+) -> ApiResult<Response> {
+    let generation = app.channels.begin(channel);
+    let permit = app
+        .jobs
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|e| ApiError::Internal(e.to_string()))?;
+    Ok(job::stream(generation, permit, work))
 }
 
 /// `GET /api/datasets`: the real measurements bundled in `data/` the page can lay over the
@@ -408,16 +419,10 @@ async fn views_stream(
     }
     let channel = check_channel(&req.channel)?;
     let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
-    let generation = app.channels.begin(channel);
-    let permit = app
-        .jobs
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|e| ApiError::Internal(e.to_string()))?;
-    Ok(job::stream(generation, permit, move |out| {
+    start_job(&app, channel, move |out| {
         views::compute(&model, theta_i, phi_i, which, out)
-    }))
+    })
+    .await
 }
 
 #[derive(Deserialize)]
@@ -494,16 +499,7 @@ async fn preview_stream(
         colors,
         cells,
     };
-    let generation = app.channels.begin(channel);
-    let permit = app
-        .jobs
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|e| ApiError::Internal(e.to_string()))?;
-    Ok(job::stream(generation, permit, move |out| {
-        preview::run(&p, out)
-    }))
+    start_job(&app, channel, move |out| preview::run(&p, out)).await
 }
 
 #[derive(Deserialize)]
@@ -554,14 +550,7 @@ async fn compare_stream(
     )?);
     let channel = check_channel(&req.channel)?;
     let model = build(&app, m, req.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM)).await?;
-    let generation = app.channels.begin(channel);
-    let permit = app
-        .jobs
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|e| ApiError::Internal(e.to_string()))?;
-    Ok(job::stream(generation, permit, move |out| {
+    start_job(&app, channel, move |out| {
         let total = samples.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
         let values: Option<Vec<f64>> = samples
@@ -590,5 +579,6 @@ async fn compare_stream(
             model: values,
             error,
         });
-    }))
+    })
+    .await
 }
