@@ -3,8 +3,7 @@
 //! library's; this module parses, reports progress, writes files and draws the plot.
 
 use crate::args::{parse_finite, MaterialSource};
-use crate::commands::plot::{encode_png, plot_error, register_embedded_font, tick_label, FONT};
-use crate::glyphs::CrispText;
+use crate::commands::plot::{plot_error, render_image, tick_label, Drawing, ImageFormat, FONT};
 use crate::io;
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
@@ -287,34 +286,13 @@ fn compare(args: &FitArgs, options: &FitOptions) -> Result<()> {
 /// The plot: in-plane curves of the data and the fit (left, where the data has them) and the
 /// fitted against the measured values (right), channel 0 (mono) or the channels' mean.
 fn draw_plot(result: &FitResult, path: &Path) -> Result<Vec<u8>> {
-    register_embedded_font()?;
-    let (width, height) = (1400u32, 650u32);
-    let format = crate::commands::plot::ImageFormat::from_path(path)?;
-    match format {
-        crate::commands::plot::ImageFormat::Svg => {
-            let mut svg = String::new();
-            {
-                let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-                draw(&root, result)?;
-                root.present().map_err(plot_error)?;
-            }
-            Ok(svg.into_bytes())
-        }
-        crate::commands::plot::ImageFormat::Png => {
-            let mut rgb = vec![0u8; width as usize * height as usize * 3];
-            {
-                let backend = CrispText::new(
-                    BitMapBackend::with_buffer(&mut rgb, (width, height)),
-                    dejavu::sans::regular(),
-                )
-                .map_err(|_| anyhow!("the embedded DejaVu Sans font could not be loaded"))?;
-                let root = backend.into_drawing_area();
-                draw(&root, result)?;
-                root.present().map_err(plot_error)?;
-            }
-            encode_png(&rgb, width, height)
+    struct Plot<'a>(&'a FitResult);
+    impl Drawing for Plot<'_> {
+        fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+            draw(root, self.0)
         }
     }
+    render_image(&Plot(result), ImageFormat::from_path(path)?, (1400, 650))
 }
 
 const COLORS: [RGBColor; 6] = [

@@ -208,6 +208,28 @@ pub fn render(
     figure: &Figure,
     scale: YScale,
     format: ImageFormat,
+    size: (u32, u32),
+) -> Result<Vec<u8>> {
+    struct Plot<'a>(&'a Figure, YScale);
+    impl Drawing for Plot<'_> {
+        fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+            draw(root, self.0, self.1)
+        }
+    }
+    render_image(&Plot(figure, scale), format, size)
+}
+
+/// A picture that draws itself onto a drawing area of any plotters backend.
+pub trait Drawing {
+    /// Draws onto `root` (the whole picture).
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>;
+}
+
+/// Draws `picture` into an in-memory SVG or PNG file of `width × height` (PNG text in the
+/// embedded font).
+pub fn render_image(
+    picture: &impl Drawing,
+    format: ImageFormat,
     (width, height): (u32, u32),
 ) -> Result<Vec<u8>> {
     register_embedded_font()?;
@@ -216,7 +238,7 @@ pub fn render(
             let mut svg = String::new();
             {
                 let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-                draw(&root, figure, scale)?;
+                picture.draw_on(&root)?;
                 root.present().map_err(plot_error)?;
             }
             Ok(svg.into_bytes())
@@ -230,7 +252,7 @@ pub fn render(
                 )
                 .map_err(|_| anyhow!("the embedded DejaVu Sans font could not be loaded"))?;
                 let root = backend.into_drawing_area();
-                draw(&root, figure, scale)?;
+                picture.draw_on(&root)?;
                 root.present().map_err(plot_error)?;
             }
             encode_png(&rgb, width, height)
