@@ -52,14 +52,6 @@ pub fn read_csv(text: &str, origin: &str) -> ApiResult<Dataset> {
     Ok(dataset)
 }
 
-/// [`read_csv`]'s rows as the page shows them (a colour row as the mean of its channels).
-///
-/// # Errors
-/// As [`read_csv`].
-pub fn parse_csv(text: &str, origin: &str) -> ApiResult<Vec<Sample>> {
-    read_csv(text, origin).map(|d| samples_of(&d))
-}
-
 /// The measurements a request names: its CSV text (`csv`, shown as `name`) or a bundled
 /// dataset (`dataset`), exactly one of them.
 ///
@@ -188,7 +180,7 @@ mod tests {
     #[test]
     fn reads_rows_and_refuses_bad_ones_by_line() {
         let ok = "theta_i,phi_i,theta_r,phi_r,value\n# a comment\n0.5,0,0.5,3.14159,0.8\n\n0.1, 1, 0.2, 2, 0\n";
-        let s = parse_csv(ok, "m.csv").unwrap();
+        let s = samples_of(&read_csv(ok, "m.csv").unwrap());
         assert_eq!(s.len(), 2);
         assert_eq!(s[1].phi_i, 1.0);
         // The fitter's reader words the errors (its own tests pin them); here: they come
@@ -208,7 +200,7 @@ mod tests {
                 "value",
             ),
         ] {
-            let e = parse_csv(text, "m.csv").unwrap_err().to_string();
+            let e = read_csv(text, "m.csv").unwrap_err().to_string();
             assert!(e.contains(needle), "{text:?}: {e}");
         }
     }
