@@ -31,7 +31,9 @@ pub struct Image {
     pub height: usize,
     /// The pixel values: the plain mean of each pixel's samples (a box filter).
     pub pixels: Vec<Rgb>,
-    /// The standard error of each pixel's mean (sample standard deviation / √spp).
+    /// The standard error of each pixel's mean (sample standard deviation / √spp). With the
+    /// Sobol sampler (the default) the samples are not independent and the mean's true error is
+    /// smaller than this, often several times: it is then an upper bound, not an estimate.
     pub std_error: Vec<Rgb>,
     /// Samples whose radiance came out NaN, infinite or negative; they were counted as black.
     pub invalid_samples: u64,
@@ -115,7 +117,7 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions) -> Image {
                     let mut sum = Rgb::BLACK;
                     let mut sum_sq = Rgb::BLACK;
                     for s in 0..spp {
-                        let mut sampler = Sampler::new(film.seed, pixel, s as u64);
+                        let mut sampler = Sampler::new(film.sampler, film.seed, pixel, s as u64);
                         let (dx, dy) = sampler.next2();
                         let ray = scene.camera.ray(x as f64 + dx, y as f64 + dy);
                         let mut l = integrator::radiance(scene, ray, &mut sampler);

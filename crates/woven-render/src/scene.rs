@@ -12,6 +12,7 @@ use crate::color::Rgb;
 use crate::geometry::{Mesh, Primitive};
 use crate::light::{Environment, Light};
 use crate::material::{Diffuse, SurfaceMaterial};
+use crate::rng::SamplerKind;
 use crate::shapes::{self, Cloth, Drape};
 use crate::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSpec};
 use crate::{Error, Result};
@@ -62,6 +63,8 @@ pub struct Film {
     pub spp: usize,
     /// Random seed.
     pub seed: u64,
+    /// How a pixel's samples are drawn.
+    pub sampler: SamplerKind,
 }
 
 /// Which sampling strategies the path tracer combines.
@@ -248,6 +251,8 @@ struct RawFilm {
     spp: i64,
     #[serde(default)]
     seed: u64,
+    #[serde(default)]
+    sampler: SamplerKind,
 }
 
 fn default_side() -> i64 {
@@ -606,6 +611,7 @@ impl SceneDescription {
                 height: 512,
                 spp: 64,
                 seed: 0,
+                sampler: SamplerKind::default(),
             },
             Some(f) => {
                 let at = f.span().start;
@@ -616,6 +622,7 @@ impl SceneDescription {
                     height: c.range("film.height", at, f.height, 1, side)?,
                     spp: c.range("film.spp", at, f.spp, 1, MAX_SPP as i64)?,
                     seed: f.seed,
+                    sampler: f.sampler,
                 }
             }
         };

@@ -21,6 +21,7 @@ fn diffuse_rectangle_under_a_point_light_is_analytic() {
         width = {w}
         height = {h}
         spp = 64
+        sampler = "independent"
         seed = 3
         [integrator]
         max_depth = 2
@@ -118,6 +119,7 @@ fn diffuse_sphere_in_a_furnace_is_half_grey() {
         width = 16
         height = 16
         spp = 32
+        sampler = "independent"
         [integrator]
         max_depth = -1
         [[light]]
@@ -175,6 +177,7 @@ fn depth_one_shows_emitters_only_and_hide_emitters_hides_them() {
             width = 8
             height = 8
             spp = 16
+            sampler = "independent"
             [integrator]
             {integrator}
             [[light]]
@@ -219,6 +222,7 @@ fn renders_are_deterministic_for_a_seed() {
             width = 20
             height = 20
             spp = 4
+            sampler = "independent"
             seed = {seed}
             [[light]]
             type = "environment"

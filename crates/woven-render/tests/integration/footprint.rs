@@ -60,6 +60,7 @@ fn plane(origin: [f64; 3], fov: f64, size: usize, spp: usize, filter: bool, cell
         width = {size}
         height = {size}
         spp = {spp}
+        sampler = "independent"
         [integrator]
         max_depth = 2
         footprint_filter = {filter}
@@ -189,6 +190,7 @@ fn moire_demo_on_a_plane_receding_to_the_horizon() {
             width = {w}
             height = {h}
             spp = {spp}
+            sampler = "independent"
             [integrator]
             max_depth = 2
             footprint_filter = {filter}
@@ -380,6 +382,8 @@ fn showcase_noise_with_and_without_the_filter() {
         desc.film.width = 320;
         desc.film.height = 180;
         desc.film.spp = 16;
+        // Independent samples: the standard errors below are then the pixels' true errors.
+        desc.film.sampler = woven_render::rng::SamplerKind::Independent;
         let cache = match Cache::user() {
             Ok(c) => TableCache::with_disk(c),
             Err(_) => TableCache::default(),

@@ -36,6 +36,7 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
         width = {w}
         height = {h}
         spp = 512
+        sampler = "independent"
         [integrator]
         max_depth = 2
         hide_emitters = true

@@ -5,6 +5,7 @@ mod analytic;
 mod files;
 mod footprint;
 mod furnace;
+mod sampling;
 mod scene_file;
 mod strategies;
 mod woven_surfaces;

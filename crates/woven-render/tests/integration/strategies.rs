@@ -16,6 +16,7 @@ fn scene(strategy: &str, materials: &str, sphere_material: &str) -> String {
         width = 16
         height = 12
         spp = 256
+        sampler = "independent"
         seed = 11
         [integrator]
         max_depth = 4
