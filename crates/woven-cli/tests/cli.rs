@@ -1455,6 +1455,58 @@ fn render_errors_name_the_file_key_and_line() {
         .code(2);
 }
 
+/// `--sampler` overrides `[film] sampler`: the flag and the key render the same image, the two
+/// samplers different ones; an unknown sampler is an error in either place.
+#[test]
+fn render_sampler_flag_overrides_the_film_key() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("small.toml"), SMALL_SCENE).unwrap();
+    let keyed = SMALL_SCENE.replace("spp = 4", "spp = 4\nsampler = \"independent\"");
+    std::fs::write(dir.path().join("keyed.toml"), keyed).unwrap();
+    let render = |args: &[&str]| {
+        woven()
+            .args(args)
+            .current_dir(dir.path())
+            .assert()
+            .success();
+    };
+    render(&[
+        "render",
+        "small.toml",
+        "-o",
+        "flag.exr",
+        "--sampler",
+        "independent",
+    ]);
+    render(&["render", "keyed.toml", "-o", "key.exr"]);
+    render(&[
+        "render",
+        "keyed.toml",
+        "-o",
+        "sobol.exr",
+        "--sampler",
+        "sobol",
+    ]);
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_eq!(read("flag.exr"), read("key.exr"));
+    assert_ne!(read("flag.exr"), read("sobol.exr"));
+    woven()
+        .args(["render", "small.toml", "--sampler", "halton"])
+        .current_dir(dir.path())
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("sobol"));
+    let bad = SMALL_SCENE.replace("spp = 4", "spp = 4\nsampler = \"halton\"");
+    std::fs::write(dir.path().join("bad.toml"), bad).unwrap();
+    woven()
+        .args(["render", "bad.toml"])
+        .current_dir(dir.path())
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("halton"))
+        .stderr(predicate::str::contains("independent"));
+}
+
 #[test]
 fn render_example_prints_a_commented_scene() {
     let assert = woven().args(["render", "--example"]).assert().success();
