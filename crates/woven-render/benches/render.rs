@@ -18,7 +18,9 @@ use woven_render::woven_material::{TableCache, TableGrid};
 /// `roughplastic` equivalent) under a point light, direct lighting; the same plane diffuse; and
 /// the sateen's yarn in a fine 2/1 twill (about 30 cells a pixel), with the footprint filter
 /// (the pattern's γ-mix, two look-ups a point) and without (one look-up of the cell's yarn).
-fn scene(material: &str, filter: bool) -> String {
+/// `sampler`: the film's (the default Sobol points; the fiber plane also with independent
+/// samples, for the Sobol points' cost).
+fn scene(material: &str, filter: bool, sampler: &str) -> String {
     format!(
         r#"
         [camera]
@@ -30,6 +32,7 @@ fn scene(material: &str, filter: bool) -> String {
         width = 64
         height = 64
         spp = 16
+        sampler = "{sampler}"
         [integrator]
         max_depth = 2
         footprint_filter = {filter}
@@ -58,19 +61,23 @@ fn bench(c: &mut Criterion) {
     .unwrap();
     let twill = "[material.plane]\ntype = \"woven\"\nmaterial = \"polyester-sateen\"\n\
                  pattern = \"twill-2/1\"\nyarns_per_unit = 1000";
+    let fiber = "[material.plane]\ntype = \"woven\"\nmaterial = \"fiber.toml\"";
     let cases = [
         (
             "diffuse plane",
             "[material.plane]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]",
             true,
+            "sobol",
         ),
+        ("woven fiber plane", fiber, true, "sobol"),
         (
-            "woven fiber plane",
-            "[material.plane]\ntype = \"woven\"\nmaterial = \"fiber.toml\"",
+            "woven fiber plane, independent samples",
+            fiber,
             true,
+            "independent",
         ),
-        ("fine twill plane, filtered", twill, true),
-        ("fine twill plane, unfiltered", twill, false),
+        ("fine twill plane, filtered", twill, true, "sobol"),
+        ("fine twill plane, unfiltered", twill, false, "sobol"),
     ];
     let grid = TableGrid::Custom(TableOptions {
         n_theta: 24,
@@ -79,9 +86,9 @@ fn bench(c: &mut Criterion) {
     });
     let mut group = c.benchmark_group("render");
     group.sample_size(10);
-    for (name, material, filter) in cases {
-        let desc =
-            SceneDescription::from_str(&scene(material, filter), name, Path::new(&dir)).unwrap();
+    for (name, material, filter, sampler) in cases {
+        let text = scene(material, filter, sampler);
+        let desc = SceneDescription::from_str(&text, name, Path::new(&dir)).unwrap();
         // The twill's yarn on the renderer's grid, built once (kept in the bench's folder).
         let (grid, cache) = if material == twill {
             (
