@@ -2,7 +2,7 @@
 # The README's speed and table figures, from one run on the machine at hand (about 17 minutes on
 # two idle cores). Prints each figure with the command behind it; nothing is written outside
 # target/ and $OUT (default: a temporary folder). ONLY="showcase python" runs just those
-# sections (bench, tables, load, showcase, mitsuba, python), for re-measuring what changed.
+# sections (bench, tables, load, showcase, fit, mitsuba, python), for re-measuring what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-$(mktemp -d)}
@@ -65,6 +65,24 @@ TIMEFORMAT="   bare woven, cold cache: %R s wall"
 TIMEFORMAT="   bare woven, warm cache: %R s wall"
 (cd "$OUT" && time XDG_CACHE_HOME="$OUT/cache" "$woven")
 cp "$OUT/woven-out/showcase.png" "$OUT/showcase.png"
+fi
+
+if want fit; then
+echo
+echo "== woven fit --model cloth: the issue's speed cases (wall and user time, both cores)"
+fit() {
+  local label=$1; shift
+  TIMEFORMAT="   $label: %R s wall, %U s user"
+  time $woven fit --model cloth "$@" -o "$OUT/fit.toml" > "$OUT/fit.log" 2>&1
+}
+fit "CUReT linen (205 points), one orientation (--init polyester-sateen)" \
+  --data 'data/curet/abrdf.dat#linen' --init polyester-sateen
+fit "CUReT linen (205 points), twisted (--init belt-cloth)" \
+  --data 'data/curet/abrdf.dat#linen' --init belt-cloth
+fit "CUReT linen (205 points), isotropic (--init silk)" \
+  --data 'data/curet/abrdf.dat#linen' --init silk
+fit "MERL white-fabric grid (3757 points x RGB), twisted (--init belt-cloth)" \
+  --data data/merl/white-fabric.grid.csv --init belt-cloth
 fi
 
 if want mitsuba; then
