@@ -5,8 +5,8 @@
 //! **Depth** has Mitsuba's meaning: `max_depth = 1` shows emitters only, `2` direct lighting,
 //! and so on; light sampling at a vertex happens only when a further vertex is allowed.
 //! **Russian roulette** from depth `rr_depth` (5 by default) continues with probability
-//! `min(max channel of the throughput, 0.95)`. **Emitters**: one light is chosen uniformly per
-//! light sample; point lights are deltas (no MIS, never hit); a rectangle light's surface
+//! `min(max channel of the throughput, 0.95)`. **Emitters**: one light is chosen per light sample,
+//! in proportion to the lights' `sampling_weight` (Mitsuba's; uniformly by default); point lights are deltas (no MIS, never hit); a rectangle light's surface
 //! reflects nothing; surfaces are one-sided — a ray meeting a back face ends there, black.
 
 use crate::color::Rgb;
@@ -50,11 +50,8 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
     let settings = &scene.integrator;
     let max_depth = settings.max_depth.unwrap_or(u32::MAX);
     let n_lights = scene.lights.len();
-    let pick = if n_lights > 0 {
-        1.0 / n_lights as f64
-    } else {
-        0.0
-    };
+    // The probability that light sampling picks light `k` (in proportion to its weight).
+    let pick = |k: usize| scene.light_choice.probability(k);
     let use_lights = settings.strategy != Strategy::Bsdf && n_lights > 0;
     // Whether a ray can meet an emitter (point lights cannot be hit): otherwise a BSDF draw
     // whose vertex may only add emission (the last one) is not made.
@@ -97,7 +94,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
                 if let Light::Environment(env) = &scene.lights[e] {
                     let le = env.radiance(ray.d);
                     if !le.is_black() {
-                        l += beta * emitted(le, pick * env.pdf(ray.d));
+                        l += beta * emitted(le, pick(e) * env.pdf(ray.d));
                     }
                 }
             }
@@ -118,7 +115,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
             } = &scene.lights[li]
             {
                 let area = edge_u.cross(*edge_v).length();
-                let light_pdf = pick * hit.t * hit.t / (cos_front * area);
+                let light_pdf = pick(li) * hit.t * hit.t / (cos_front * area);
                 l += beta * emitted(*radiance, light_pdf);
             }
         }
@@ -142,7 +139,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
 
         // Next-event estimation.
         if use_lights {
-            let k = ((sampler.uniform() * n_lights as f64) as usize).min(n_lights - 1);
+            let (k, _) = scene.light_choice.sample(sampler.uniform());
             let (u1, u2) = sampler.next2();
             if let Some(ls) = scene.lights[k].sample(hit.p, u1, u2) {
                 let wi = frame.to_local(ls.wi);
@@ -157,7 +154,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
                             f64::INFINITY
                         };
                         if !scene.accel.occluded(&shadow, 0.0, t_max) {
-                            let light_pdf = pick * ls.pdf;
+                            let light_pdf = pick(k) * ls.pdf;
                             let w = if ls.delta || settings.strategy == Strategy::Light {
                                 1.0
                             } else {

@@ -10,7 +10,7 @@ use crate::accel::Accel;
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Mesh, Primitive};
-use crate::light::{Environment, Light};
+use crate::light::{Distribution1D, Environment, Light};
 use crate::material::{Diffuse, SurfaceMaterial};
 use crate::rng::SamplerKind;
 use crate::shapes::{self, Cloth, Drape};
@@ -164,6 +164,9 @@ pub struct SceneDescription {
     pub integrator: IntegratorSettings,
     /// Lights in file order (a rectangle light adds geometry too).
     pub lights: Vec<LightDesc>,
+    /// Each light's `sampling_weight` (Mitsuba's): next-event estimation picks a light with
+    /// probability proportional to it. All 1 by default (a uniform choice).
+    pub light_weights: Vec<f64>,
     /// Shapes in file order, each with its material's name.
     pub shapes: Vec<(ShapeDesc, String)>,
     /// Materials by name.
@@ -297,19 +300,41 @@ enum RawLight {
     Point {
         position: [f64; 3],
         intensity: [f64; 3],
+        #[serde(default = "one")]
+        sampling_weight: f64,
     },
     Environment {
         radiance: Option<[f64; 3]>,
         file: Option<String>,
         #[serde(default = "one")]
         scale: f64,
+        #[serde(default = "one")]
+        sampling_weight: f64,
     },
     Rectangle {
         corner: [f64; 3],
         edge_u: [f64; 3],
         edge_v: [f64; 3],
         radiance: [f64; 3],
+        #[serde(default = "one")]
+        sampling_weight: f64,
     },
+}
+
+impl RawLight {
+    fn sampling_weight(&self) -> f64 {
+        match self {
+            RawLight::Point {
+                sampling_weight, ..
+            }
+            | RawLight::Environment {
+                sampling_weight, ..
+            }
+            | RawLight::Rectangle {
+                sampling_weight, ..
+            } => *sampling_weight,
+        }
+    }
 }
 
 fn one() -> f64 {
@@ -662,14 +687,26 @@ impl SceneDescription {
 
         // [[light]]
         let mut lights = Vec::new();
+        let mut light_weights = Vec::new();
         let mut environments = 0;
         for (k, l) in raw.light.into_iter().enumerate() {
             let at = l.span().start;
             let key = format!("light[{k}]");
-            lights.push(match l.into_inner() {
+            let l = l.into_inner();
+            let weight = l.sampling_weight();
+            if !(weight.is_finite() && weight > 0.0) {
+                return Err(c.err(
+                    &format!("{key}.sampling_weight"),
+                    at,
+                    format!("{weight}: expected a finite number > 0"),
+                ));
+            }
+            light_weights.push(weight);
+            lights.push(match l {
                 RawLight::Point {
                     position,
                     intensity,
+                    ..
                 } => LightDesc::Point {
                     position: c.vec(&format!("{key}.position"), at, position)?,
                     intensity: c.rgb(&format!("{key}.intensity"), at, intensity, None)?,
@@ -678,6 +715,7 @@ impl SceneDescription {
                     radiance,
                     file,
                     scale,
+                    ..
                 } => {
                     environments += 1;
                     if environments > 1 {
@@ -717,6 +755,7 @@ impl SceneDescription {
                     edge_u,
                     edge_v,
                     radiance,
+                    ..
                 } => {
                     let (edge_u, edge_v) = c.edges(&key, at, edge_u, edge_v)?;
                     LightDesc::Rectangle {
@@ -1016,6 +1055,7 @@ impl SceneDescription {
             film,
             integrator,
             lights,
+            light_weights,
             shapes,
             materials,
         })
@@ -1034,6 +1074,8 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Index of the environment light in `lights`, if any.
     pub environment: Option<usize>,
+    /// How next-event estimation picks a light: in proportion to the lights' sampling weights.
+    pub light_choice: Distribution1D,
     /// The geometry.
     pub accel: Accel,
     /// For each primitive: its material (index into `materials`), or `None` for a light's
@@ -1223,6 +1265,7 @@ impl Scene {
             camera,
             lights,
             environment,
+            light_choice: Distribution1D::new(&desc.light_weights),
             accel: Accel::new(prims, meshes),
             prim_info,
             materials,

@@ -161,10 +161,12 @@ fn sobol_points_render_an_area_light_without_bias_and_with_less_error() {
     );
 }
 
-/// The showcase's noise per sampler: the showcase (at 480 × 270) rendered with two seeds, the
-/// noise being the RMS difference of the two images' luminance over √2 — for independent samples
-/// at 64 spp (the showcase's count before it used Sobol points) and for Sobol points at 16, 32
-/// and 64 spp; the showcase's 32 Sobol samples must be less noisy than 64 independent ones.
+/// The showcase's noise per sampler and light choice: the showcase (at 480 × 270) rendered with
+/// two seeds, the noise being the RMS difference of the two images' luminance over √2 — for
+/// independent samples at 64 spp with a uniform choice of light (the showcase before), for Sobol
+/// points at 32 spp with a uniform choice, and for Sobol points at 16, 32 and 64 spp with the
+/// showcase's `sampling_weight`s. The showcase as it is (Sobol, 32 spp, weighted) must be less
+/// noisy than it was, and render the same image.
 ///
 /// `cargo test --release -p woven-render --test integration showcase_noise_per_sampler --
 /// --ignored --nocapture` (tables from the user's cache).
@@ -177,7 +179,7 @@ fn showcase_noise_per_sampler() {
     use woven_render::scene::{Scene, SceneDescription, SHOWCASE_SCENE};
     use woven_render::woven_material::{TableCache, TableGrid};
 
-    let noise = |sampler: SamplerKind, spp: usize| {
+    let noise = |sampler: SamplerKind, spp: usize, weighted: bool| {
         let images: Vec<_> = (0..2)
             .map(|seed| {
                 let mut desc = SceneDescription::from_str(
@@ -186,11 +188,15 @@ fn showcase_noise_per_sampler() {
                     std::path::Path::new("."),
                 )
                 .unwrap();
+                assert!(desc.light_weights.iter().any(|&w| w != 1.0));
                 desc.film.width = 480;
                 desc.film.height = 270;
                 desc.film.spp = spp;
                 desc.film.seed = seed;
                 desc.film.sampler = sampler;
+                if !weighted {
+                    desc.light_weights.iter_mut().for_each(|w| *w = 1.0);
+                }
                 let cache = match Cache::user() {
                     Ok(c) => TableCache::with_disk(c),
                     Err(_) => TableCache::default(),
@@ -213,21 +219,23 @@ fn showcase_noise_per_sampler() {
             / n;
         let mean = a.iter().chain(b).map(|p| p.luminance()).sum::<f64>() / (2.0 * n);
         let seconds = images.iter().map(|i| i.seconds).sum::<f64>() / 2.0;
+        let choice = if weighted { "weighted" } else { "uniform" };
         println!(
-            "{sampler:?} {spp:3} spp: mean luminance {mean:.4}, RMS noise {:.5} ({:.2} % of the mean), {seconds:.2} s a render",
+            "{sampler:?} {spp:3} spp, {choice} light choice: mean luminance {mean:.4}, RMS noise \
+             {:.5} (variance {var:.3e}), {seconds:.2} s a render",
             var.sqrt(),
-            100.0 * var.sqrt() / mean
         );
         (var, mean)
     };
-    let (independent_64, mean_i) = noise(SamplerKind::Independent, 64);
-    let _ = noise(SamplerKind::Sobol, 16);
-    let (sobol_32, mean_s) = noise(SamplerKind::Sobol, 32);
-    let _ = noise(SamplerKind::Sobol, 64);
-    assert!(sobol_32 < independent_64, "{sobol_32} vs {independent_64}");
+    let (before, mean_before) = noise(SamplerKind::Independent, 64, false);
+    let _ = noise(SamplerKind::Sobol, 32, false);
+    let _ = noise(SamplerKind::Sobol, 16, true);
+    let (now, mean_now) = noise(SamplerKind::Sobol, 32, true);
+    let _ = noise(SamplerKind::Sobol, 64, true);
+    assert!(now < before, "{now} vs {before}");
     // The same image: the means agree to well within the noise.
     assert!(
-        (mean_s - mean_i).abs() < 2e-3 * mean_i,
-        "{mean_s} vs {mean_i}"
+        (mean_now - mean_before).abs() < 2e-3 * mean_before,
+        "{mean_now} vs {mean_before}"
     );
 }

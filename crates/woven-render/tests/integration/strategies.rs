@@ -143,3 +143,32 @@ fn strategies_agree_on_a_filtered_tilted_gapped_weave() {
         "cloth",
     );
 }
+
+/// Lights picked in proportion to unequal `sampling_weight`s (the rectangle ten times as often
+/// as the environment) render the same image as a uniform choice, with MIS and with light
+/// sampling alone (where the choice's probability is the whole light density).
+#[test]
+fn light_sampling_weights_change_the_noise_not_the_image() {
+    let weighted = |strategy: &str| {
+        scene(strategy, "", "floor")
+            .replace(
+                "radiance = [4, 4, 4]",
+                "radiance = [4, 4, 4]\n        sampling_weight = 5",
+            )
+            .replace(
+                "radiance = [0.3, 0.4, 0.5]",
+                "radiance = [0.3, 0.4, 0.5]\n        sampling_weight = 0.5",
+            )
+    };
+    assert!(weighted("mis").contains("sampling_weight = 5"));
+    let uniform = render_text(&scene("mis", "", "floor"));
+    for strategy in ["mis", "light"] {
+        let image = render_text(&weighted(strategy));
+        assert_agree(
+            &uniform,
+            &image,
+            &format!("{strategy}: weighted vs uniform light choice"),
+            4.5,
+        );
+    }
+}
