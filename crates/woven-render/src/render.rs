@@ -117,7 +117,12 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions) -> Image {
                     let mut sum = Rgb::BLACK;
                     let mut sum_sq = Rgb::BLACK;
                     for s in 0..spp {
-                        let mut sampler = Sampler::new(film.sampler, film.seed, pixel, s as u64);
+                        let mut sampler = Sampler::new(
+                            film.sampler,
+                            film.seed,
+                            pixel,
+                            film.first_sample + s as u64,
+                        );
                         let (dx, dy) = sampler.next2();
                         let ray = scene.camera.ray(x as f64 + dx, y as f64 + dy);
                         let mut l = integrator::radiance(scene, ray, &mut sampler);

@@ -65,6 +65,10 @@ pub struct Film {
     pub seed: u64,
     /// How a pixel's samples are drawn.
     pub sampler: SamplerKind,
+    /// The index of the first sample a render takes (0 from a file): a progressive render
+    /// renders passes of `spp` samples at 0, `spp`, 2 `spp`, … with one seed, and the passes'
+    /// mean is then one render of all their samples (with Sobol points, stratified together).
+    pub first_sample: u64,
 }
 
 /// Which sampling strategies the path tracer combines.
@@ -637,6 +641,7 @@ impl SceneDescription {
                 spp: 64,
                 seed: 0,
                 sampler: SamplerKind::default(),
+                first_sample: 0,
             },
             Some(f) => {
                 let at = f.span().start;
@@ -648,6 +653,7 @@ impl SceneDescription {
                     spp: c.range("film.spp", at, f.spp, 1, MAX_SPP as i64)?,
                     seed: f.seed,
                     sampler: f.sampler,
+                    first_sample: 0,
                 }
             }
         };

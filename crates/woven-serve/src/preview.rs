@@ -184,7 +184,8 @@ pub fn run(p: &Preview, out: &Emitter) {
         if out.cancelled() {
             return;
         }
-        scene.film.seed = pass as u64;
+        // One sequence of samples over the passes (stratified together with Sobol points).
+        scene.film.first_sample = (pass - 1) as u64;
         let image = match render(&scene, &RenderOptions::default()) {
             Ok(i) => i,
             Err(e) => {

@@ -239,3 +239,74 @@ fn showcase_noise_per_sampler() {
         "{mean_now} vs {mean_before}"
     );
 }
+
+/// Passes continue one sequence: four one-sample passes at `first_sample` 0, 1, 2, 3 average to
+/// the four-sample render, for both samplers (how the explorer's preview refines).
+#[test]
+fn passes_at_successive_first_samples_make_one_render() {
+    use std::path::Path;
+    use woven_render::render::{render, RenderOptions};
+    use woven_render::rng::SamplerKind;
+    use woven_render::scene::{Scene, SceneDescription};
+
+    let text = r#"
+        [camera]
+        origin = [0, -3, 1.5]
+        target = [0, 0, 0.4]
+        fov_deg = 50
+        [film]
+        width = 12
+        height = 8
+        spp = 4
+        [integrator]
+        max_depth = 3
+        [[light]]
+        type = "rectangle"
+        corner = [-0.5, -0.5, 2.0]
+        edge_u = [0, 1, 0]
+        edge_v = [1, 0, 0]
+        radiance = [4, 4, 4]
+        [[shape]]
+        type = "sphere"
+        center = [0, 0, 0.5]
+        radius = 0.5
+        material = "grey"
+        [[shape]]
+        type = "rectangle"
+        corner = [-2, -2, 0]
+        edge_u = [4, 0, 0]
+        edge_v = [0, 4, 0]
+        material = "grey"
+        [material.grey]
+        type = "diffuse"
+        reflectance = [0.5, 0.5, 0.5]
+        "#;
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        let mut desc = SceneDescription::from_str(text, "<test>", Path::new(".")).unwrap();
+        desc.film.sampler = sampler;
+        let mut scene = Scene::build(&desc, &crate::coarse_grid(), &|_| {}, &|_, _| {}).unwrap();
+        let whole = render(&scene, &RenderOptions::default()).unwrap();
+        scene.film.spp = 1;
+        let mut sum = vec![[0.0; 3]; whole.pixels.len()];
+        for pass in 0..4 {
+            scene.film.first_sample = pass;
+            let image = render(&scene, &RenderOptions::default()).unwrap();
+            for (acc, px) in sum.iter_mut().zip(&image.pixels) {
+                for c in 0..3 {
+                    acc[c] += px.0[c];
+                }
+            }
+        }
+        for (acc, px) in sum.iter().zip(&whole.pixels) {
+            for c in 0..3 {
+                assert!(
+                    (acc[c] / 4.0 - px.0[c]).abs() <= 1e-12 * px.0[c].abs().max(1.0),
+                    "{sampler:?}: {} vs {}",
+                    acc[c] / 4.0,
+                    px.0[c]
+                );
+            }
+        }
+        assert!(whole.pixels.iter().any(|p| p.0[0] > 0.0));
+    }
+}
