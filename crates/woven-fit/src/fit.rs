@@ -461,8 +461,11 @@ pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
 /// parameters' start ranges are scored on a subset of the data; the best `options.refine` are
 /// refined by short Levenberg–Marquardt runs on the subset; the best of those by a full run on
 /// every measurement (a dataset larger than `options.final_subset` on an even subset of that
-/// size, then polished on every measurement). With a free `scale`, each start takes the scale that matches the data's
-/// median level. The result carries standard errors and warnings ([`FitResult`]).
+/// size, then polished on every measurement). If the full run's result is worse than the
+/// Lambert-like limit ([`lambert_like`]) on its measurements, the full run is repeated from the
+/// limit and the better result kept. With a free `scale`, each start takes the scale that
+/// matches the data's median level. The result carries standard errors and warnings
+/// ([`FitResult`]).
 ///
 /// # Errors
 /// [`FitError::Data`] for a dataset with nothing to fit or whose channels do not match `set`;
