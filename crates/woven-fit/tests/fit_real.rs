@@ -111,7 +111,7 @@ fn every_dataset_fits_with_every_model() {
 /// RMS log error of 0.86 (Lambert: 0.37): the start that ranked best on the 64-point subset led
 /// into a very smooth fiber whose specular peaks that subset misses.
 #[test]
-#[ignore = "slow: a full cloth fit of a 3757-point colour grid (~15 s on 2 cores)"]
+#[ignore = "slow: a full cloth fit of a 3757-point colour grid (~25 s of CPU)"]
 fn the_cloth_fit_of_merl_light_brown_is_no_worse_than_lambert() {
     let b = bundled()
         .into_iter()
