@@ -654,8 +654,9 @@ pub const LAMBERT_LIKE_INTERREFLECTION: f64 = 0.99;
 /// [`LAMBERT_LIKE_INTERREFLECTION`] (the cloth's BRDF tends to `ρ/π` as `ħ → 1`), a free
 /// roughness (the fiber's, the microfacet's `α`) at the top of its start range (a broad lobe), a
 /// free specular weight at the bottom of its; the other parameters keep their values. Its error
-/// is close to the Lambert fit's (equal for `lambert`; a free `scale` is matched to the data
-/// when it is scored).
+/// is the Lambert fit's for `lambert`, and close to it for `cloth` (1 % of the yarn's body is
+/// left) and `microfacet`; the `fiber` model, which has no `ħ`, keeps its specular lobe. A free
+/// `scale` is matched to the data when the limit is scored.
 pub fn lambert_like(set: &ParamSet, data: &Observations, kind: Residual) -> ParamSet {
     let mut albedo = [0.0; 3];
     for (c, a) in albedo.iter_mut().enumerate().take(data.channels) {
