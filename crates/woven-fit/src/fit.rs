@@ -12,6 +12,11 @@
 //! a forward difference for the others, all columns evaluated together over every core.
 //! Everything is deterministic for a seed: the starts are a scrambled Sobol sequence and parallel
 //! results are collected in order.
+//!
+//! A fit is never worse than its model's Lambert-like limit ([`lambert_like`]) on the
+//! measurements of the final run: when the multi-start's result scores worse than that limit
+//! (a start that looked best on the small screening subset can lead into a poor basin), the final
+//! run is repeated from the limit and the better result kept.
 
 use crate::data::{Dataset, Value};
 use crate::error::FitError;
@@ -456,8 +461,11 @@ pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
 /// parameters' start ranges are scored on a subset of the data; the best `options.refine` are
 /// refined by short Levenberg–Marquardt runs on the subset; the best of those by a full run on
 /// every measurement (a dataset larger than `options.final_subset` on an even subset of that
-/// size, then polished on every measurement). With a free `scale`, each start takes the scale that matches the data's
-/// median level. The result carries standard errors and warnings ([`FitResult`]).
+/// size, then polished on every measurement). If the full run's result is worse than the
+/// Lambert-like limit ([`lambert_like`]) on its measurements, the full run is repeated from the
+/// limit and the better result kept. With a free `scale`, each start takes the scale that
+/// matches the data's median level. The result carries standard errors and warnings
+/// ([`FitResult`]).
 ///
 /// # Errors
 /// [`FitError::Data`] for a dataset with nothing to fit or whose channels do not match `set`;
@@ -511,22 +519,10 @@ pub fn fit(
         }
         candidates.push(c);
     }
-    let scale_free = free
-        .iter()
-        .any(|&i| set.params[i].quantity == Quantity::Scale);
     let mut scored: Vec<(f64, ParamSet)> = candidates
         .into_par_iter()
         .map(|mut c| {
-            let cost = match Prepared::with_cache(&c, Some(&cache)) {
-                Ok(prepared) => {
-                    let parts = prepared.parts_all(&subset.obs);
-                    if scale_free {
-                        match_scale(&mut c, &subset, &parts);
-                    }
-                    cost_of(&subset.residuals(options.residual, &parts, &Linear::of(&c)))
-                }
-                Err(_) => f64::INFINITY,
-            };
+            let cost = score(&mut c, &subset, options.residual, &cache);
             tick();
             (cost, c)
         })
@@ -555,7 +551,7 @@ pub fn fit(
 
     // Stage 3: the final run (on an even subset of a large dataset, then polished on all of it).
     let work = data.subset(options.final_subset.max(1));
-    let (mut fitted, _, evals, mut termination) = levenberg_marquardt(
+    let (mut fitted, cost, evals, mut termination) = levenberg_marquardt(
         start,
         &work,
         options.residual,
@@ -564,6 +560,30 @@ pub fn fit(
         &cache,
     );
     evaluations += evals;
+
+    // The guard (module docs): a result worse than the Lambert-like limit is a poor basin; the
+    // final run is repeated from the limit, and the better result kept.
+    let mut limit = lambert_like(set, &work, options.residual);
+    let limit_cost = score(&mut limit, &work, options.residual, &cache);
+    evaluations += work.obs.len();
+    if limit_cost < cost {
+        let (again, again_cost, evals, t) = levenberg_marquardt(
+            limit,
+            &work,
+            options.residual,
+            options.max_iterations,
+            &tick,
+            &cache,
+        );
+        evaluations += evals;
+        if again_cost < cost {
+            fitted = again;
+            termination = format!(
+                "{t} (restarted from the Lambert-like limit: the multi-start's result was worse \
+                 than it)"
+            );
+        }
+    }
     if work.obs.len() < data.obs.len() {
         let (polished, _, evals, t) = levenberg_marquardt(
             fitted,
@@ -604,6 +624,89 @@ pub fn fit(
         evaluations,
         termination,
     ))
+}
+
+/// The cost of `set` on `data` (infinite if it does not build), a free `scale` first matched to
+/// the data's level ([`match_scale`]).
+fn score(set: &mut ParamSet, data: &Observations, kind: Residual, cache: &FiberCache) -> f64 {
+    let Ok(prepared) = Prepared::with_cache(set, Some(cache)) else {
+        return f64::INFINITY;
+    };
+    let parts = prepared.parts_all(&data.obs);
+    if set
+        .params
+        .iter()
+        .any(|p| p.free && p.quantity == Quantity::Scale)
+    {
+        match_scale(set, data, &parts);
+    }
+    cost_of(&data.residuals(kind, &parts, &Linear::of(set)))
+}
+
+/// The `ħ` of the Lambert-like limit: high enough that the yarn's body (specular and diffuse)
+/// weighs 1 %, low enough that the optimizer can still move it (the logistic transform is flat
+/// at the bound 0.999).
+pub const LAMBERT_LIKE_INTERREFLECTION: f64 = 0.99;
+
+/// The Lambert-like limit of `set` for `data`: every free albedo (`diffuse`,
+/// `interreflection_albedo`, per channel) at the Lambert fit's albedo of its channel (the
+/// optimum of the residual `kind` for `f = ρ/π`, in closed form), a free `ħ` at
+/// [`LAMBERT_LIKE_INTERREFLECTION`] (the cloth's BRDF tends to `ρ/π` as `ħ → 1`), a free
+/// roughness (the fiber's, the microfacet's `α`) at the top of its start range (a broad lobe), a
+/// free specular weight at the bottom of its; the other parameters keep their values. Its error
+/// is the Lambert fit's for `lambert`, and close to it for `cloth` (1 % of the yarn's body is
+/// left) and `microfacet`; the `fiber` model, which has no `ħ`, keeps its specular lobe. A free
+/// `scale` is matched to the data when the limit is scored.
+pub fn lambert_like(set: &ParamSet, data: &Observations, kind: Residual) -> ParamSet {
+    let mut albedo = [0.0; 3];
+    for (c, a) in albedo.iter_mut().enumerate().take(data.channels) {
+        let eps = data.eps[c];
+        let (mut num, mut den) = (0.0, 0.0);
+        for o in &data.obs {
+            let m = o.value[c];
+            match kind {
+                // Σ w (ln(ρ/π + ε) − ln(m + ε))² is least at the weighted mean of ln(m + ε).
+                Residual::Log => {
+                    num += o.weight * (m + eps).ln();
+                    den += o.weight;
+                }
+                // Σ w ((ρ/π − m)/(m + ε))² is least at Σ w m/(m + ε)² / Σ w/(m + ε)².
+                Residual::Relative => {
+                    let k = o.weight / ((m + eps) * (m + eps));
+                    num += k * m;
+                    den += k;
+                }
+            }
+        }
+        let level = match kind {
+            Residual::Log => (num / den).exp() - eps,
+            Residual::Relative => num / den,
+        };
+        *a = std::f64::consts::PI * level;
+    }
+    let mut out = set.clone();
+    for p in out.params.iter_mut().filter(|p| p.free) {
+        match p.quantity {
+            Quantity::Diffuse | Quantity::InterreflectionAlbedo => {
+                // Inside the bounds, where the transform can move it.
+                let (lo, hi) = if p.hi.is_finite() {
+                    let margin = 1e-3 * (p.hi - p.lo);
+                    (p.lo + margin, p.hi - margin)
+                } else {
+                    (p.lo.max(1e-9), f64::MAX)
+                };
+                let a = albedo[p.channel];
+                p.value = if a.is_finite() { a.clamp(lo, hi) } else { lo };
+            }
+            Quantity::Interreflection => {
+                p.value = LAMBERT_LIKE_INTERREFLECTION.clamp(p.lo, p.hi);
+            }
+            Quantity::Roughness | Quantity::Alpha => p.value = p.start.1,
+            Quantity::Specular => p.value = p.start.0,
+            _ => {}
+        }
+    }
+    out
 }
 
 /// Sets a free `scale` so the predictions match the data's median level (the median of

@@ -7,7 +7,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use woven::material::Material;
 use woven::math::rng::SplitMix;
 use woven_fit::data::{Dataset, Sample, Value};
-use woven_fit::{fit, FitOptions, FitResult, ModelKind, ParamSet};
+use woven_fit::fit::{lambert_like, Observations};
+use woven_fit::{fit, FitOptions, FitResult, ModelKind, ParamSet, Residual};
 
 /// The noise of the synthetic measurements: 3 % multiplicative.
 const NOISE: f64 = 0.03;
@@ -221,6 +222,53 @@ fn a_known_weave_rotation_is_recovered() {
         &["rotation", "fiber.roughness", "fiber.diffuse"],
         3.0,
         0.3,
+    );
+}
+
+/// The cloth model contains a Lambertian surface (`ħ → 1`), so a cloth fit is never worse than
+/// its Lambert-like limit, whatever basin the starts lead into. Here the only start is a trap —
+/// a very smooth fiber (sharp specular peaks) with almost no interreflection, too far from the
+/// data for two iterations to leave — and the data is Lambertian: the fit still ends no worse
+/// than the limit, whose error is the Lambert fit's.
+#[test]
+fn a_cloth_fit_is_never_worse_than_its_lambert_like_limit() {
+    let mut truth = ParamSet::new(ModelKind::Lambert, None, 1, false).unwrap();
+    truth.fix("diffuse", 0.3).unwrap();
+    let data = synthesize(&truth_of(&truth), &curet_like_geometry(), NOISE, 8);
+    let lambert_start = ParamSet::new(ModelKind::Lambert, None, 1, false).unwrap();
+    let lambert = fit(&data, &lambert_start, &FitOptions::default(), &|_, _| {}).unwrap();
+    let sateen = Material::preset("polyester-sateen").unwrap();
+    let mut trap = ParamSet::new(ModelKind::Cloth, Some(&sateen), 1, false).unwrap();
+    trap.fix("roughness", 0.01).unwrap();
+    trap.fix("interreflection", 0.02).unwrap();
+    trap.free("roughness").unwrap();
+    trap.free("interreflection").unwrap();
+    let options = FitOptions {
+        starts: 0,
+        refine: 1,
+        refine_iterations: 1,
+        max_iterations: 2,
+        ..FitOptions::default()
+    };
+    let cloth = fit(&data, &trap, &options, &|_, _| {}).unwrap();
+    let obs = Observations::new(&data, None).unwrap();
+    // The limit's error on the data: a fit with every parameter held.
+    let mut limit_set = lambert_like(&trap, &obs, Residual::Log);
+    for p in &mut limit_set.params {
+        p.free = false;
+    }
+    let limit = fit(&data, &limit_set, &FitOptions::default(), &|_, _| {}).unwrap();
+    assert!(
+        cloth.rms_log <= limit.rms_log,
+        "cloth {} vs its Lambert-like limit {}",
+        cloth.rms_log,
+        limit.rms_log
+    );
+    assert!(
+        limit.rms_log <= 1.02 * lambert.rms_log,
+        "the Lambert-like limit {} vs the Lambert fit {}",
+        limit.rms_log,
+        lambert.rms_log
     );
 }
 

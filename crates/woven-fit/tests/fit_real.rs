@@ -1,6 +1,7 @@
 //! Every real dataset in `data/` loads and fits without error: the baselines on one dataset of
 //! each family and the cloth model (few parameters free) on a CUReT sample by default; every
-//! model on every dataset in the ignored sweep.
+//! model on every dataset in the ignored sweep, and the cloth fit of MERL's light-brown fabric
+//! (once trapped worse than Lambert) in an ignored test of its own.
 
 use woven::material::Material;
 use woven_fit::data::{bundled, Bundled, Family};
@@ -103,4 +104,27 @@ fn every_dataset_fits_with_every_model() {
             );
         }
     }
+}
+
+/// The cloth model contains a Lambertian surface (`ħ → 1`), so its fit must not be worse than
+/// the Lambert fit. On MERL's light-brown fabric the single-orientation start used to end at an
+/// RMS log error of 0.86 (Lambert: 0.37): the start that ranked best on the 64-point subset led
+/// into a very smooth fiber whose specular peaks that subset misses.
+#[test]
+#[ignore = "slow: a full cloth fit of a 3757-point colour grid (~25 s of CPU)"]
+fn the_cloth_fit_of_merl_light_brown_is_no_worse_than_lambert() {
+    let b = bundled()
+        .into_iter()
+        .find(|b| b.name == "light-brown-fabric")
+        .unwrap();
+    let sateen = Material::preset("polyester-sateen").unwrap();
+    let options = FitOptions::default();
+    let cloth = fit_bundled(&b, ModelKind::Cloth, Some(&sateen), &options);
+    let lambert = fit_bundled(&b, ModelKind::Lambert, None, &options);
+    assert!(
+        cloth.rms_log <= lambert.rms_log,
+        "cloth {} vs lambert {}",
+        cloth.rms_log,
+        lambert.rms_log
+    );
 }
