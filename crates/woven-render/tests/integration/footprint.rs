@@ -384,12 +384,7 @@ fn showcase_noise_with_and_without_the_filter() {
         desc.film.spp = 16;
         // Independent samples: the standard errors below are then the pixels' true errors.
         desc.film.sampler = woven_render::rng::SamplerKind::Independent;
-        let cache = match Cache::user() {
-            Ok(c) => TableCache::with_disk(c),
-            Err(_) => TableCache::default(),
-        };
-        let scene =
-            Scene::build_with(&desc, &TableGrid::Default, cache, &|_| {}, &|_, _| {}).unwrap();
+        let scene = crate::build_with_user_cache(&desc);
         let image = render(&scene, &RenderOptions::default()).unwrap();
         assert_eq!(image.invalid_samples, 0);
         // Which material each pixel's centre sees.

@@ -41,3 +41,16 @@ pub fn render_text(text: &str) -> Image {
     assert!(image.pixels.iter().all(|p| p.is_valid()));
     image
 }
+
+/// `desc` built on the renderer's default table grid, with tables from the user's table cache
+/// (built there if missing; in memory only when there is no cache folder): for tests that
+/// render the showcase.
+pub fn build_with_user_cache(desc: &SceneDescription) -> Scene {
+    use woven::table::cache::Cache;
+    use woven_render::woven_material::TableCache;
+    let cache = match Cache::user() {
+        Ok(c) => TableCache::with_disk(c),
+        Err(_) => TableCache::default(),
+    };
+    Scene::build_with(desc, &TableGrid::Default, cache, &|_| {}, &|_, _| {}).unwrap()
+}

@@ -173,11 +173,9 @@ fn sobol_points_render_an_area_light_without_bias_and_with_less_error() {
 #[test]
 #[ignore = "renders the showcase ten times at a quarter of its size, about a minute"]
 fn showcase_noise_per_sampler() {
-    use woven::table::cache::Cache;
     use woven_render::render::{render, RenderOptions};
     use woven_render::rng::SamplerKind;
-    use woven_render::scene::{Scene, SceneDescription, SHOWCASE_SCENE};
-    use woven_render::woven_material::{TableCache, TableGrid};
+    use woven_render::scene::{SceneDescription, SHOWCASE_SCENE};
 
     let noise = |sampler: SamplerKind, spp: usize, weighted: bool| {
         let images: Vec<_> = (0..2)
@@ -197,13 +195,7 @@ fn showcase_noise_per_sampler() {
                 if !weighted {
                     desc.light_weights.iter_mut().for_each(|w| *w = 1.0);
                 }
-                let cache = match Cache::user() {
-                    Ok(c) => TableCache::with_disk(c),
-                    Err(_) => TableCache::default(),
-                };
-                let scene =
-                    Scene::build_with(&desc, &TableGrid::Default, cache, &|_| {}, &|_, _| {})
-                        .unwrap();
+                let scene = crate::build_with_user_cache(&desc);
                 let image = render(&scene, &RenderOptions::default()).unwrap();
                 assert_eq!(image.invalid_samples, 0);
                 image
