@@ -68,8 +68,8 @@ pub struct RenderArgs {
 
     /// Where the samples come from (overrides [film] sampler): Owen-scrambled Sobol points
     /// (less noise) or independent uniforms (Mitsuba's; exact standard errors).
-    #[arg(long, value_parser = ["sobol", "independent"])]
-    pub sampler: Option<String>,
+    #[arg(long, value_parser = sampler_parser())]
+    pub sampler: Option<SamplerKind>,
 
     /// Worker threads (default: all cores).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
@@ -121,11 +121,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(s) = args.seed {
         desc.film.seed = s;
     }
-    match args.sampler.as_deref() {
-        Some("independent") => desc.film.sampler = SamplerKind::Independent,
-        // "sobol": clap admits no other value.
-        Some(_) => desc.film.sampler = SamplerKind::Sobol,
-        None => {}
+    if let Some(kind) = args.sampler {
+        desc.film.sampler = kind;
     }
     let outputs: Vec<PathBuf> = match &args.output {
         Some(path) => {
@@ -222,4 +219,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// `--sampler`'s values, as `[film] sampler` names them.
+fn sampler_parser() -> impl clap::builder::TypedValueParser<Value = SamplerKind> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(["sobol", "independent"]).map(|s| match s.as_str() {
+        "independent" => SamplerKind::Independent,
+        _ => SamplerKind::Sobol,
+    })
 }
