@@ -5,9 +5,10 @@
 //! **Depth** has Mitsuba's meaning: `max_depth = 1` shows emitters only, `2` direct lighting,
 //! and so on; light sampling at a vertex happens only when a further vertex is allowed.
 //! **Russian roulette** from depth `rr_depth` (5 by default) continues with probability
-//! `min(max channel of the throughput, 0.95)`. **Emitters**: one light is chosen per light sample,
-//! in proportion to the lights' `sampling_weight` (Mitsuba's; uniformly by default); point lights are deltas (no MIS, never hit); a rectangle light's surface
-//! reflects nothing; surfaces are one-sided — a ray meeting a back face ends there, black.
+//! `min(max channel of the throughput, 0.95)`. **Emitters**: one light is chosen per light
+//! sample, in proportion to the lights' `sampling_weight` (Mitsuba's; uniformly by default);
+//! point lights are deltas (no MIS, never hit); a rectangle light's surface reflects nothing;
+//! surfaces are one-sided — a ray meeting a back face ends there, black.
 
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
