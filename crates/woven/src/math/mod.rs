@@ -1,5 +1,5 @@
-//! Small numerical building blocks: vectors and frames, special functions, quadrature and
-//! interpolation. Everything the model's integrals need, written and tested here.
+//! Small numerical building blocks: vectors and frames, special functions, quadrature,
+//! interpolation and sampling. Everything the model's integrals need, written and tested here.
 
 pub mod hemisphere;
 pub mod interp;
@@ -7,6 +7,7 @@ pub mod lanes;
 pub mod legendre;
 pub mod quadrature;
 pub mod rng;
+pub mod sampling;
 pub mod special;
 pub mod vec3;
 

@@ -19,6 +19,7 @@
 use super::eval::{locate_axis, Incidence, Query};
 use super::grid::{jacobian, jacobian_at_slopes, slope_of_t, t_of_slope};
 use super::{Half, Table};
+use crate::math::sampling::{cumulate, invert_cdf_scan, normalize_cdf, BinSample};
 use crate::math::Vec3;
 
 /// Fraction of each node's sampling mass spread uniformly over solid angle.
@@ -62,26 +63,24 @@ impl Sampler {
         &self.cell_pdf
     }
 
-    /// Builds the marginal and conditional CDFs from `cell_pdf`.
+    /// Builds the marginal and conditional CDFs from `cell_pdf`: per node, each row's CDF over its
+    /// cells' masses, and the CDF over the rows' masses.
     fn cumulate(&mut self, dt: f64) {
         let nc = self.nc;
         let nodes = self.cell_pdf.len() / (nc * nc);
+        let mut row_mass = vec![0.0; nc];
         for node in 0..nodes {
-            let base_m = node * (nc + 1);
-            let mut row_mass = 0.0;
-            for iy in 0..nc {
-                let base_c = (node * nc + iy) * (nc + 1);
-                let mut c = 0.0;
-                for ix in 0..nc {
-                    c += self.cell_pdf[(node * nc + iy) * nc + ix] as f64 * dt * dt;
-                    self.conditional[base_c + ix + 1] = c as f32;
-                }
+            for (iy, mass) in row_mass.iter_mut().enumerate() {
+                let row = node * nc + iy;
+                let cells = &self.cell_pdf[row * nc..(row + 1) * nc];
+                let cdf = &mut self.conditional[row * (nc + 1)..(row + 1) * (nc + 1)];
+                *mass = cumulate(cells.iter().map(|&p| p as f64 * dt * dt), cdf);
                 // An empty row keeps a uniform CDF; it is never chosen.
-                normalize_cdf(&mut self.conditional[base_c..base_c + nc + 1], c);
-                row_mass += c;
-                self.marginal[base_m + iy + 1] = row_mass as f32;
+                normalize_cdf(cdf, *mass);
             }
-            normalize_cdf(&mut self.marginal[base_m..base_m + nc + 1], row_mass);
+            let marginal = &mut self.marginal[node * (nc + 1)..(node + 1) * (nc + 1)];
+            let total = cumulate(row_mass.iter().copied(), marginal);
+            normalize_cdf(marginal, total);
         }
     }
 
@@ -144,9 +143,15 @@ impl Sampler {
         let (node, located) = Self::node(table, s);
         let u = u1.clamp(0.0, 1.0 - f64::EPSILON);
         let marg = &self.marginal[node * (nc + 1)..(node + 1) * (nc + 1)];
-        let (iy, fy) = invert(marg, u)?;
+        let BinSample {
+            bin: iy,
+            fraction: fy,
+        } = invert_cdf_scan(marg, u)?;
         let cond = &self.conditional[(node * nc + iy) * (nc + 1)..(node * nc + iy + 1) * (nc + 1)];
-        let (ix, fx) = invert(cond, u2.clamp(0.0, 1.0 - f64::EPSILON))?;
+        let BinSample {
+            bin: ix,
+            fraction: fx,
+        } = invert_cdf_scan(cond, u2.clamp(0.0, 1.0 - f64::EPSILON))?;
         let tx = table.t.node(ix) + fx * dt;
         let ty = table.t.node(iy) + fy * dt;
         let (v, j) = jacobian(s, tx, ty)?;
@@ -291,36 +296,4 @@ fn jacobian_abs_mean(s: Vec3, t0x: f64, t0y: f64, dt: f64) -> f64 {
     } else {
         acc / k as f64
     }
-}
-
-/// Divides an unnormalized CDF (`cdf[0] = 0`, last entry `total`) by `total`; a zero total gives
-/// the uniform CDF.
-fn normalize_cdf(cdf: &mut [f32], total: f64) {
-    let n = cdf.len() - 1;
-    for (k, c) in cdf.iter_mut().enumerate().skip(1) {
-        *c = if total > 0.0 {
-            (*c as f64 / total) as f32
-        } else {
-            k as f32 / n as f32
-        };
-    }
-}
-
-/// Finds `i` with `cdf[i] ≤ u < cdf[i+1]` and the fraction within; `None` for an empty CDF.
-#[inline]
-fn invert(cdf: &[f32], u: f64) -> Option<(usize, f64)> {
-    let n = cdf.len() - 1;
-    // The number of entries ≤ u, i.e. the first index whose CDF exceeds u (the CDF is sorted).
-    // Counted branch-free over the whole CDF rather than bisected: its loads do not depend on one
-    // another, so the cache lines of a CDF that is not in cache arrive together rather than one
-    // miss after another.
-    let k = cdf
-        .iter()
-        .fold(0usize, |k, &c| k + usize::from(c as f64 <= u));
-    let i = k.checked_sub(1)?.min(n - 1);
-    let (lo, hi) = (cdf[i] as f64, cdf[i + 1] as f64);
-    if hi <= lo {
-        return None;
-    }
-    Some((i, ((u - lo) / (hi - lo)).clamp(0.0, 1.0)))
 }
