@@ -67,6 +67,18 @@ impl Dirs {
     }
 
     /// Row `i` (row 0 for a broadcast single row).
+    /// Row `i` of a (N, 4) array (row 0 of a single row).
+    #[inline]
+    pub fn get4(&self, i: usize) -> [f64; 4] {
+        let i = if self.n == 1 { 0 } else { i };
+        [
+            self.data[4 * i],
+            self.data[4 * i + 1],
+            self.data[4 * i + 2],
+            self.data[4 * i + 3],
+        ]
+    }
+
     #[inline]
     pub fn get(&self, i: usize) -> Vec3 {
         let i = if self.n == 1 { 0 } else { i };

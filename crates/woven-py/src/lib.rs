@@ -12,6 +12,7 @@
 
 mod arrays;
 mod material;
+mod surface;
 mod table;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
@@ -44,6 +45,7 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<material::Section>()?;
     m.add_class::<material::Model>()?;
     m.add_class::<table::Table>()?;
+    m.add_class::<surface::Surface>()?;
     m.add_function(wrap_pyfunction!(material::presets, m)?)?;
     m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
     m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;

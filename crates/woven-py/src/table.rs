@@ -11,7 +11,7 @@ use pyo3::types::{PyDict, PyTuple};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use woven::bsdf::Bsdf;
+use woven::bsdf::{Bsdf, Transport};
 use woven::table::{Albedos, Symmetry, TableOptions};
 
 /// A tabulated BRDF: the exact model stored on a grid, interpolated in well under a microsecond
@@ -180,28 +180,8 @@ impl Table {
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Table> {
         let material = material_arg(material)?;
-        let model = py.detach(|| material.inner.build(wavelength_nm)).py_err()?;
-        let options = grid_options(grid, &model)?;
-        let cache = woven::table::cache::Cache::user().py_err()?;
-        let reporter = Reporter::new(progress)?;
-        let table = py
-            .detach(|| {
-                cache.load_or_build(
-                    &material.inner,
-                    wavelength_nm,
-                    &options,
-                    || {
-                        woven::table::Table::build(&model, &material.inner, &options, &|d, t| {
-                            reporter.report(d, t)
-                        })
-                    },
-                    &|_| {},
-                )
-            })
-            .py_err()?;
-        reporter.finish()?;
         Ok(Table {
-            inner: Arc::new(table),
+            inner: cached_table(py, &material.inner, wavelength_nm, grid, progress)?,
         })
     }
 
@@ -293,8 +273,14 @@ impl Table {
         let t = &*self.inner;
         let out = map_batch::<5, _>(py, n, |i| {
             let (a, b) = u.get2(i);
-            match t.sample(wi.get(i), a, b) {
-                Some(s) => [s.v.x, s.v.y, s.v.z, s.weight, s.pdf],
+            match t.sample(wi.get(i), 0.5, [a, b], Transport::Importance) {
+                Some(s) => [
+                    s.wo.x,
+                    s.wo.y,
+                    s.wo.z,
+                    s.weight(Transport::Importance),
+                    s.pdf,
+                ],
                 None => [0.0; 5],
             }
         });
@@ -333,7 +319,7 @@ impl Table {
         wo: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let t = &*self.inner;
-        map_pairs(py, wi, wo, |wi, wo| t.pdf(wi, wo))
+        map_pairs(py, wi, wo, |wi, wo| t.pdf(wi, wo, Transport::Importance))
     }
 
     /// The material the table was built from (None for a table that records none).
@@ -512,4 +498,36 @@ pub fn export_merl(
         merl.save(&path)
     })
     .py_err()
+}
+
+/// The table of `material` on `grid` from the user's table cache (shared with `woven render`),
+/// or built there: [`Table::cached`] and `woven.Surface`.
+pub(crate) fn cached_table(
+    py: Python<'_>,
+    material: &woven::material::Material,
+    wavelength_nm: f64,
+    grid: &str,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Arc<woven::table::Table>> {
+    let model = py.detach(|| material.build(wavelength_nm)).py_err()?;
+    let options = grid_options(grid, &model)?;
+    let cache = woven::table::cache::Cache::user().py_err()?;
+    let reporter = Reporter::new(progress)?;
+    let table = py
+        .detach(|| {
+            cache.load_or_build(
+                material,
+                wavelength_nm,
+                &options,
+                || {
+                    woven::table::Table::build(&model, material, &options, &|d, t| {
+                        reporter.report(d, t)
+                    })
+                },
+                &|_| {},
+            )
+        })
+        .py_err()?;
+    reporter.finish()?;
+    Ok(Arc::new(table))
 }

@@ -172,8 +172,10 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         if depth + 2 >= max_depth && !hittable {
             break;
         }
+        // The lobe choice has a dimension of its own (stratified points stay stratified).
+        let uc = sampler.uniform();
         let (u1, u2) = sampler.next2();
-        let Some(s) = material.sample(wo, &at, u1, u2) else {
+        let Some(s) = material.sample(wo, &at, uc, [u1, u2]) else {
             break;
         };
         let wi = frame.to_world(s.wi);

@@ -55,7 +55,6 @@
 
 pub mod accel;
 pub mod camera;
-pub mod color;
 pub mod error;
 pub mod geometry;
 pub mod integrator;
@@ -67,6 +66,9 @@ pub mod rng;
 pub mod scene;
 pub mod shapes;
 pub mod woven_material;
+
+/// Linear RGB: the library's ([`woven::color`]), which woven surfaces return.
+pub use woven::color;
 
 pub use color::Rgb;
 pub use error::{Error, Result};

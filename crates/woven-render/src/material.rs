@@ -9,30 +9,17 @@
 
 use crate::color::Rgb;
 use std::f64::consts::{FRAC_1_PI, PI};
+use woven::bsdf::{BsdfSample, LobeFlags};
 use woven::Vec3;
 
-/// What a material may read at a shading point besides the directions.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct ShadingPoint {
-    /// The surface parameters `(u, v)` at the point.
-    pub uv: [f64; 2],
-    /// The footprint of the path's pixel at the point, in uv: `[[∂u/∂x, ∂v/∂x], [∂u/∂y, ∂v/∂y]]`,
-    /// the change of `(u, v)` from one film pixel to the next along `x` and along `y`
-    /// ([`RayFootprint`](crate::geometry::RayFootprint); camera vertices only). All zero: a
-    /// point (no filtering); infinite entries: a footprint wider than any pattern.
-    pub footprint: [[f64; 2]; 2],
-}
+/// What a material may read at a shading point besides the directions: its uv and the pixel's
+/// footprint there (the library's [`SurfacePoint`](woven::surface::SurfacePoint), which woven
+/// surfaces read).
+pub use woven::surface::SurfacePoint as ShadingPoint;
 
-/// A direction drawn by [`SurfaceMaterial::sample`].
-#[derive(Clone, Copy, Debug)]
-pub struct MaterialSample {
-    /// The drawn direction toward the light, local frame, `wi.z > 0`.
-    pub wi: Vec3,
-    /// `f(wi, wo)`, sr⁻¹ per channel.
-    pub f: Rgb,
-    /// The density `wi` was drawn with, per unit solid angle, > 0.
-    pub pdf: f64,
-}
+/// A direction drawn by [`SurfaceMaterial::sample`] (the library's sample type, per channel):
+/// `wi` drawn for the given `wo`, `f(wi, wo)` and the density `wi` was drawn with (> 0).
+pub type MaterialSample = BsdfSample<Rgb>;
 
 /// A reflecting surface as the path tracer uses it. Implementations are `Send + Sync` and
 /// allocate nothing per call.
@@ -41,9 +28,11 @@ pub trait SurfaceMaterial: Send + Sync {
     /// below the surface.
     fn eval(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> Rgb;
 
-    /// Draws `wi` for the viewer direction `wo` from two uniforms in `[0, 1)`. `None` when no
-    /// direction results (`wo` below the surface, or a rejected draw).
-    fn sample(&self, wo: Vec3, at: &ShadingPoint, u1: f64, u2: f64) -> Option<MaterialSample>;
+    /// Draws `wi` for the viewer direction `wo` (a camera path:
+    /// [`Transport::Radiance`](woven::bsdf::Transport::Radiance)): `uc` in `[0, 1)` picks a lobe,
+    /// `u` in `[0, 1)²` draws within it. `None` when no direction results (`wo` below the
+    /// surface, or a rejected draw).
+    fn sample(&self, wo: Vec3, at: &ShadingPoint, uc: f64, u: [f64; 2]) -> Option<MaterialSample>;
 
     /// The density per unit solid angle with which [`sample`](Self::sample) draws `wi` for `wo`.
     fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64;
@@ -79,16 +68,18 @@ impl SurfaceMaterial for Diffuse {
         }
     }
 
-    fn sample(&self, wo: Vec3, _: &ShadingPoint, u1: f64, u2: f64) -> Option<MaterialSample> {
+    fn sample(&self, wo: Vec3, _: &ShadingPoint, _uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
         if wo.z <= 0.0 {
             return None;
         }
-        let (wi, pdf) = sample_cosine(u1, u2);
+        let (wi, pdf) = sample_cosine(u[0], u[1]);
         // A draw on the horizon has density 0: reject it rather than divide by it.
         (pdf > 0.0).then_some(MaterialSample {
             wi,
+            wo,
             f: self.reflectance * FRAC_1_PI,
             pdf,
+            lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
         })
     }
 

@@ -6,7 +6,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use rayon::prelude::*;
-use woven::bsdf::Bsdf;
+use woven::bsdf::{Bsdf, Transport};
 use woven::material::Material;
 use woven::table::report::SplitMix;
 use woven::table::{Table, TableOptions};
@@ -60,12 +60,14 @@ fn bench_table(c: &mut Criterion) {
         b.iter(|| {
             parallel_sum(BATCH, |i| {
                 let (u1, u2) = uniforms[i];
-                table.sample(pairs[i].0, u1, u2).map_or(0.0, |s| s.weight)
+                table
+                    .sample(pairs[i].0, 0.5, [u1, u2], Transport::Importance)
+                    .map_or(0.0, |s| s.weight(Transport::Importance))
             })
         })
     });
     group.bench_function("table_pdf", |b| {
-        b.iter(|| parallel_sum(BATCH, |i| table.pdf(pairs[i].0, pairs[i].1)))
+        b.iter(|| parallel_sum(BATCH, |i| table.pdf_direction(pairs[i].0, pairs[i].1)))
     });
     group.finish();
 }

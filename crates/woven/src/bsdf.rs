@@ -1,80 +1,197 @@
-//! The renderer-facing interface: evaluation, importance sampling and densities.
+//! The renderer-facing interface: evaluation, importance sampling and densities, as the BSDFs
+//! of pbrt-v4 (`BxDF`) and Mitsuba 3 (`BSDF`) have it.
 //!
 //! Directions live in the cloth's local frame (docs/spec.md §0; `docs/conventions.md`): `z` is the
-//! macro normal, the weft runs along `x`. `s` points toward the light (a renderer's `wi`), `v`
-//! toward the viewer (`wo`), both away from the surface. `eval` is the BRDF in sr⁻¹ without the
-//! cosine; `pdf` is a density per unit solid angle.
+//! macro normal, the weft runs along `x`. They are named the renderer's way: `wo` points toward
+//! the viewer (the paper's `v`), `wi` toward the light (the paper's `s`), both away from the
+//! surface, and every call takes them in the paper's order, `(wi, wo)` as `(s, v)`, as the
+//! renderer's materials do. [`Bsdf::eval`] is the BRDF `f(s = wi, v = wo)` in sr⁻¹ without the
+//! cosine, whoever asks; a density is per unit solid angle.
 //!
-//! Sampling draws `v` for a given `s`, proportionally to `f(s, v) cos θ_r` (as the tabulated
-//! sampler does). In `normalization = "none"` the model is reciprocal, so the same call samples
-//! `wi` for a given `wo` by swapping the roles; in `paper` mode the asymmetry is `β(θ_i)` only.
+//! **Transport mode.** With `normalization = "paper"` the model is not reciprocal
+//! (`f(s, v) ≠ f(v, s)` by `β(θ_i)`), so which of the two directions is known matters when one
+//! is drawn. A camera path ([`Transport::Radiance`]) knows `wo` and draws `wi`; a light path
+//! ([`Transport::Importance`]) knows `wi` and draws `wo`. [`Bsdf::sample`] draws the unknown
+//! direction for the known one; [`Bsdf::pdf`] is the density of that draw; the value is always
+//! the true `f(wi, wo)`, so the estimate stays unbiased in either mode. Tables sample `v` for
+//! a given `s` (∝ `f(s, v) cos θ_v`); in radiance mode they draw with the roles swapped —
+//! `wi` as the `v` of `s = wo` — which is exact where the model is reciprocal and a close
+//! importance function where it is not.
 
 use crate::math::Vec3;
 use crate::Model;
 use std::f64::consts::{FRAC_1_PI, PI};
+use std::ops::{BitOr, Mul};
 
-/// A sampled direction.
+/// Which direction a path knows when it samples a BSDF.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Transport {
+    /// A camera path: `wo` (toward the viewer) is known, `wi` (toward the light) is drawn.
+    #[default]
+    Radiance,
+    /// A light path: `wi` (toward the light) is known, `wo` (toward the viewer) is drawn.
+    Importance,
+}
+
+/// What kinds of scattering a BSDF (or one drawn lobe) has: a set of bits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct LobeFlags(u8);
+
+impl LobeFlags {
+    /// No scattering.
+    pub const NONE: LobeFlags = LobeFlags(0);
+    /// Reflection (every woven BSDF reflects only).
+    pub const REFLECTION: LobeFlags = LobeFlags(1);
+    /// A glossy lobe (the fibers' specular highlights).
+    pub const GLOSSY: LobeFlags = LobeFlags(1 << 1);
+    /// A diffuse lobe (the fibers' body).
+    pub const DIFFUSE: LobeFlags = LobeFlags(1 << 2);
+    /// The BSDF changes when turned about the normal (oriented fibers).
+    pub const ANISOTROPIC: LobeFlags = LobeFlags(1 << 3);
+    /// The BSDF changes across the surface (a weave pattern, textured dyes).
+    pub const SPATIALLY_VARYING: LobeFlags = LobeFlags(1 << 4);
+
+    /// Whether every bit of `other` is set here.
+    pub fn contains(self, other: LobeFlags) -> bool {
+        self.0 & other.0 == other.0
+    }
+}
+
+impl BitOr for LobeFlags {
+    type Output = LobeFlags;
+    fn bitor(self, o: LobeFlags) -> LobeFlags {
+        LobeFlags(self.0 | o.0)
+    }
+}
+
+/// A direction drawn by [`Bsdf::sample`], with both directions of the pair named.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BsdfSample {
-    /// The sampled direction (toward the viewer), unit, `v_z > 0`.
-    pub v: Vec3,
-    /// `f(s, v)`, sr⁻¹.
-    pub f: f64,
-    /// The density of `v`, per unit solid angle.
+pub struct BsdfSample<V = f64> {
+    /// Toward the viewer, unit, `z > 0` (drawn in [`Transport::Importance`]).
+    pub wo: Vec3,
+    /// Toward the light, unit, `z > 0` (drawn in [`Transport::Radiance`]).
+    pub wi: Vec3,
+    /// `f(wi, wo)`, sr⁻¹ (per channel for a coloured surface).
+    pub f: V,
+    /// The density the drawn direction was drawn with, per unit solid angle, > 0.
     pub pdf: f64,
-    /// `f(s, v) cos θ_r / pdf`.
-    pub weight: f64,
+    /// The kind of lobe that was drawn.
+    pub lobe: LobeFlags,
+}
+
+impl<V: Copy + Mul<f64, Output = V>> BsdfSample<V> {
+    /// The Monte Carlo weight `f cos θ / pdf`, `θ` the drawn direction's polar angle.
+    pub fn weight(&self, mode: Transport) -> V {
+        let cos = match mode {
+            Transport::Radiance => self.wi.z,
+            Transport::Importance => self.wo.z,
+        };
+        self.f * (cos / self.pdf)
+    }
 }
 
 /// A BSDF as a renderer uses it. Implementations are `Send + Sync` and allocate nothing per call.
 pub trait Bsdf: Send + Sync {
-    /// The BRDF `f(s, v)`, sr⁻¹, 0 below the horizon.
-    fn eval(&self, s: Vec3, v: Vec3) -> f64;
+    /// What [`eval`](Bsdf::eval) returns: `f64` for one channel, [`Rgb`](crate::color::Rgb) for
+    /// a dyed surface.
+    type Value: Copy;
 
-    /// Draws `v` for light from `s` from two uniforms in `[0, 1)`; deterministic in `(u1, u2)`.
-    /// `None` when no direction results (light below the horizon, or a rejected draw).
-    fn sample(&self, s: Vec3, u1: f64, u2: f64) -> Option<BsdfSample>;
+    /// The kinds of scattering this BSDF has.
+    fn lobes(&self) -> LobeFlags;
 
-    /// The density [`sample`](Bsdf::sample) draws `v` with, per unit solid angle.
-    fn pdf(&self, s: Vec3, v: Vec3) -> f64;
+    /// The BRDF `f(s = wi, v = wo)`, sr⁻¹, without the cosine; 0 when either direction is below
+    /// the horizon.
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Self::Value;
+
+    /// The density per unit solid angle with which [`sample`](Bsdf::sample) in `mode` draws the
+    /// unknown direction of the pair for the known one.
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64;
+
+    /// [`eval`](Bsdf::eval) and [`pdf`](Bsdf::pdf) in one call (implementations share the
+    /// work where they can).
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> (Self::Value, f64) {
+        (self.eval(wi, wo), self.pdf(wi, wo, mode))
+    }
+
+    /// Draws the unknown direction of the pair for `known` (`wo` in [`Transport::Radiance`],
+    /// `wi` in [`Transport::Importance`]). `uc` in `[0, 1)` chooses among lobes (a BSDF of one
+    /// lobe ignores it) and `u` in `[0, 1)²` draws within the lobe, so stratified points stay
+    /// stratified; deterministic in `(uc, u)`. `None` when no direction results (`known` below
+    /// the horizon, or a rejected draw).
+    fn sample(
+        &self,
+        known: Vec3,
+        uc: f64,
+        u: [f64; 2],
+        mode: Transport,
+    ) -> Option<BsdfSample<Self::Value>>;
+}
+
+/// Splits a pair `(wi, wo)` into `(known, drawn)` for `mode`: the known direction is the `s` a
+/// table's sampler draws `v` for.
+#[inline]
+pub fn known_and_drawn(wi: Vec3, wo: Vec3, mode: Transport) -> (Vec3, Vec3) {
+    match mode {
+        Transport::Radiance => (wo, wi),
+        Transport::Importance => (wi, wo),
+    }
+}
+
+/// Names a drawn pair: `(known, drawn)` back as `(wi, wo)`.
+#[inline]
+pub fn pair_of(known: Vec3, drawn: Vec3, mode: Transport) -> (Vec3, Vec3) {
+    match mode {
+        Transport::Radiance => (drawn, known),
+        Transport::Importance => (known, drawn),
+    }
 }
 
 /// The exact model samples a cosine-weighted hemisphere: correct for any material, with a density
 /// that ignores the highlights. Renderers should sample a [`Table`](crate::table::Table).
 impl Bsdf for Model {
-    #[inline]
-    fn eval(&self, s: Vec3, v: Vec3) -> f64 {
-        Model::eval(self, s, v)
-    }
+    type Value = f64;
 
-    fn sample(&self, s: Vec3, u1: f64, u2: f64) -> Option<BsdfSample> {
-        if s.z <= 0.0 {
-            return None;
-        }
-        // Malley's method: a uniform point on the disc lifted to the hemisphere.
-        let r = u1.clamp(0.0, 1.0).sqrt();
-        let phi = 2.0 * PI * u2;
-        let z = (1.0 - r * r).max(0.0).sqrt();
-        if z <= 0.0 {
-            return None;
-        }
-        let v = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-        let f = Model::eval(self, s, v);
-        let pdf = z * FRAC_1_PI;
-        Some(BsdfSample {
-            v,
-            f,
-            pdf,
-            weight: f * z / pdf,
-        })
+    fn lobes(&self) -> LobeFlags {
+        LobeFlags::REFLECTION | LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::ANISOTROPIC
     }
 
     #[inline]
-    fn pdf(&self, s: Vec3, v: Vec3) -> f64 {
-        if s.z <= 0.0 || v.z <= 0.0 {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> f64 {
+        Model::eval(self, wi, wo)
+    }
+
+    #[inline]
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+        let (known, drawn) = known_and_drawn(wi, wo, mode);
+        if known.z <= 0.0 || drawn.z <= 0.0 {
             0.0
         } else {
-            v.z * FRAC_1_PI
+            drawn.z * FRAC_1_PI
         }
     }
+
+    fn sample(&self, known: Vec3, _uc: f64, u: [f64; 2], mode: Transport) -> Option<BsdfSample> {
+        if known.z <= 0.0 {
+            return None;
+        }
+        let (drawn, pdf) = sample_cosine(u)?;
+        let (wi, wo) = pair_of(known, drawn, mode);
+        Some(BsdfSample {
+            wo,
+            wi,
+            f: Model::eval(self, wi, wo),
+            pdf,
+            lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
+        })
+    }
+}
+
+/// A cosine-weighted direction on the upper hemisphere (Malley's method: a uniform point on the
+/// disc lifted to it) and its density; `None` on the horizon, where the density is 0.
+#[inline]
+pub(crate) fn sample_cosine([u1, u2]: [f64; 2]) -> Option<(Vec3, f64)> {
+    let r = u1.clamp(0.0, 1.0).sqrt();
+    let phi = 2.0 * PI * u2;
+    let z = (1.0 - r * r).max(0.0).sqrt();
+    (z > 0.0).then(|| (Vec3::new(r * phi.cos(), r * phi.sin(), z), z * FRAC_1_PI))
 }

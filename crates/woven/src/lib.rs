@@ -12,7 +12,7 @@
 //! [`Bsdf`](bsdf::Bsdf) trait.
 //!
 //! ```
-//! use woven::bsdf::Bsdf;
+//! use woven::bsdf::{Bsdf, Transport};
 //! use woven::material::Material;
 //! use woven::table::{Table, TableOptions};
 //! use woven::Vec3;
@@ -33,9 +33,12 @@
 //! let options = TableOptions { n_theta: 6, n_phi: 4, n_h: 21, ..TableOptions::default() };
 //! let table = Table::build(&model, &material, &options, &|_, _| {})?;
 //! assert!(table.eval(s, v) > 0.0);
-//! if let Some(sample) = table.sample(s, 0.3, 0.7) {
-//!     // v drawn ∝ f cos θr; the density `pdf` reports is the one `sample` drew with.
-//!     assert!(sample.pdf > 0.0 && (table.pdf(s, sample.v) - sample.pdf).abs() <= 1e-6 * sample.pdf);
+//! // A camera path knows the viewer (wo = v) and draws the light's direction (wi); `uc` picks
+//! // a lobe, `u` draws within it.
+//! if let Some(sample) = table.sample(v, 0.5, [0.3, 0.7], Transport::Radiance) {
+//!     // wi drawn ∝ f cos θi; the density `pdf` reports is the one `sample` drew with.
+//!     let pdf = table.pdf(sample.wi, v, Transport::Radiance);
+//!     assert!(sample.pdf > 0.0 && (pdf - sample.pdf).abs() <= 1e-6 * sample.pdf);
 //! }
 //! # Ok::<(), woven::Error>(())
 //! ```
@@ -56,7 +59,11 @@
 //! - [`yarn`]: the yarn's profile, exact masking, slope and twist averages (docs/spec.md §2.1–§2.6).
 //! - [`weave`]: weave patterns (named, matrices, WIF drafts) and their weft fraction.
 //! - [`cloth`]: fiber → yarn → weave, the cloth BRDF (docs/spec.md §2.7).
-//! - [`bsdf`]: the renderer-facing trait: evaluation, importance sampling, densities.
+//! - [`bsdf`]: the renderer-facing trait: evaluation, importance sampling, densities, in the
+//!   renderer's naming (`wi` toward the light, `wo` toward the viewer) with a transport mode.
+//! - [`surface`]: a woven surface — the weave pattern on a surface's uv, dyes, yarn tilt, gaps,
+//!   the footprint filter — as the renderer, the Python package and the Mitsuba plugin share it.
+//! - [`color`]: linear RGB.
 //! - [`table`]: tabulated BRDFs for renderers, their `.wtab` file format and accuracy reports.
 //! - [`export`]: export to other programs' formats (MERL).
 //! - [`math`]: vectors, special functions, quadrature and interpolation.
@@ -67,6 +74,7 @@
 mod albedo;
 pub mod bsdf;
 pub mod cloth;
+pub mod color;
 pub mod directions;
 pub mod error;
 pub mod export;
@@ -78,6 +86,8 @@ pub mod gonio;
 pub mod material;
 pub mod math;
 mod model;
+#[cfg(feature = "serde")]
+pub mod surface;
 #[cfg(feature = "serde")]
 pub mod table;
 pub mod weave;

@@ -106,6 +106,18 @@ pub enum PatternSpec {
 }
 
 impl Weave {
+    /// The named pattern (`"plain"`, `"twill-2/1"`, `"satin-5"`, …; [`Pattern::from_name`]),
+    /// written back under its name.
+    ///
+    /// # Errors
+    /// An unknown name ([`Pattern::from_name`]).
+    pub fn named(name: &str) -> Result<Weave> {
+        Ok(Weave::Pattern {
+            spec: PatternSpec::Name(name.into()),
+            pattern: Pattern::from_name(name)?,
+        })
+    }
+
     /// `γ`, the visible fraction of weft.
     pub fn weft_fraction(&self) -> f64 {
         match self {

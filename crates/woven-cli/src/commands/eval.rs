@@ -70,7 +70,7 @@ pub struct EvalArgs {
 
 /// Runs `woven eval`.
 pub fn run(args: &EvalArgs) -> Result<()> {
-    let brdf: Box<dyn Bsdf> = match (&args.material, &args.table) {
+    let brdf: Box<dyn Bsdf<Value = f64>> = match (&args.material, &args.table) {
         (None, Some(path)) => Box::new(args::load_table(path, args.wavelength_nm)?),
         (Some(material), None) => {
             let nm = args.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM);
@@ -130,7 +130,7 @@ const CHUNK_ROWS: usize = 1 << 16;
 /// `brdf` gives to `output`. `progress` is told, from the worker threads, the number of rows of
 /// each block evaluated. Returns the number of rows.
 pub fn eval_csv(
-    brdf: &dyn Bsdf,
+    brdf: &dyn Bsdf<Value = f64>,
     input: impl Read + Send,
     origin: &str,
     output: &mut dyn Write,
@@ -218,7 +218,7 @@ fn block_rows(rows: usize) -> usize {
 /// too (validated numbers need no CSV quoting): one buffer of lines per block, in input order, or
 /// the first bad row of the block. `progress` is told each block's row count when it is done.
 fn evaluate_chunk(
-    brdf: &dyn Bsdf,
+    brdf: &dyn Bsdf<Value = f64>,
     chunk: &[DirectionRecord],
     progress: &(impl Fn(u64) + Sync),
 ) -> Vec<Result<Vec<u8>, RowError>> {
@@ -247,7 +247,13 @@ fn evaluate_chunk(
 
 /// The BRDF for one direction pair (validated angles). Exactly 0 at grazing `θ = π/2`, where
 /// `cos θ` is not exactly 0 in floating point.
-pub fn eval_row(brdf: &dyn Bsdf, theta_i: f64, phi_i: f64, theta_r: f64, phi_r: f64) -> f64 {
+pub fn eval_row(
+    brdf: &dyn Bsdf<Value = f64>,
+    theta_i: f64,
+    phi_i: f64,
+    theta_r: f64,
+    phi_r: f64,
+) -> f64 {
     if theta_i >= FRAC_PI_2 || theta_r >= FRAC_PI_2 {
         return 0.0;
     }

@@ -90,7 +90,7 @@ enum Source {
 }
 
 impl Source {
-    fn brdf(&self) -> &dyn Bsdf {
+    fn brdf(&self) -> &dyn Bsdf<Value = f64> {
         match self {
             Source::Exact(model) => model,
             Source::GivenTable(table) => table,
@@ -229,7 +229,7 @@ fn table_name(args: &ExportArgs) -> std::path::Display<'_> {
 
 /// The BRDF at every MERL bin's sample directions ([`merl::eval_bin`]), in bin order, in
 /// parallel, with a progress bar.
-pub fn eval_bins(brdf: &dyn Bsdf) -> Vec<f64> {
+pub fn eval_bins(brdf: &dyn Bsdf<Value = f64>) -> Vec<f64> {
     let bar = Progress::new(Some(MERL_BINS as u64), "bins", true);
     let mut mono = vec![0.0; MERL_BINS];
     // One task per (θh, θd) row of 180 φd bins: rows below the horizon cost nothing, so small

@@ -72,7 +72,7 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
             let u1 = ((k / 16) as f64 + rng.uniform()) / 32.0;
             let u2 = ((k % 16) as f64 + rng.uniform()) / 16.0;
             let at = ShadingPoint::default();
-            let x = match material.sample(v, &at, u1, u2) {
+            let x = match material.sample(v, &at, 0.5, [u1, u2]) {
                 Some(s) => s.f.0[1] * s.wi.z / s.pdf,
                 None => 0.0,
             };

@@ -204,7 +204,7 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
     for _ in 0..200 {
         let wo = rng.direction(1.4);
         for at in [&warp, &weft] {
-            let Some(s) = m.sample(wo, at, rng.uniform(), rng.uniform()) else {
+            let Some(s) = m.sample(wo, at, rng.uniform(), [rng.uniform(), rng.uniform()]) else {
                 continue;
             };
             drawn += 1;

@@ -68,8 +68,8 @@ fn no_tilt_and_no_gap_is_the_plain_cell() {
             assert_eq!(flat.pdf(wi, wo, p), reference.pdf(wi, wo, &none));
             let (u1, u2) = (rng.uniform(), rng.uniform());
             let (a, b) = (
-                flat.sample(wo, p, u1, u2),
-                reference.sample(wo, &none, u1, u2),
+                flat.sample(wo, p, 0.5, [u1, u2]),
+                reference.sample(wo, &none, 0.5, [u1, u2]),
             );
             assert_eq!(a.map(|s| (s.wi, s.pdf)), b.map(|s| (s.wi, s.pdf)));
             let (f, g) = (flat.eval(wi, wo, p).0[0], tiny_tilt.eval(wi, wo, p).0[0]);
@@ -168,7 +168,7 @@ fn gaps_show_the_crossing_yarn_and_darken_by_the_holes() {
     let hole = at(0.05, 0.05);
     let (wi, wo) = (Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.3, 0.0, 0.954));
     assert!(gapped.eval(wi, wo, &hole).is_black());
-    assert!(gapped.sample(wo, &hole, 0.3, 0.6).is_none());
+    assert!(gapped.sample(wo, &hole, 0.5, [0.3, 0.6]).is_none());
     assert_eq!(gapped.pdf(wi, wo, &hole), 0.0);
     // Without gaps the pattern's mean is the γ-mix: the holes' share is what darkens.
     let plain_mean = gamma * all_weft.eval(wi, wo, &none).0[0]
@@ -223,7 +223,7 @@ fn blended_tilted_gapped_points_sample_with_their_density() {
     let n = 40_000;
     let (mut by_draws, mut by_draws_sq) = (0.0, 0.0);
     for _ in 0..n {
-        let x = match m.sample(wo, &p, rng.uniform(), rng.uniform()) {
+        let x = match m.sample(wo, &p, rng.uniform(), [rng.uniform(), rng.uniform()]) {
             Some(s) => {
                 let f = m.eval(s.wi, wo, &p).0[0];
                 assert!((s.f.0[0] - f).abs() <= 1e-12 * f.max(1e-12));

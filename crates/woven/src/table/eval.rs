@@ -3,7 +3,7 @@
 
 use super::grid::{t_of_slope, Axis};
 use super::{Albedos, Half, Symmetry, Table, HORIZON_WEIGHT};
-use crate::bsdf::{Bsdf, BsdfSample};
+use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
 use crate::math::Vec3;
 
 /// A located axis direction: `(iθ, wθ, iφ, wφ)`, each node index with the weight of the next node.
@@ -309,35 +309,66 @@ impl Table {
     }
 }
 
-impl Bsdf for Table {
+impl Table {
+    /// The density with which the table's sampler draws `v` for light from `s`, per unit solid
+    /// angle (the paper's naming; [`Bsdf::pdf`] names the pair the renderer's way).
     #[inline]
-    fn eval(&self, s: Vec3, v: Vec3) -> f64 {
-        Table::eval(self, s, v)
-    }
-
-    #[inline]
-    fn pdf(&self, s: Vec3, v: Vec3) -> f64 {
+    pub fn pdf_direction(&self, s: Vec3, v: Vec3) -> f64 {
         if s.z <= 0.0 || v.z <= 0.0 {
             return 0.0;
         }
         let fold = Fold::of(self.symmetry, s);
         self.sampler.pdf(self, fold.apply(s), fold.apply(v))
     }
+}
+
+impl Bsdf for Table {
+    type Value = f64;
+
+    fn lobes(&self) -> LobeFlags {
+        LobeFlags::REFLECTION | LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::ANISOTROPIC
+    }
 
     #[inline]
-    fn sample(&self, s: Vec3, u1: f64, u2: f64) -> Option<BsdfSample> {
-        if s.z <= 0.0 {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> f64 {
+        Table::eval(self, wi, wo)
+    }
+
+    #[inline]
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+        let (known, drawn) = known_and_drawn(wi, wo, mode);
+        self.pdf_direction(known, drawn)
+    }
+
+    #[inline]
+    fn sample(&self, known: Vec3, _uc: f64, u: [f64; 2], mode: Transport) -> Option<BsdfSample> {
+        if known.z <= 0.0 {
             return None;
         }
-        let fold = Fold::of(self.symmetry, s);
-        let sf = fold.apply(s);
-        let (vf, pdf, f) = self.sampler.sample::<true>(self, sf, u1, u2)?;
-        let v = fold.undo(vf);
+        let fold = Fold::of(self.symmetry, known);
+        let (drawn, pdf, f) = match mode {
+            // The sampler's own f is f(s = known, v = drawn): the pair the right way round.
+            Transport::Importance => {
+                let (d, pdf, f) =
+                    self.sampler
+                        .sample::<true>(self, fold.apply(known), u[0], u[1])?;
+                (fold.undo(d), pdf, f)
+            }
+            Transport::Radiance => {
+                let (d, pdf, _) =
+                    self.sampler
+                        .sample::<false>(self, fold.apply(known), u[0], u[1])?;
+                let d = fold.undo(d);
+                (d, pdf, Table::eval(self, d, known))
+            }
+        };
+        let (wi, wo) = pair_of(known, drawn, mode);
         Some(BsdfSample {
-            v,
+            wo,
+            wi,
             f,
             pdf,
-            weight: f * v.z / pdf,
+            lobe: LobeFlags::REFLECTION | LobeFlags::GLOSSY,
         })
     }
 }

@@ -45,4 +45,4 @@
 mod pattern;
 mod wif;
 
-pub use pattern::{Pattern, MAX_THREADS, MAX_WIF_BYTES};
+pub use pattern::{CellPoint, FloatPlace, Pattern, MAX_THREADS, MAX_WIF_BYTES};

@@ -355,6 +355,62 @@ impl Pattern {
         self.is_weft(cell_index(v, self.rows), cell_index(u, self.cols))
     }
 
+    /// The cell under the point `(x, y)` measured in cells — `x = u n_u` along the weft (columns),
+    /// `y = v n_v` along the warp (rows), for a surface with `[n_u, n_v]` cells per unit of its
+    /// uv — and the point's place inside it. The one place a point is located in a pattern: the
+    /// renderer, the Python package and the Mitsuba plugin all call it
+    /// ([`surface`](crate::surface)).
+    ///
+    /// Any finite reals (the pattern tiles the plane); a non-finite coordinate maps to some
+    /// cell, with its place `NaN`.
+    ///
+    /// # Examples
+    /// ```
+    /// let twill = woven::weave::Pattern::from_name("twill-2/1")?;
+    /// let at = twill.cell_at(4.25, -0.5);
+    /// assert_eq!((at.row, at.col), (2, 1)); // y = −0.5 lies in the last row; x = 4.25 in column 1
+    /// assert_eq!((at.x, at.y), (0.25, 0.5));
+    /// assert_eq!(at.weft, twill.is_weft(2, 1));
+    /// # Ok::<(), woven::Error>(())
+    /// ```
+    #[inline]
+    pub fn cell_at(&self, x: f64, y: f64) -> CellPoint {
+        let wrap = |t: f64, n: usize| (t.floor().rem_euclid(n as f64) as usize).min(n - 1);
+        let (row, col) = (wrap(y, self.rows), wrap(x, self.cols));
+        CellPoint {
+            row,
+            col,
+            x: x - x.floor(),
+            y: y - y.floor(),
+            weft: self.cells[row * self.cols + col],
+        }
+    }
+
+    /// Per cell (row-major, `rows() × cols()`), its place in the float of the yarn on top there:
+    /// along the row for the weft, along the column for the warp. A yarn that never goes under
+    /// (a row all weft, a column all warp) has no ends: [`FloatPlace::len`] 0 there.
+    pub fn floats(&self) -> Vec<FloatPlace> {
+        let (rows, cols) = (self.rows, self.cols);
+        let mut out = vec![FloatPlace::default(); rows * cols];
+        for r in 0..rows {
+            let line: Vec<bool> = (0..cols).map(|c| self.is_weft(r, c)).collect();
+            for (c, run) in runs(&line).into_iter().enumerate() {
+                if line[c] {
+                    out[r * cols + c] = run;
+                }
+            }
+        }
+        for c in 0..cols {
+            let line: Vec<bool> = (0..rows).map(|r| !self.is_weft(r, c)).collect();
+            for (r, run) in runs(&line).into_iter().enumerate() {
+                if line[r] {
+                    out[r * cols + c] = run;
+                }
+            }
+        }
+        out
+    }
+
     /// The visible weft fraction `γ` of Eq. (23): the mean of the matrix, in `[0, 1]`.
     ///
     /// Implements the weft fraction of Eq. (23) of the paper; docs/spec.md §2.7.
@@ -526,6 +582,58 @@ fn smallest_period(len: usize, is_period: impl Fn(usize) -> bool) -> usize {
 
 /// The cell `floor(t · n) mod n` holding texture coordinate `t` (in repeats) of an axis with `n`
 /// cells.
+/// A point located in a pattern by [`Pattern::cell_at`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellPoint {
+    /// The cell's row (pick), `0..rows()`.
+    pub row: usize,
+    /// The cell's column (end), `0..cols()`.
+    pub col: usize,
+    /// The point's place across the cell along `x` (the weft's axis), in `[0, 1)`.
+    pub x: f64,
+    /// The point's place across the cell along `y` (the warp's axis), in `[0, 1)`.
+    pub y: f64,
+    /// Whether the weft floats on top in the cell.
+    pub weft: bool,
+}
+
+/// A cell's place in the float of the yarn on top of it ([`Pattern::floats`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FloatPlace {
+    /// Cells of the same float before this one (along the yarn's axis).
+    pub before: u16,
+    /// The float's length in cells; 0 where the yarn never goes under (a float without ends).
+    pub len: u16,
+}
+
+/// The runs of equal values along a periodic line: per element its place in its run; all
+/// `len = 0` when the whole line is one value (a run without ends).
+fn runs(values: &[bool]) -> Vec<FloatPlace> {
+    let n = values.len();
+    let mut out = vec![FloatPlace::default(); n];
+    // A run's first element: its predecessor differs.
+    let Some(s) = (0..n).find(|&i| values[i] != values[(i + n - 1) % n]) else {
+        return out;
+    };
+    let mut j = 0;
+    while j < n {
+        let first = values[(s + j) % n];
+        let mut len = 1;
+        while j + len < n && values[(s + j + len) % n] == first {
+            len += 1;
+        }
+        for k in 0..len {
+            // At most MAX_THREADS (4096) cells a line: both fit in u16.
+            out[(s + j + k) % n] = FloatPlace {
+                before: k as u16,
+                len: len as u16,
+            };
+        }
+        j += len;
+    }
+    out
+}
+
 fn cell_index(t: f64, n: usize) -> usize {
     let n_f = n as f64;
     // `floor` first keeps `rem_euclid` exact (an integer-valued argument); the `min` guards the
@@ -583,6 +691,52 @@ mod tests {
         assert_eq!(cell_index(1e300, 4), 0);
         assert!(cell_index(-1e300, 3) < 3);
         assert!(cell_index(f64::MAX, 7) < 7);
+    }
+
+    #[test]
+    fn floats_of_a_twill_and_a_satin() {
+        // twill-2/1: each weft floats over one warp end, each warp end over two picks.
+        let twill = Pattern::from_name("twill-2/1").unwrap();
+        let floats = twill.floats();
+        for r in 0..3 {
+            for c in 0..3 {
+                let f = floats[r * 3 + c];
+                let expected_len = if twill.is_weft(r, c) { 1 } else { 2 };
+                assert_eq!(f.len, expected_len, "cell ({r}, {c})");
+                assert!(f.before < f.len);
+            }
+        }
+        // Along each warp float the places count 0, 1 in order of the rows.
+        for c in 0..3 {
+            let first = (0..3)
+                .find(|&r| !twill.is_weft(r, c) && twill.is_weft((r + 2) % 3, c))
+                .unwrap();
+            assert_eq!(floats[first * 3 + c].before, 0);
+            assert_eq!(floats[((first + 1) % 3) * 3 + c].before, 1);
+        }
+        // A line that is all one value has no ends.
+        let all_weft = Pattern::from_matrix(vec![vec![1, 1]]).unwrap();
+        assert!(all_weft.floats().iter().all(|f| f.len == 0));
+        let satin = Pattern::from_name("satin-5").unwrap();
+        let warp_cells = satin.floats().iter().filter(|f| f.len == 4).count();
+        assert_eq!(
+            warp_cells, 20,
+            "each warp end floats over four of five picks"
+        );
+    }
+
+    #[test]
+    fn cell_at_agrees_with_weft_at_uv() {
+        let twill = Pattern::from_name("twill-3/1").unwrap();
+        let (rows, cols) = (twill.rows() as f64, twill.cols() as f64);
+        for i in 0..997 {
+            let x = -13.0 + 0.0371 * i as f64;
+            let y = 7.3 - 0.0293 * i as f64;
+            let at = twill.cell_at(x, y);
+            assert_eq!(at.weft, twill.weft_at_uv(x / cols, y / rows), "({x}, {y})");
+            assert!((0.0..1.0).contains(&at.x) && (0.0..1.0).contains(&at.y));
+            assert!(at.row < twill.rows() && at.col < twill.cols());
+        }
     }
 
     #[test]

@@ -5,7 +5,7 @@
 
 use proptest::prelude::*;
 use std::io::Read;
-use woven::bsdf::Bsdf;
+use woven::bsdf::{Bsdf, Transport};
 use woven::directions::{DirectionReader, DirectionRecord};
 use woven::export::MerlBrdf;
 use woven::material::Material;
@@ -462,8 +462,9 @@ fn check_table_bytes(bytes: &[u8]) {
         );
         let f = t.eval(a, b);
         assert!(f.is_finite() && f >= 0.0, "{f}");
-        assert!(t.pdf(a, b).is_finite());
-        let _ = t.sample(a, 0.3, 0.7);
+        assert!(t.pdf_direction(a, b).is_finite());
+        let _ = t.sample(a, 0.5, [0.3, 0.7], Transport::Radiance);
+        let _ = t.sample(a, 0.5, [0.3, 0.7], Transport::Importance);
     }
 }
 

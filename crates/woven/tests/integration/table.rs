@@ -6,6 +6,7 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::OnceLock;
 use woven::bsdf::Bsdf;
+use woven::bsdf::Transport::Importance;
 use woven::material::Material;
 use woven::math::quadrature::GaussLegendre;
 use woven::table::report::SplitMix;
@@ -52,9 +53,9 @@ fn chi2(t: &Table, s: Vec3, n: usize, seed: u64) -> (f64, f64, f64) {
     let mut rng = SplitMix(seed);
     let mut accepted = 0usize;
     for _ in 0..n {
-        if let Some(smp) = t.sample(s, rng.uniform(), rng.uniform()) {
+        if let Some(smp) = t.sample(s, 0.5, [rng.uniform(), rng.uniform()], Importance) {
             accepted += 1;
-            let (ct, phi) = (smp.v.z, smp.v.y.atan2(smp.v.x).rem_euclid(2.0 * PI));
+            let (ct, phi) = (smp.wo.z, smp.wo.y.atan2(smp.wo.x).rem_euclid(2.0 * PI));
             let i = ((ct * nc as f64) as usize).min(nc - 1);
             let j = ((phi / (2.0 * PI) * np as f64) as usize).min(np - 1);
             observed[i * np + j] += 1.0;
@@ -73,7 +74,7 @@ fn chi2(t: &Table, s: Vec3, n: usize, seed: u64) -> (f64, f64, f64) {
                 e += gl.integrate(c0, c0 + 1.0 / (sub * nc) as f64, |ct| {
                     gl.integrate(p0, p0 + 2.0 * PI / (sub * np) as f64, |phi| {
                         let st = (1.0 - ct * ct).max(0.0).sqrt();
-                        t.pdf(s, Vec3::new(st * phi.cos(), st * phi.sin(), ct))
+                        t.pdf_direction(s, Vec3::new(st * phi.cos(), st * phi.sin(), ct))
                     })
                 });
             }
@@ -176,7 +177,7 @@ fn pdf_integrates_to_one_away_from_grazing() {
                     total += gl.integrate(c0, c0 + 1.0 / 48.0, |ct| {
                         gl.integrate(p0, p0 + 2.0 * PI / 96.0, |phi| {
                             let st = (1.0 - ct * ct).max(0.0).sqrt();
-                            t.pdf(s, Vec3::new(st * phi.cos(), st * phi.sin(), ct))
+                            t.pdf_direction(s, Vec3::new(st * phi.cos(), st * phi.sin(), ct))
                         })
                     });
                 }
@@ -197,14 +198,14 @@ fn sample_weight_and_pdf_agree_with_eval_and_are_deterministic() {
         for _ in 0..2000 {
             let s = rng.direction(85f64.to_radians());
             let (u1, u2) = (rng.uniform(), rng.uniform());
-            let Some(a) = t.sample(s, u1, u2) else {
+            let Some(a) = t.sample(s, 0.5, [u1, u2], Importance) else {
                 continue;
             };
-            let b = t.sample(s, u1, u2).unwrap();
+            let b = t.sample(s, 0.5, [u1, u2], Importance).unwrap();
             assert_eq!(a, b, "{name}: sampling is not deterministic");
-            assert!(a.v.z > 0.0 && (a.v.length() - 1.0).abs() < 1e-12);
-            let f = t.eval(s, a.v);
-            let pdf = t.pdf(s, a.v);
+            assert!(a.wo.z > 0.0 && (a.wo.length() - 1.0).abs() < 1e-12 && a.wi == s);
+            let f = t.eval(s, a.wo);
+            let pdf = t.pdf(s, a.wo, Importance);
             assert!(
                 (a.f - f).abs() <= 1e-9 * f.max(1e-300),
                 "{name}: f {} vs eval {f}",
@@ -216,11 +217,11 @@ fn sample_weight_and_pdf_agree_with_eval_and_are_deterministic() {
                 "{name}: pdf {} vs pdf() {pdf}",
                 a.pdf
             );
-            let w = f * a.v.z / pdf;
+            let w = f * a.wo.z / pdf;
             assert!(
-                (a.weight - w).abs() <= 1e-5 * w.max(1e-300),
+                (a.weight(Importance) - w).abs() <= 1e-5 * w.max(1e-300),
                 "{name}: weight {} vs {w}",
-                a.weight
+                a.weight(Importance)
             );
         }
     }
@@ -232,9 +233,9 @@ fn exact_model_sampling_is_consistent() {
     let mut rng = SplitMix(5);
     for _ in 0..500 {
         let s = rng.direction(1.4);
-        let smp = Bsdf::sample(&model, s, rng.uniform(), rng.uniform()).unwrap();
-        assert!((smp.pdf - Bsdf::pdf(&model, s, smp.v)).abs() < 1e-12);
-        assert!((smp.f - model.eval(s, smp.v)).abs() < 1e-12);
+        let smp = Bsdf::sample(&model, s, 0.5, [rng.uniform(), rng.uniform()], Importance).unwrap();
+        assert!((smp.pdf - Bsdf::pdf(&model, s, smp.wo, Importance)).abs() < 1e-12);
+        assert!((smp.f - model.eval(s, smp.wo)).abs() < 1e-12);
     }
 }
 
@@ -257,7 +258,7 @@ fn table_files_round_trip_and_reject_damage() {
     let s = Vec3::from_spherical(0.5, 0.2);
     let v = Vec3::from_spherical(0.6, 2.9);
     assert_eq!(back.eval(s, v), t.eval(s, v));
-    assert_eq!(back.pdf(s, v), t.pdf(s, v));
+    assert_eq!(back.pdf_direction(s, v), t.pdf_direction(s, v));
     // Truncations anywhere, a flipped byte, a wrong version, trailing bytes: errors, no panic.
     for cut in [
         0,
@@ -420,8 +421,8 @@ fn sampling_weight_spread(t: &Table, n: usize) -> f64 {
         for pi in [0.0f64, 20.0, 45.0, 70.0, 90.0] {
             let s = Vec3::from_spherical(ti.to_radians(), pi.to_radians());
             let mut w: Vec<f64> = (0..n)
-                .filter_map(|_| t.sample(s, rng.uniform(), rng.uniform()))
-                .map(|smp| smp.weight)
+                .filter_map(|_| t.sample(s, 0.5, [rng.uniform(), rng.uniform()], Importance))
+                .map(|smp| smp.weight(Importance))
                 .collect();
             if w.is_empty() {
                 continue;
@@ -671,10 +672,10 @@ fn near_forward_pairs_of_aligned_yarns_are_exact() {
     let s = Vec3::from_spherical(85f64.to_radians(), 0.3);
     let mut hits = 0;
     for _ in 0..20_000 {
-        if let Some(smp) = t.sample(s, rng.uniform(), rng.uniform()) {
-            if exact_region(s, smp.v).0 {
+        if let Some(smp) = t.sample(s, 0.5, [rng.uniform(), rng.uniform()], Importance) {
+            if exact_region(s, smp.wo).0 {
                 hits += 1;
-                assert_eq!(smp.f, model.eval(s, smp.v));
+                assert_eq!(smp.f, model.eval(s, smp.wo));
             }
         }
     }

@@ -1,8 +1,9 @@
-//! Linear RGB triples: radiance, throughput, reflectance.
+//! Linear RGB triples: radiance, throughput, reflectance, dyes — what a renderer's surface
+//! returns per channel ([`surface`](crate::surface)).
 
 use std::ops::{Add, AddAssign, Div, Mul, MulAssign};
 
-/// A linear RGB value (the renderer works in linear sRGB primaries; see docs/render.md).
+/// A linear RGB value (linear sRGB primaries; see docs/render.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Rgb(pub [f64; 3]);
 

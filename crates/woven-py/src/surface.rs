@@ -1,0 +1,496 @@
+//! `woven.Surface`: the library's woven surface (`woven::surface`) — a weave pattern on a
+//! surface's uv, dyes, yarn tilt, gaps and the footprint filter — evaluated, sampled and laid
+//! out point by point, as `woven render` and the Mitsuba plugin use it.
+
+use crate::arrays::{map_batch, Dirs, Numbers};
+use crate::material::{material_arg, Material};
+use crate::table::{cached_table, Table};
+use crate::IntoPy;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+use std::sync::Arc;
+use woven::bsdf::{Bsdf, Transport};
+use woven::color::Rgb;
+use woven::material::Weave;
+use woven::surface::{Lobe, SurfacePoint, SurfaceSpec, WovenSurface, FILTER_CELLS, MAX_LOBES};
+
+/// A woven surface: what a woven material means at each point of a surface (the `woven`
+/// material of `woven render` scenes and of the Mitsuba plugin, with the same parameters).
+///
+/// `Surface(material, ...)` tabulates the material's yarn alone on `woven render`'s grid, or
+/// loads that table from the cache `woven render` shares; `Surface(table=t, ...)` uses a table
+/// you built: as it is (the BRDF it was built for), or, with `pattern` or `weft_fraction`, as
+/// the yarn of that weave (a table of a yarn alone, `Material.yarn_family()`).
+///
+/// Parameters: `pattern` (a weave name replacing the material's weave), `weft_fraction` (γ in
+/// place of the weave: the macro BRDF), `yarns_per_unit` (pattern cells per unit of uv: a
+/// number or `(n_u, n_v)`, default 1), `weft_color` / `warp_color` (dyed fiber albedos ρ0 per
+/// channel, in [0, 1]), `u_max_deg` (yarn tilt at the ends of each float, degrees in [0, 80]),
+/// `gap` (fraction of each cell between yarns, in [0, 0.95]), `wavelength_nm` (of the table
+/// built, default 550). Raises ValueError naming a parameter that is out of range.
+///
+/// Points: `uv` (N, 2) surface parameters; `footprint` (N, 4) the pixel's footprint in uv,
+/// `(du/dx, dv/dx, du/dy, dv/dy)` (None: a point, no filtering). Directions in the surface's
+/// frame (`z` the normal, `x` along u: the weft): `wi` toward the light, `wo` toward the viewer.
+#[pyclass(module = "woven", frozen)]
+pub struct Surface {
+    inner: Arc<WovenSurface>,
+    material: Option<woven::material::Material>,
+}
+
+/// `yarns_per_unit` as `[n_u, n_v]`: a number or a pair.
+fn yarns_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<[f64; 2]> {
+    let Some(obj) = obj else {
+        return Ok([1.0, 1.0]);
+    };
+    if let Ok(n) = obj.extract::<f64>() {
+        return Ok([n, n]);
+    }
+    if let Ok((a, b)) = obj.extract::<(f64, f64)>() {
+        return Ok([a, b]);
+    }
+    Err(PyValueError::new_err(format!(
+        "`yarns_per_unit` = {obj}: expected a number or a pair (n_u, n_v)"
+    )))
+}
+
+/// A colour argument: three numbers.
+fn color_arg(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<Rgb>> {
+    obj.map(|o| {
+        o.extract::<[f64; 3]>().map(Rgb).map_err(|_| {
+            PyValueError::new_err(format!("`{name}` = {o}: expected three numbers in [0, 1]"))
+        })
+    })
+    .transpose()
+}
+
+/// The material with `pattern` or `weft_fraction` in place of its weave.
+fn with_weave(
+    mut material: woven::material::Material,
+    pattern: Option<&str>,
+    weft_fraction: Option<f64>,
+) -> PyResult<woven::material::Material> {
+    match (pattern, weft_fraction) {
+        (Some(_), Some(_)) => Err(PyValueError::new_err(
+            "give at most one of `pattern` and `weft_fraction`",
+        )),
+        (Some(p), None) => {
+            material.weave = Some(Weave::named(p).py_err()?);
+            Ok(material)
+        }
+        (None, Some(g)) => {
+            if material.yarn.is_none() {
+                return Err(PyValueError::new_err(
+                    "`weft_fraction` needs a material with yarns ([yarn])",
+                ));
+            }
+            if !(0.0..=1.0).contains(&g) {
+                return Err(PyValueError::new_err(format!(
+                    "`weft_fraction` = {g}: expected a fraction in [0, 1]"
+                )));
+            }
+            material.weave = Some(Weave::WeftFraction(g));
+            Ok(material)
+        }
+        (None, None) => Ok(material),
+    }
+}
+
+/// A point `i` of the arrays.
+fn point(uv: &Dirs, footprint: &Option<Dirs>, i: usize) -> SurfacePoint {
+    let (u, v) = uv.get2(i);
+    let footprint = footprint.as_ref().map_or([[0.0; 2]; 2], |f| {
+        let r = f.get4(i);
+        [[r[0], r[1]], [r[2], r[3]]]
+    });
+    SurfacePoint {
+        uv: [u, v],
+        footprint,
+    }
+}
+
+/// The common row count of broadcast arguments (each N rows or 1).
+fn rows(args: &[(&str, usize)]) -> PyResult<usize> {
+    let n = args.iter().map(|a| a.1).max().unwrap_or(1);
+    for (name, k) in args {
+        if *k != n && *k != 1 {
+            return Err(PyValueError::new_err(format!(
+                "`{name}` has {k} rows where others have {n}: expected {n} or 1"
+            )));
+        }
+    }
+    Ok(n)
+}
+
+fn mode_arg(mode: &str) -> PyResult<Transport> {
+    match mode {
+        "radiance" => Ok(Transport::Radiance),
+        "importance" => Ok(Transport::Importance),
+        other => Err(PyValueError::new_err(format!(
+            "`mode` = {other:?}: expected \"radiance\" (wo known, wi drawn) or \"importance\""
+        ))),
+    }
+}
+
+fn footprint_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Dirs>> {
+    obj.filter(|o| !o.is_none())
+        .map(|o| Dirs::extract_width(o, "footprint", 4))
+        .transpose()
+}
+
+/// Rows of `widths.iter().sum()` columns as arrays (n, w), (n,) for w = 1.
+fn columns<'py>(
+    py: Python<'py>,
+    data: Vec<f64>,
+    n: usize,
+    widths: &[usize],
+) -> PyResult<Bound<'py, PyTuple>> {
+    let k: usize = widths.iter().sum();
+    let mut parts = Vec::new();
+    let mut start = 0;
+    for &w in widths {
+        let mut col = Vec::with_capacity(n * w);
+        for row in data.chunks_exact(k) {
+            col.extend_from_slice(&row[start..start + w]);
+        }
+        let array = PyArray1::from_vec(py, col);
+        parts.push(if w == 1 {
+            array.into_any()
+        } else {
+            array.reshape([n, w])?.into_any()
+        });
+        start += w;
+    }
+    PyTuple::new(py, parts)
+}
+
+#[pymethods]
+impl Surface {
+    #[new]
+    #[pyo3(signature = (material = None, *, table = None, pattern = None, weft_fraction = None,
+        yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = 0.0, gap = 0.0,
+        wavelength_nm = 550.0, progress = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        material: Option<&Bound<'_, PyAny>>,
+        table: Option<&Bound<'_, Table>>,
+        pattern: Option<&str>,
+        weft_fraction: Option<f64>,
+        yarns_per_unit: Option<&Bound<'_, PyAny>>,
+        weft_color: Option<&Bound<'_, PyAny>>,
+        warp_color: Option<&Bound<'_, PyAny>>,
+        u_max_deg: f64,
+        gap: f64,
+        wavelength_nm: f64,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Surface> {
+        let (weft_color, warp_color) = (
+            color_arg(weft_color, "weft_color")?,
+            color_arg(warp_color, "warp_color")?,
+        );
+        let layout = |material| SurfaceSpec {
+            material,
+            yarns_per_unit: [1.0, 1.0],
+            weft_color,
+            warp_color,
+            u_max: u_max_deg.to_radians(),
+            gap,
+        };
+        let yarns = yarns_arg(yarns_per_unit)?;
+        let (spec, yarn) = match (material, table) {
+            (Some(m), None) => {
+                let m = with_weave(material_arg(m)?.inner, pattern, weft_fraction)?;
+                let spec = SurfaceSpec {
+                    yarns_per_unit: yarns,
+                    ..layout(m)
+                };
+                spec.validate().py_err()?;
+                let t = cached_table(
+                    py,
+                    &spec.table_material(),
+                    wavelength_nm,
+                    "render",
+                    progress,
+                )?;
+                (spec, t)
+            }
+            (None, Some(t)) => {
+                let t = Arc::clone(&t.get().inner);
+                if pattern.is_none() && weft_fraction.is_none() {
+                    if warp_color.is_some() || u_max_deg != 0.0 || gap != 0.0 {
+                        return Err(PyValueError::new_err(
+                            "`warp_color`, `u_max_deg` and `gap` need a weave: give `pattern` or `weft_fraction` with `table`",
+                        ));
+                    }
+                    let surface = WovenSurface::whole(Arc::clone(&t), weft_color).py_err()?;
+                    return Ok(Surface {
+                        inner: Arc::new(surface),
+                        material: t.material().cloned(),
+                    });
+                }
+                let m = match t.material() {
+                    Some(m) if m.weave.is_none() && m.yarn.is_some() => m.clone(),
+                    _ => {
+                        return Err(PyValueError::new_err(
+                            "`pattern` or `weft_fraction` with `table` needs the table of a yarn alone (a material without [weave]: Material.yarn_family())",
+                        ))
+                    }
+                };
+                let m = with_weave(m, pattern, weft_fraction)?;
+                let spec = SurfaceSpec {
+                    yarns_per_unit: yarns,
+                    ..layout(m)
+                };
+                (spec, t)
+            }
+            _ => {
+                return Err(PyValueError::new_err(
+                    "give exactly one of `material` and `table`",
+                ))
+            }
+        };
+        let surface = WovenSurface::new(&spec, yarn).py_err()?;
+        Ok(Surface {
+            inner: Arc::new(surface),
+            material: Some(spec.material),
+        })
+    }
+
+    /// f(wi, wo) per channel, sr⁻¹ without the cosine: (N, 3).
+    #[pyo3(signature = (uv, wi, wo, footprint = None))]
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        uv: &Bound<'py, PyAny>,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+        footprint: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (uv, wi, wo) = (
+            Dirs::extract_width(uv, "uv", 2)?,
+            Dirs::extract(wi, "wi")?,
+            Dirs::extract(wo, "wo")?,
+        );
+        let fp = footprint_arg(footprint)?;
+        let n = rows(&[
+            ("uv", uv.n),
+            ("wi", wi.n),
+            ("wo", wo.n),
+            ("footprint", fp.as_ref().map_or(1, |f| f.n)),
+        ])?;
+        let s = &*self.inner;
+        let out = map_batch::<3, _>(py, n, |i| {
+            s.at(&point(&uv, &fp, i)).eval(wi.get(i), wo.get(i)).0
+        });
+        Ok(PyArray1::from_vec(py, out).reshape([n, 3])?.into_any())
+    }
+
+    /// The density (N,) with which `sample` draws the unknown direction: `wi` for `wo` in
+    /// mode "radiance" (a camera path), `wo` for `wi` in mode "importance".
+    #[pyo3(signature = (uv, wi, wo, footprint = None, mode = "radiance"))]
+    fn pdf<'py>(
+        &self,
+        py: Python<'py>,
+        uv: &Bound<'py, PyAny>,
+        wi: &Bound<'py, PyAny>,
+        wo: &Bound<'py, PyAny>,
+        footprint: Option<&Bound<'py, PyAny>>,
+        mode: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = mode_arg(mode)?;
+        let (uv, wi, wo) = (
+            Dirs::extract_width(uv, "uv", 2)?,
+            Dirs::extract(wi, "wi")?,
+            Dirs::extract(wo, "wo")?,
+        );
+        let fp = footprint_arg(footprint)?;
+        let n = rows(&[
+            ("uv", uv.n),
+            ("wi", wi.n),
+            ("wo", wo.n),
+            ("footprint", fp.as_ref().map_or(1, |f| f.n)),
+        ])?;
+        let s = &*self.inner;
+        let out = map_batch::<1, _>(py, n, |i| {
+            [s.at(&point(&uv, &fp, i)).pdf(wi.get(i), wo.get(i), mode)]
+        });
+        Ok(PyArray1::from_vec(py, out).into_any())
+    }
+
+    /// Draws the unknown direction for `known` (`wo` in mode "radiance": returns `wi`; `wi` in
+    /// mode "importance": returns `wo`) with `uc` (N,) choosing the lobe and `u` (N, 2) drawing
+    /// within it: `(drawn (N, 3), f (N, 3), pdf (N,))`; a failed draw has all zeros.
+    #[pyo3(signature = (uv, known, uc, u, footprint = None, mode = "radiance"))]
+    #[allow(clippy::too_many_arguments)]
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        uv: &Bound<'py, PyAny>,
+        known: &Bound<'py, PyAny>,
+        uc: &Bound<'py, PyAny>,
+        u: &Bound<'py, PyAny>,
+        footprint: Option<&Bound<'py, PyAny>>,
+        mode: &str,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let mode = mode_arg(mode)?;
+        let (uv, known, uc, u) = (
+            Dirs::extract_width(uv, "uv", 2)?,
+            Dirs::extract(known, "known")?,
+            Numbers::extract(uc, "uc")?,
+            Dirs::extract_width(u, "u", 2)?,
+        );
+        let fp = footprint_arg(footprint)?;
+        let n = rows(&[
+            ("uv", uv.n),
+            ("known", known.n),
+            ("uc", uc.n),
+            ("u", u.n),
+            ("footprint", fp.as_ref().map_or(1, |f| f.n)),
+        ])?;
+        let s = &*self.inner;
+        let out = map_batch::<7, _>(py, n, |i| {
+            let c = uc.get(if uc.n == 1 { 0 } else { i });
+            let (a, b) = u.get2(i);
+            match s
+                .at(&point(&uv, &fp, i))
+                .sample(known.get(i), c, [a, b], mode)
+            {
+                Some(smp) => {
+                    let d = if mode == Transport::Radiance {
+                        smp.wi
+                    } else {
+                        smp.wo
+                    };
+                    [d.x, d.y, d.z, smp.f.0[0], smp.f.0[1], smp.f.0[2], smp.pdf]
+                }
+                None => [0.0; 7],
+            }
+        });
+        columns(py, out, n, &[3, 3, 1])
+    }
+
+    /// The lobes mixed at each point, as three (N, MAX_LOBES) arrays: `warp` (1.0 for the warp,
+    /// the table turned 90°; 0.0 for the weft), `tilt` (radians) and `weight` (0 past the
+    /// point's last lobe). `f = Σ weight · f_lobe`.
+    #[pyo3(signature = (uv, footprint = None))]
+    fn lobes<'py>(
+        &self,
+        py: Python<'py>,
+        uv: &Bound<'py, PyAny>,
+        footprint: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let uv = Dirs::extract_width(uv, "uv", 2)?;
+        let fp = footprint_arg(footprint)?;
+        let n = rows(&[("uv", uv.n), ("footprint", fp.as_ref().map_or(1, |f| f.n))])?;
+        let s = &*self.inner;
+        let out = map_batch::<{ 3 * MAX_LOBES }, _>(py, n, |i| {
+            let mix = s.lobes(&point(&uv, &fp, i));
+            let mut row = [0.0; 3 * MAX_LOBES];
+            for (k, l) in mix.lobes().iter().enumerate() {
+                row[k] = if l.warp { 1.0 } else { 0.0 };
+                row[MAX_LOBES + k] = l.tilt;
+                row[2 * MAX_LOBES + k] = l.weight;
+            }
+            row
+        });
+        columns(py, out, n, &[MAX_LOBES; 3])
+    }
+
+    /// What the surface lays on its uv, for code that re-traces it (the Mitsuba plugin's
+    /// Dr.Jit variants): a dict with `kind` ("flat", "whole", "macro" or "pattern"),
+    /// `yarns_per_unit`, `u_max` (radians), `gap`, `weft_fraction`, `filter_cells` (the
+    /// footprint filter's start and end, in cells), `macro` (the macro BRDF's lobes: a list of
+    /// `(warp, tilt, weight)`), `albedos` (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`), and for a
+    /// pattern `cells` (rows × cols, 1 where the weft is on top) and `floats` (rows × cols × 2:
+    /// cells before in the float, float length; empty without a tilt).
+    fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &*self.inner;
+        let d = PyDict::new(py);
+        let kind = if s.is_flat() {
+            "flat"
+        } else if s.pattern().is_some() {
+            "pattern"
+        } else if s.weft_fraction() == 1.0 && s.macro_lobes().lobes().len() == 1 {
+            "whole"
+        } else {
+            "macro"
+        };
+        d.set_item("kind", kind)?;
+        d.set_item("yarns_per_unit", s.yarns_per_unit().to_vec())?;
+        d.set_item("u_max", s.u_max())?;
+        d.set_item("gap", s.gap())?;
+        d.set_item("weft_fraction", s.weft_fraction())?;
+        d.set_item("filter_cells", FILTER_CELLS.to_vec())?;
+        let lobes: Vec<(bool, f64, f64)> = s
+            .macro_lobes()
+            .lobes()
+            .iter()
+            .map(|l: &Lobe| (l.warp, l.tilt, l.weight))
+            .collect();
+        d.set_item("macro", PyList::new(py, lobes)?)?;
+        let albedos = PyDict::new(py);
+        for (name, warp) in [("weft", false), ("warp", true)] {
+            let a: Vec<(f64, f64)> = s
+                .albedos(warp)
+                .iter()
+                .map(|a| (a.diffuse, a.interreflection))
+                .collect();
+            albedos.set_item(name, a)?;
+        }
+        d.set_item("albedos", albedos)?;
+        if let Some(p) = s.pattern() {
+            let cells: Vec<u8> = p.to_matrix().concat();
+            d.set_item(
+                "cells",
+                PyArray1::from_vec(py, cells).reshape([p.rows(), p.cols()])?,
+            )?;
+            let floats: Vec<u16> = s.floats().iter().flat_map(|f| [f.before, f.len]).collect();
+            let shape = if floats.is_empty() {
+                [0, 0, 2]
+            } else {
+                [p.rows(), p.cols(), 2]
+            };
+            d.set_item("floats", PyArray1::from_vec(py, floats).reshape(shape)?)?;
+        }
+        Ok(d)
+    }
+
+    /// The yarn's table (or the whole table).
+    #[getter]
+    fn table(&self) -> Table {
+        Table {
+            inner: Arc::clone(self.inner.table()),
+        }
+    }
+
+    /// The material laid on the surface (its weave the surface's), or None.
+    #[getter]
+    fn material(&self) -> Option<Material> {
+        self.material.clone().map(|inner| Material { inner })
+    }
+
+    /// Whether the surface reads footprints (only patterns filter).
+    #[getter]
+    fn uses_footprint(&self) -> bool {
+        self.inner.uses_footprint()
+    }
+
+    fn __repr__(&self) -> String {
+        let s = &*self.inner;
+        format!(
+            "Surface(pattern={}, yarns_per_unit={:?}, u_max_deg={}, gap={}, weft_fraction={})",
+            s.pattern().map_or("None".into(), |p| format!(
+                "{:?}",
+                p.name()
+                    .unwrap_or_else(|| format!("{}x{}", p.rows(), p.cols()))
+            )),
+            s.yarns_per_unit(),
+            s.u_max().to_degrees(),
+            s.gap(),
+            s.weft_fraction()
+        )
+    }
+}

@@ -1,0 +1,805 @@
+//! The woven surface: a yarn table, a weave pattern laid on a surface's uv, dyes, yarn tilt,
+//! gaps and the fine-weave footprint filter — what a woven material means at a point. The one
+//! home of that meaning: `woven render`, the Python package (`woven.Surface`) and the Mitsuba 3
+//! plugin all evaluate it here.
+//!
+//! **What renders.** A surface is rendered from one table: that of its yarn alone
+//! ([`Material::yarn_family`]: one yarn family along `x`, the surface's `u`), built dyeable
+//! ([`TableOptions::colour`](crate::table::TableOptions::colour)). A warp yarn is the same table
+//! turned 90° about the normal (along `y`, the surface's `v`).
+//! - With a weave *pattern*: at surface parameters `(u, v)` the pattern cell at
+//!   `(u n_u, v n_v)` ([`Pattern::cell_at`]; `[n_u, n_v]` = `yarns_per_unit`) says which yarn
+//!   family is on top, and that family's BRDF (and colour) shades the point. Far away, cells
+//!   average to the paper's γ-mix (docs/spec.md §2.7).
+//! - With a `weft_fraction` and no pattern: the macro BRDF, the γ-mix
+//!   `γ f_weft + (1 − γ) f_warp` of the two turned look-ups, each in its yarn's colour.
+//! - A flat fiber surface (no `[yarn]`): the exact model (a fraction of a microsecond per
+//!   evaluation), sampled with its table.
+//!
+//! **Tilt and gaps.** A yarn's axis may tilt out of the cloth plane along its float (Irawan &
+//! Marschner's `u_max`): linearly from `+u_max` where the yarn comes up to `−u_max` where it goes
+//! under ([`Pattern::floats`]); its BRDF is then the table's in the tilted frame, per unit of
+//! cloth area. A `gap` leaves the given fraction of each cell's width between yarns: the crossing
+//! yarn below shows there (flat), and where both families leave a gap, nothing (a hole).
+//!
+//! **Footprint filter.** Where a pixel's footprint spans more than [`FILTER_CELLS`]`[0]` cells,
+//! the point's BRDF blends smoothly toward the macro BRDF (the cells' average, with the same
+//! tilts and gaps), reached at [`FILTER_CELLS`]`[1]`: fine weaves do not alias into moiré or
+//! sparkle.
+//!
+//! **Colour.** Dyed fibres have a coloured body and a white sheen: `weft_color` (and
+//! `warp_color`) set the fiber's diffuse albedo `ρ0` per channel; the interreflection albedo `ρ`,
+//! light that has bounced between fibres, follows in proportion (`ρ = ρ′ c / ρ0′` with the
+//! material's own `ρ0′, ρ′`, at most 1; unchanged when `ρ0′ = 0`). The BRDF is affine in both
+//! (docs/model.md §7), so one table serves every colour ([`Table::eval_dyed`]).
+//!
+//! **Sampling.** At a point the surface is a mixture of lobes ([`LobeMix`]: a family, its tilt,
+//! a weight); [`PointBsdf`] implements [`Bsdf`]: `uc` picks a lobe in proportion to its weight,
+//! `u` draws within it from the table, and the density is the mixture's.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use woven::bsdf::{Bsdf, Transport};
+//! use woven::material::{Material, Weave};
+//! use woven::surface::{SurfacePoint, SurfaceSpec, WovenSurface};
+//! use woven::table::{Table, TableOptions};
+//! use woven::Vec3;
+//!
+//! let mut material = Material::preset("polyester-sateen")?;
+//! material.weave = Some(Weave::named("twill-2/1")?);
+//! let spec = SurfaceSpec { yarns_per_unit: [20.0, 20.0], gap: 0.2, ..SurfaceSpec::new(material) };
+//! // The yarn's table (coarse here; a renderer keeps one per yarn in a cache).
+//! let yarn = spec.material.yarn_family();
+//! let options = TableOptions { n_theta: 5, n_phi: 1, n_h: 13, colour: true, ..TableOptions::default() };
+//! let table = Table::build(&yarn.build(550.0)?, &yarn, &options, &|_, _| {})?;
+//! let surface = WovenSurface::new(&spec, Arc::new(table))?;
+//!
+//! let bsdf = surface.at(&SurfacePoint { uv: [0.013, 0.021], footprint: [[0.0; 2]; 2] });
+//! let (wi, wo) = (Vec3::from_spherical(0.5, 0.3), Vec3::from_spherical(0.7, 2.0));
+//! let f = bsdf.eval(wi, wo); // per channel, sr⁻¹
+//! if let Some(s) = bsdf.sample(wo, 0.4, [0.3, 0.8], Transport::Radiance) {
+//!     assert!((bsdf.pdf(s.wi, wo, Transport::Radiance) - s.pdf).abs() <= 1e-9 * s.pdf);
+//! }
+//! # let _ = f;
+//! # Ok::<(), woven::Error>(())
+//! ```
+
+use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
+use crate::color::Rgb;
+use crate::error::{Error, Result};
+use crate::material::{Material, Weave};
+use crate::table::{Albedos, Table};
+use crate::weave::{FloatPlace, Pattern};
+use crate::{Model, Vec3};
+use std::sync::Arc;
+
+/// Footprints (in pattern cells, the larger side of the pixel's footprint) from which the
+/// footprint filter starts blending toward the macro BRDF, and at which it is the macro BRDF.
+pub const FILTER_CELLS: [f64; 2] = [0.5, 2.0];
+
+/// Tilts at which the macro BRDF of tilted yarns is evaluated (a midpoint rule over the
+/// uniform spread of tilts along floats).
+pub const TILT_NODES: usize = 8;
+
+/// The most lobes mixed at a point: one cell's, and the macro BRDF's (each family at every tilt
+/// node on top, and flat where it shows in the other's gaps).
+pub const MAX_LOBES: usize = 2 * (TILT_NODES + 1) + 1;
+
+/// The largest yarn tilt [`SurfaceSpec::u_max`], degrees.
+pub const MAX_U_MAX_DEG: f64 = 80.0;
+
+/// The largest [`SurfaceSpec::gap`]: yarns keep at least 5 % of their cells.
+pub const MAX_GAP: f64 = 0.95;
+
+/// What a woven surface is: a material and how its weave lies on the surface.
+#[derive(Clone, Debug)]
+pub struct SurfaceSpec {
+    /// The material (its `weave` may hold the pattern laid on the surface).
+    pub material: Material,
+    /// Pattern cells per unit of `u` and per unit of `v` (each > 0); unused without a pattern.
+    pub yarns_per_unit: [f64; 2],
+    /// The weft's dyed albedo per channel, each in `[0, 1]`; `None`: the material's own (grey).
+    pub weft_color: Option<Rgb>,
+    /// The warp's dyed albedo per channel, each in `[0, 1]`; `None`: the material's own.
+    pub warp_color: Option<Rgb>,
+    /// The tilt of a yarn's axis out of the cloth plane at the ends of each float, radians, in
+    /// `[0, MAX_U_MAX_DEG]` degrees; 0 (the default): flat yarns, the paper's model.
+    pub u_max: f64,
+    /// The fraction of each cell's width, in `[0, MAX_GAP]`, between yarns; 0 (the default):
+    /// yarns fill their cells.
+    pub gap: f64,
+}
+
+impl SurfaceSpec {
+    /// `material` with one pattern cell per unit of uv, its own colours, flat yarns, no gaps.
+    pub fn new(material: Material) -> SurfaceSpec {
+        SurfaceSpec {
+            material,
+            yarns_per_unit: [1.0, 1.0],
+            weft_color: None,
+            warp_color: None,
+            u_max: 0.0,
+            gap: 0.0,
+        }
+    }
+
+    /// The material whose table renders the surface: its yarn alone
+    /// ([`Material::yarn_family`]), to be tabulated with
+    /// [`TableOptions::colour`](crate::table::TableOptions::colour) set.
+    pub fn table_material(&self) -> Material {
+        self.material.yarn_family()
+    }
+
+    /// Checks every parameter.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first offending one (`yarns_per_unit`,
+    /// `weft_color`, `warp_color`, `u_max`, `gap`), its value and the valid range.
+    pub fn validate(&self) -> Result<()> {
+        let invalid = |name: &str, value: String, expected: &str| {
+            Err(Error::InvalidParameter {
+                name: name.into(),
+                value,
+                expected: expected.into(),
+            })
+        };
+        if !self
+            .yarns_per_unit
+            .iter()
+            .all(|n| n.is_finite() && *n > 0.0)
+        {
+            return invalid(
+                "yarns_per_unit",
+                format!("{:?}", self.yarns_per_unit),
+                "two finite numbers > 0",
+            );
+        }
+        for (name, c) in [
+            ("weft_color", self.weft_color),
+            ("warp_color", self.warp_color),
+        ] {
+            if let Some(c) = c {
+                if !c.0.iter().all(|x| (0.0..=1.0).contains(x)) {
+                    return invalid(name, format!("{:?}", c.0), "three values in [0, 1]");
+                }
+            }
+        }
+        if !(0.0..=MAX_U_MAX_DEG.to_radians()).contains(&self.u_max) {
+            return invalid(
+                "u_max",
+                format!("{} rad ({}°)", self.u_max, self.u_max.to_degrees()),
+                &format!("radians in [0, {MAX_U_MAX_DEG}°]"),
+            );
+        }
+        if !(0.0..=MAX_GAP).contains(&self.gap) {
+            return invalid(
+                "gap",
+                self.gap.to_string(),
+                &format!("a fraction in [0, {MAX_GAP}]"),
+            );
+        }
+        if self.material.yarn.is_none() && (self.u_max > 0.0 || self.gap > 0.0) {
+            let name = if self.gap > 0.0 { "gap" } else { "u_max" };
+            return invalid(
+                name,
+                format!(
+                    "{} with a flat fiber surface",
+                    if name == "gap" { self.gap } else { self.u_max }
+                ),
+                "0: a flat fiber surface (no [yarn]) has no yarns to tilt or space",
+            );
+        }
+        Ok(())
+    }
+}
+
+/// A point on a surface as a woven surface reads it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SurfacePoint {
+    /// The surface parameters `(u, v)` at the point.
+    pub uv: [f64; 2],
+    /// The footprint of the pixel at the point, in uv: `[[∂u/∂x, ∂v/∂x], [∂u/∂y, ∂v/∂y]]`, the
+    /// change of `(u, v)` from one film pixel to the next along `x` and along `y`. All zero: a
+    /// point (no filtering); infinite entries: a footprint wider than any pattern.
+    pub footprint: [[f64; 2]; 2],
+}
+
+/// One yarn family's BRDF, tilted about the cross axis, with a weight.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lobe {
+    /// The warp (the table turned 90°), or the weft.
+    pub warp: bool,
+    /// The yarn axis's tilt out of the cloth plane toward `+z`, radians.
+    pub tilt: f64,
+    /// The lobe's weight in the point's BRDF.
+    pub weight: f64,
+}
+
+/// The lobes a point's BRDF mixes: `f = Σ weight · f_lobe`; the weights sum to at most 1, less
+/// over the holes between gapped yarns.
+#[derive(Clone, Copy, Debug)]
+pub struct LobeMix {
+    n: usize,
+    lobes: [Lobe; MAX_LOBES],
+}
+
+impl Default for LobeMix {
+    fn default() -> LobeMix {
+        LobeMix {
+            n: 0,
+            lobes: [Lobe::default(); MAX_LOBES],
+        }
+    }
+}
+
+impl LobeMix {
+    /// Adds `weight` of a lobe, to the same lobe's weight when it is already there (a cell's
+    /// yarn blended into the γ-mix is one of the mix's two yarns: two look-ups, not three).
+    #[inline]
+    fn push(&mut self, warp: bool, tilt: f64, weight: f64) {
+        if weight > 0.0 {
+            if let Some(l) = self.lobes[..self.n]
+                .iter_mut()
+                .find(|l| l.warp == warp && l.tilt == tilt)
+            {
+                l.weight += weight;
+                return;
+            }
+            self.lobes[self.n] = Lobe { warp, tilt, weight };
+            self.n += 1;
+        }
+    }
+
+    /// The lobes, in the order they were added.
+    pub fn lobes(&self) -> &[Lobe] {
+        &self.lobes[..self.n]
+    }
+
+    /// The sum of the weights.
+    pub fn total(&self) -> f64 {
+        self.lobes().iter().map(|l| l.weight).sum()
+    }
+}
+
+/// What a surface lays on its uv.
+#[derive(Clone, Debug)]
+enum Layout {
+    /// A flat fiber surface: the exact model, sampled with its table.
+    Flat { model: Arc<Model> },
+    /// A table rendered as it is: the BRDF it was built for, everywhere.
+    Whole,
+    /// The macro BRDF: the γ-mix of the yarn table and the same turned to the warp.
+    Macro { weft_fraction: f64 },
+    /// One yarn family per pattern cell.
+    Pattern {
+        pattern: Pattern,
+        /// The pattern's own weft fraction γ (for the macro BRDF far away).
+        weft_fraction: f64,
+        /// [`Pattern::floats`]; empty without a tilt.
+        floats: Vec<FloatPlace>,
+    },
+}
+
+/// A woven surface, ready to evaluate at points ([`WovenSurface::at`]).
+#[derive(Clone, Debug)]
+pub struct WovenSurface {
+    yarn: Arc<Table>,
+    layout: Layout,
+    weft: [Albedos; 3],
+    warp: [Albedos; 3],
+    yarns_per_unit: [f64; 2],
+    u_max: f64,
+    gap: f64,
+}
+
+impl WovenSurface {
+    /// The surface `spec` renders with `yarn`, the table of
+    /// [`spec.table_material()`](SurfaceSpec::table_material) (a flat fiber surface builds its
+    /// exact model at the table's wavelength).
+    ///
+    /// # Errors
+    /// An invalid `spec` ([`SurfaceSpec::validate`]); `weft_color` or `warp_color` with a
+    /// table that is not dyeable; an invalid material.
+    pub fn new(spec: &SurfaceSpec, yarn: Arc<Table>) -> Result<WovenSurface> {
+        spec.validate()?;
+        for (name, c) in [
+            ("weft_color", spec.weft_color),
+            ("warp_color", spec.warp_color),
+        ] {
+            if c.is_some() && !yarn.is_dyeable() {
+                return Err(Error::InvalidParameter {
+                    name: name.into(),
+                    value: format!("{:?}", c.map(|c| c.0)),
+                    expected: "no dye, or a table built dyeable (TableOptions::colour)".into(),
+                });
+            }
+        }
+        let layout = if spec.material.yarn.is_none() {
+            Layout::Flat {
+                model: Arc::new(spec.material.build(yarn.wavelength_nm())?),
+            }
+        } else {
+            match &spec.material.weave {
+                Some(Weave::Pattern { pattern, .. }) => Layout::Pattern {
+                    pattern: pattern.clone(),
+                    weft_fraction: pattern.weft_fraction(),
+                    floats: if spec.u_max > 0.0 {
+                        pattern.floats()
+                    } else {
+                        Vec::new()
+                    },
+                },
+                _ => Layout::Macro {
+                    weft_fraction: spec.material.weft_fraction(),
+                },
+            }
+        };
+        let own = Albedos::of(&spec.material);
+        Ok(WovenSurface {
+            yarn,
+            layout,
+            weft: dyed(own, spec.weft_color),
+            warp: dyed(own, spec.warp_color),
+            yarns_per_unit: spec.yarns_per_unit,
+            u_max: spec.u_max,
+            gap: spec.gap,
+        })
+    }
+
+    /// A table rendered as it is (the BRDF it was built for, its weave's γ-mix included), dyed
+    /// `color` (`None`: its material's own albedos).
+    ///
+    /// # Errors
+    /// `color` with a table that is not dyeable or records no material.
+    pub fn whole(table: Arc<Table>, color: Option<Rgb>) -> Result<WovenSurface> {
+        let own = match (table.material(), color) {
+            (Some(m), _) => Albedos::of(m),
+            (None, None) => Albedos {
+                diffuse: 0.0,
+                interreflection: 0.0,
+            },
+            (None, Some(c)) => {
+                return Err(Error::InvalidParameter {
+                    name: "weft_color".into(),
+                    value: format!("{:?}", c.0),
+                    expected: "no dye: the table records no material to dye".into(),
+                })
+            }
+        };
+        if color.is_some() && !table.is_dyeable() {
+            return Err(Error::InvalidParameter {
+                name: "weft_color".into(),
+                value: format!("{:?}", color.map(|c| c.0)),
+                expected: "no dye, or a table built dyeable (TableOptions::colour)".into(),
+            });
+        }
+        if let Some(c) = color {
+            if !c.0.iter().all(|x| (0.0..=1.0).contains(x)) {
+                return Err(Error::InvalidParameter {
+                    name: "weft_color".into(),
+                    value: format!("{:?}", c.0),
+                    expected: "three values in [0, 1]".into(),
+                });
+            }
+        }
+        Ok(WovenSurface {
+            yarn: table,
+            layout: Layout::Whole,
+            weft: dyed(own, color),
+            warp: dyed(own, color),
+            yarns_per_unit: [1.0, 1.0],
+            u_max: 0.0,
+            gap: 0.0,
+        })
+    }
+
+    /// Pattern cells per unit of `u` and of `v`.
+    pub fn yarns_per_unit(&self) -> [f64; 2] {
+        self.yarns_per_unit
+    }
+
+    /// The yarns' tilt at the ends of a float, radians.
+    pub fn u_max(&self) -> f64 {
+        self.u_max
+    }
+
+    /// The fraction of each cell's width between yarns.
+    pub fn gap(&self) -> f64 {
+        self.gap
+    }
+
+    /// The weft fraction γ of the macro BRDF (1 for a flat surface or a whole table).
+    pub fn weft_fraction(&self) -> f64 {
+        match &self.layout {
+            Layout::Macro { weft_fraction } | Layout::Pattern { weft_fraction, .. } => {
+                *weft_fraction
+            }
+            _ => 1.0,
+        }
+    }
+
+    /// The lobes of the macro BRDF (weight 1 in all, less the holes): what every point blends
+    /// toward under a wide footprint; the whole BRDF of a surface without a pattern.
+    pub fn macro_lobes(&self) -> LobeMix {
+        let mut mix = LobeMix::default();
+        match &self.layout {
+            Layout::Flat { .. } | Layout::Whole => mix.push(false, 0.0, 1.0),
+            Layout::Macro { weft_fraction } | Layout::Pattern { weft_fraction, .. } => {
+                self.push_macro(&mut mix, *weft_fraction, 1.0)
+            }
+        }
+        mix
+    }
+
+    /// [`Pattern::floats`] of the pattern, as the surface uses them (empty without a tilt).
+    pub fn floats(&self) -> &[FloatPlace] {
+        match &self.layout {
+            Layout::Pattern { floats, .. } => floats,
+            _ => &[],
+        }
+    }
+
+    /// The yarn's table.
+    pub fn table(&self) -> &Arc<Table> {
+        &self.yarn
+    }
+
+    /// The weave pattern laid on the surface, if any.
+    pub fn pattern(&self) -> Option<&Pattern> {
+        match &self.layout {
+            Layout::Pattern { pattern, .. } => Some(pattern),
+            _ => None,
+        }
+    }
+
+    /// Whether the surface reads [`SurfacePoint::footprint`] (only patterns filter).
+    pub fn uses_footprint(&self) -> bool {
+        matches!(self.layout, Layout::Pattern { .. })
+    }
+
+    /// Whether the surface is a flat fiber surface (evaluated with the exact model).
+    pub fn is_flat(&self) -> bool {
+        matches!(self.layout, Layout::Flat { .. })
+    }
+
+    /// The albedos per channel of the weft (`warp = false`) or the warp.
+    pub fn albedos(&self, warp: bool) -> &[Albedos; 3] {
+        if warp {
+            &self.warp
+        } else {
+            &self.weft
+        }
+    }
+
+    /// The weight of the macro BRDF at `at`: 0 while the pixel's footprint spans less than
+    /// [`FILTER_CELLS`]`[0]` pattern cells, 1 from [`FILTER_CELLS`]`[1]` on, smooth between. The
+    /// footprint's size is the longer side of its bounding box in uv, in cells.
+    #[inline]
+    pub fn macro_weight(&self, at: &SurfacePoint) -> f64 {
+        let [a, b] = at.footprint;
+        let cells = (self.yarns_per_unit[0] * (a[0].abs() + b[0].abs()))
+            .max(self.yarns_per_unit[1] * (a[1].abs() + b[1].abs()));
+        if cells > FILTER_CELLS[0] {
+            smoothstep((cells - FILTER_CELLS[0]) / (FILTER_CELLS[1] - FILTER_CELLS[0]))
+        } else {
+            0.0
+        }
+    }
+
+    /// The lobes mixed at `at`. A flat fiber surface has one (its table, for sampling).
+    pub fn lobes(&self, at: &SurfacePoint) -> LobeMix {
+        let mut mix = LobeMix::default();
+        match &self.layout {
+            Layout::Flat { .. } | Layout::Whole => mix.push(false, 0.0, 1.0),
+            Layout::Macro { weft_fraction } => self.push_macro(&mut mix, *weft_fraction, 1.0),
+            Layout::Pattern {
+                pattern,
+                weft_fraction,
+                floats,
+            } => {
+                let w = self.macro_weight(at);
+                if w < 1.0 {
+                    self.push_cell(&mut mix, pattern, floats, at, 1.0 - w);
+                }
+                if w > 0.0 {
+                    self.push_macro(&mut mix, *weft_fraction, w);
+                }
+            }
+        }
+        mix
+    }
+
+    /// The surface's BSDF at `at`.
+    #[inline]
+    pub fn at(&self, at: &SurfacePoint) -> PointBsdf<'_> {
+        PointBsdf {
+            surface: self,
+            mix: self.lobes(at),
+        }
+    }
+
+    /// The lobes of a macro BRDF with weft fraction `g`, scaled by `scale`: each family on top
+    /// over `(1 − gap)` of its cells' width (at tilts spread uniformly over `±u_max`), and
+    /// seen flat in the other family's gaps where it is not itself in a gap.
+    fn push_macro(&self, mix: &mut LobeMix, g: f64, scale: f64) {
+        let gap = self.gap;
+        if gap == 0.0 && self.u_max == 0.0 {
+            mix.push(false, 0.0, scale * g);
+            mix.push(true, 0.0, scale * (1.0 - g));
+            return;
+        }
+        let top = [(1.0 - gap) * g, (1.0 - gap) * (1.0 - g)];
+        let below = [gap * (1.0 - gap) * (1.0 - g), gap * (1.0 - gap) * g];
+        for (k, warp) in [false, true].into_iter().enumerate() {
+            if self.u_max == 0.0 {
+                mix.push(warp, 0.0, scale * (top[k] + below[k]));
+            } else {
+                for i in 0..TILT_NODES {
+                    let t = (2 * i + 1) as f64 / TILT_NODES as f64 - 1.0;
+                    mix.push(warp, self.u_max * t, scale * top[k] / TILT_NODES as f64);
+                }
+                mix.push(warp, 0.0, scale * below[k]);
+            }
+        }
+    }
+
+    /// The lobe of the pattern cell at `at`, with weight `scale`: the yarn on top, tilted by
+    /// its place along its float; in a gap across it, the crossing yarn below (flat); in a
+    /// gap of both, nothing. A non-finite uv shades as the weft.
+    fn push_cell(
+        &self,
+        mix: &mut LobeMix,
+        pattern: &Pattern,
+        floats: &[FloatPlace],
+        at: &SurfacePoint,
+        scale: f64,
+    ) {
+        let (x, y) = (
+            at.uv[0] * self.yarns_per_unit[0],
+            at.uv[1] * self.yarns_per_unit[1],
+        );
+        if !(x.is_finite() && y.is_finite()) {
+            mix.push(false, 0.0, scale);
+            return;
+        }
+        let cell = pattern.cell_at(x, y);
+        let weft = cell.weft;
+        if self.gap == 0.0 && self.u_max == 0.0 {
+            mix.push(!weft, 0.0, scale);
+            return;
+        }
+        // A yarn covers the middle (1 − gap) of the cell across its axis: the weft spans y,
+        // the warp spans x.
+        let half = 0.5 * (1.0 - self.gap);
+        let covers = |warp: bool| ((if warp { cell.x } else { cell.y }) - 0.5).abs() < half;
+        if covers(!weft) {
+            let tilt = match floats.get(cell.row * pattern.cols() + cell.col) {
+                Some(f) if f.len > 0 => {
+                    let along = if weft { cell.x } else { cell.y };
+                    self.u_max * (1.0 - 2.0 * (f64::from(f.before) + along) / f64::from(f.len))
+                }
+                _ => 0.0,
+            };
+            mix.push(!weft, tilt, scale);
+        } else if covers(weft) {
+            mix.push(weft, 0.0, scale);
+        }
+    }
+
+    /// One lobe's BRDF per channel: the weft, or the warp (turned), in its tilted frame. A
+    /// tilted yarn's BRDF is taken per unit of cloth area: `f′ cos θ′i cos θ′o / (cos θi cos θo
+    /// cos ψ)`, its own cosines over the cloth's, and its area `1/cos ψ` per unit of cloth.
+    #[inline]
+    fn lobe_eval(&self, lobe: &Lobe, wi: Vec3, wo: Vec3) -> Rgb {
+        let (wi, wo) = into_lobe_frame(lobe, wi, wo);
+        let albedos = self.albedos(lobe.warp);
+        if lobe.tilt == 0.0 {
+            return Rgb(self.yarn.eval_dyed(wi, wo, albedos));
+        }
+        let sc = lobe.tilt.sin_cos();
+        let (ti, to) = (into_tilted(wi, sc), into_tilted(wo, sc));
+        if ti.z <= 0.0 || to.z <= 0.0 {
+            return Rgb::BLACK;
+        }
+        Rgb(self.yarn.eval_dyed(ti, to, albedos)) * (ti.z * to.z / (wi.z * wo.z * sc.1))
+    }
+
+    /// The density of drawing `drawn` for `known` from one lobe (a rotation keeps densities per
+    /// solid angle).
+    #[inline]
+    fn lobe_pdf(&self, lobe: &Lobe, known: Vec3, drawn: Vec3) -> f64 {
+        let (mut k, mut d) = into_lobe_frame(lobe, known, drawn);
+        if lobe.tilt != 0.0 {
+            let sc = lobe.tilt.sin_cos();
+            (k, d) = (into_tilted(k, sc), into_tilted(d, sc));
+            if k.z <= 0.0 || d.z <= 0.0 {
+                return 0.0;
+            }
+        }
+        self.yarn.pdf_direction(k, d)
+    }
+
+    /// Draws a direction for `known` from one lobe's table, with its density.
+    #[inline]
+    fn lobe_sample(&self, lobe: &Lobe, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
+        let mut k = if lobe.warp { to_warp(known) } else { known };
+        let sc = lobe.tilt.sin_cos();
+        if lobe.tilt != 0.0 {
+            k = into_tilted(k, sc);
+            if k.z <= 0.0 {
+                return None;
+            }
+        }
+        let (mut d, pdf) = self.yarn.sample_direction(k, u[0], u[1])?;
+        if d.z <= 0.0 || pdf.is_nan() || pdf <= 0.0 {
+            return None;
+        }
+        if lobe.tilt != 0.0 {
+            d = from_tilted(d, sc);
+        }
+        if lobe.warp {
+            d = from_warp(d);
+        }
+        (d.z > 0.0).then_some((d, pdf))
+    }
+}
+
+/// A woven surface's BSDF at one point: its mixture of lobes.
+#[derive(Clone, Copy, Debug)]
+pub struct PointBsdf<'a> {
+    surface: &'a WovenSurface,
+    mix: LobeMix,
+}
+
+impl PointBsdf<'_> {
+    /// The lobes mixed here.
+    pub fn mix(&self) -> &LobeMix {
+        &self.mix
+    }
+
+    fn pdf_mix(&self, known: Vec3, drawn: Vec3) -> f64 {
+        let mut p = 0.0;
+        for l in self.mix.lobes() {
+            p += l.weight * self.surface.lobe_pdf(l, known, drawn);
+        }
+        let total = self.mix.total();
+        if total == 1.0 || total == 0.0 {
+            p
+        } else {
+            p / total
+        }
+    }
+}
+
+impl Bsdf for PointBsdf<'_> {
+    type Value = Rgb;
+
+    fn lobes(&self) -> LobeFlags {
+        let flags = LobeFlags::REFLECTION | LobeFlags::GLOSSY | LobeFlags::DIFFUSE;
+        let flags = flags | LobeFlags::ANISOTROPIC;
+        if self.surface.uses_footprint() {
+            flags | LobeFlags::SPATIALLY_VARYING
+        } else {
+            flags
+        }
+    }
+
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return Rgb::BLACK;
+        }
+        if let Layout::Flat { model } = &self.surface.layout {
+            let affine = model.eval_affine(wi, wo);
+            return Rgb(self
+                .surface
+                .weft
+                .map(|a| affine.at(a.diffuse, a.interreflection).max(0.0)));
+        }
+        let mut f = Rgb::BLACK;
+        for l in self.mix.lobes() {
+            f += self.surface.lobe_eval(l, wi, wo) * l.weight;
+        }
+        f
+    }
+
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return 0.0;
+        }
+        let (known, drawn) = known_and_drawn(wi, wo, mode);
+        self.pdf_mix(known, drawn)
+    }
+
+    fn sample(
+        &self,
+        known: Vec3,
+        uc: f64,
+        u: [f64; 2],
+        mode: Transport,
+    ) -> Option<BsdfSample<Rgb>> {
+        if known.z <= 0.0 {
+            return None;
+        }
+        // A lobe with probability ∝ its weight; the density is the mixture's.
+        let lobes = self.mix.lobes();
+        let last = lobes.len().checked_sub(1)?;
+        let x = uc * self.mix.total();
+        let mut before = 0.0;
+        let mut pick = 0;
+        while pick < last && x >= before + lobes[pick].weight {
+            before += lobes[pick].weight;
+            pick += 1;
+        }
+        let (drawn, pdf) = self.surface.lobe_sample(&lobes[pick], known, u)?;
+        let pdf = if lobes.len() == 1 {
+            pdf
+        } else {
+            self.pdf_mix(known, drawn)
+        };
+        let (wi, wo) = pair_of(known, drawn, mode);
+        (pdf > 0.0 && pdf.is_finite()).then(|| BsdfSample {
+            wi,
+            wo,
+            f: self.eval(wi, wo),
+            pdf,
+            lobe: LobeFlags::REFLECTION | LobeFlags::GLOSSY,
+        })
+    }
+}
+
+/// The albedos per channel for a dye `colour` of a material whose own albedos are `own`.
+fn dyed(own: Albedos, colour: Option<Rgb>) -> [Albedos; 3] {
+    let Some(c) = colour else {
+        return [own; 3];
+    };
+    c.0.map(|c| Albedos {
+        diffuse: c.clamp(0.0, 0.999),
+        interreflection: if own.diffuse > 0.0 {
+            (own.interreflection * c / own.diffuse).clamp(0.0, 1.0)
+        } else {
+            own.interreflection
+        },
+    })
+}
+
+/// A pair of directions in the frame of a lobe's family (turned for the warp; not yet tilted).
+#[inline]
+fn into_lobe_frame(lobe: &Lobe, a: Vec3, b: Vec3) -> (Vec3, Vec3) {
+    if lobe.warp {
+        (to_warp(a), to_warp(b))
+    } else {
+        (a, b)
+    }
+}
+
+/// A direction in the frame of a yarn tilted by `(sin, cos)` of its tilt: the axis `x` turned
+/// toward `+z`.
+#[inline]
+fn into_tilted(d: Vec3, (s, c): (f64, f64)) -> Vec3 {
+    Vec3::new(c * d.x + s * d.z, d.y, c * d.z - s * d.x)
+}
+
+/// Back from a tilted yarn's frame.
+#[inline]
+fn from_tilted(d: Vec3, (s, c): (f64, f64)) -> Vec3 {
+    Vec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
+}
+
+/// Into the frame of a warp yarn: a 90° turn about `z` taking `y` (the warp) to `x`.
+#[inline]
+fn to_warp(d: Vec3) -> Vec3 {
+    Vec3::new(d.y, -d.x, d.z)
+}
+
+/// Back from the warp yarn's frame.
+#[inline]
+fn from_warp(d: Vec3) -> Vec3 {
+    Vec3::new(-d.y, d.x, d.z)
+}
+
+/// `x ↦ 3x² − 2x³` on `[0, 1]`, clamped.
+#[inline]
+fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
