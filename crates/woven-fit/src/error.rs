@@ -5,7 +5,8 @@
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum FitError {
-    /// A `--fix`, `--free` or `--init` value is out of range or malformed.
+    /// A parameter's value (given to `fix`, or an initial material's) is out of range or
+    /// malformed, or a parameter is not one the model can take.
     #[error("invalid parameter `{name}` = {value}: expected {expected}")]
     InvalidParameter {
         /// The parameter as the user named it.

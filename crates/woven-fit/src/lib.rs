@@ -32,7 +32,7 @@
 //! ```
 //!
 //! - [`data`]: measurements (one type for every source) and the readers that produce them.
-//! - [`params`]: the parameter registry of each model: names, bounds, transforms, `--fix`/`--free`.
+//! - [`params`]: the parameter registry of each model: names, bounds, transforms, which are free.
 //! - [`evaluate`]: a parameter set made ready to evaluate at every measurement (the woven model,
 //!   the Lambert and microfacet baselines).
 //! - [`fit`](mod@fit): the objective (log or relative residuals) and the optimizer (quasi-random

@@ -21,7 +21,6 @@ use crate::error::FitError;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use woven::fiber::{FiberModel, Ior};
 use woven::material::{Material, Weave};
-use woven::yarn::YarnParams;
 
 /// Which model is fitted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -45,7 +44,7 @@ impl ModelKind {
         ModelKind::Cloth,
     ];
 
-    /// The model's name on the command line.
+    /// The model's name (in reports and files, and what [`parse`](Self::parse) reads).
     pub fn name(self) -> &'static str {
         match self {
             ModelKind::Cloth => "cloth",
@@ -58,13 +57,13 @@ impl ModelKind {
     /// Parses a model name.
     ///
     /// # Errors
-    /// [`FitError::InvalidParameter`] naming `--model` for an unknown name.
+    /// [`FitError::InvalidParameter`] naming `model` for an unknown name.
     pub fn parse(name: &str) -> Result<Self, FitError> {
         ModelKind::ALL
             .into_iter()
             .find(|m| m.name() == name)
             .ok_or_else(|| {
-                FitError::invalid("--model", name, "one of cloth, fiber, lambert, microfacet")
+                FitError::invalid("model", name, "one of cloth, fiber, lambert, microfacet")
             })
     }
 
@@ -151,7 +150,8 @@ fn logistic(u: f64) -> f64 {
 /// One parameter of a fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Param {
-    /// Its name in `--fix`, `--free` and reports (`fiber.roughness`, `fiber.diffuse.g`).
+    /// Its name in [`ParamSet::fix`], [`ParamSet::free`] and reports (`fiber.roughness`,
+    /// `fiber.diffuse.g`).
     pub name: String,
     /// What it is.
     pub quantity: Quantity,
@@ -172,27 +172,6 @@ pub struct Param {
 }
 
 impl Param {
-    fn new(
-        name: &str,
-        quantity: Quantity,
-        value: f64,
-        (lo, hi): (f64, f64),
-        transform: Transform,
-        start: (f64, f64),
-    ) -> Self {
-        Param {
-            name: name.to_string(),
-            quantity,
-            channel: 0,
-            value,
-            lo,
-            hi,
-            transform,
-            free: false,
-            start,
-        }
-    }
-
     /// The unconstrained variable of a natural value (clamped inside the bounds).
     pub fn to_u(&self, x: f64) -> f64 {
         match self.transform {
@@ -289,6 +268,353 @@ impl Param {
 /// The channels' suffixes.
 const CHANNELS: [&str; 3] = ["r", "g", "b"];
 
+/// One row of a model's parameter table: everything [`ParamSet::new`] needs to make the
+/// parameter, and [`ParamSet::material`] to put its value back into a material.
+struct Spec {
+    /// The name in [`ParamSet::fix`], [`ParamSet::free`] and reports.
+    name: &'static str,
+    /// What it is.
+    quantity: Quantity,
+    /// One parameter per colour channel (`.r`, `.g`, `.b`) for colour data.
+    per_channel: bool,
+    /// `(lo, hi)`, natural units.
+    bounds: (f64, f64),
+    /// The map to the optimizer's variable.
+    transform: Transform,
+    /// The multi-start's range.
+    start: (f64, f64),
+    /// Where the initial value comes from and the fitted value goes.
+    home: Home,
+    /// Whether the fit adjusts it unless told otherwise.
+    free: FreeBy,
+}
+
+/// Where a parameter's initial value comes from, and where its fitted value goes.
+#[derive(Clone, Copy)]
+enum Home {
+    /// The fit's own (a baseline's parameter, `rotation`, `scale`): it starts at this value and
+    /// has no place in a material file.
+    Own(f64),
+    /// A quantity of the initial material: `read` gives the initial value (`None` where the
+    /// material has no such quantity, and so the fit has no such parameter: an isotropic yarn
+    /// has no twist); `write` sets the fitted value (the channels' mean), given whether the fit
+    /// adjusted it, into the fitted material.
+    Material {
+        read: fn(&Material) -> Option<f64>,
+        write: fn(&mut Material, f64, bool),
+    },
+}
+
+/// When a parameter is free unless the caller fixes or frees it.
+#[derive(Clone, Copy)]
+enum FreeBy {
+    /// Always free.
+    Always,
+    /// Always held.
+    Never,
+    /// Free for data calibrated only up to a factor.
+    Relative,
+    /// Free when the initial yarn is twisted (`twist_std > 0`).
+    Twisted,
+    /// Free unless the initial yarn is isotropic (whose BRDF turns with nothing).
+    Anisotropic,
+}
+
+/// The fiber's `η`: its value at the default wavelength; a fixed Cauchy index stays
+/// dispersive, a fitted one becomes a constant.
+const FIBER_ETA: Spec = Spec {
+    name: "fiber.eta",
+    quantity: Quantity::Eta,
+    per_channel: false,
+    bounds: (1.01, 3.0),
+    transform: Transform::Logit,
+    start: (1.3, 1.8),
+    home: Home::Material {
+        read: |m| Some(m.fiber.eta.at(woven::fiber::DEFAULT_WAVELENGTH_NM)),
+        write: |m, eta, free| {
+            if free || matches!(m.fiber.eta, Ior::Constant(_)) {
+                m.fiber.eta = Ior::Constant(eta);
+            }
+        },
+    },
+    free: FreeBy::Never,
+};
+
+/// The fiber's `σ_h/τ` (the fitted material's fiber is the rough limit).
+const FIBER_ROUGHNESS: Spec = Spec {
+    name: "fiber.roughness",
+    quantity: Quantity::Roughness,
+    per_channel: false,
+    bounds: (0.005, 2.0),
+    transform: Transform::LogLogit,
+    start: (0.02, 0.6),
+    home: Home::Material {
+        read: |m| Some(m.fiber.model.roughness()),
+        write: |m, roughness, _| m.fiber.model = FiberModel::Rough { roughness },
+    },
+    free: FreeBy::Always,
+};
+
+/// The fiber's diffuse albedo `ρ0`.
+const FIBER_DIFFUSE: Spec = Spec {
+    name: "fiber.diffuse",
+    quantity: Quantity::Diffuse,
+    per_channel: true,
+    bounds: (0.0, 0.99),
+    transform: Transform::Logit,
+    start: (0.01, 0.8),
+    home: Home::Material {
+        read: |m| Some(m.fiber.diffuse),
+        write: |m, diffuse, _| m.fiber.diffuse = diffuse,
+    },
+    free: FreeBy::Always,
+};
+
+/// The factor on the whole BRDF.
+const SCALE: Spec = Spec {
+    name: "scale",
+    quantity: Quantity::Scale,
+    per_channel: false,
+    bounds: (0.0, f64::INFINITY),
+    transform: Transform::Log,
+    start: (0.3, 3.0),
+    home: Home::Own(1.0),
+    free: FreeBy::Relative,
+};
+
+/// A row for a field of the yarn, free by default: `yarn_spec!(name, quantity, field,
+/// per_channel, bounds, transform, start)`.
+macro_rules! yarn_spec {
+    ($name:literal, $quantity:ident, $field:ident, $per_channel:literal, $bounds:expr,
+     $transform:ident, $start:expr) => {
+        Spec {
+            name: $name,
+            quantity: Quantity::$quantity,
+            per_channel: $per_channel,
+            bounds: $bounds,
+            transform: Transform::$transform,
+            start: $start,
+            home: Home::Material {
+                read: |m| m.yarn.map(|y| y.$field),
+                write: |m, value, _| {
+                    if let Some(y) = m.yarn.as_mut() {
+                        y.$field = value;
+                    }
+                },
+            },
+            free: FreeBy::Always,
+        }
+    };
+}
+
+/// `lambert`: `f = diffuse/π`.
+const LAMBERT: &[Spec] = &[Spec {
+    name: "diffuse",
+    quantity: Quantity::Diffuse,
+    per_channel: true,
+    bounds: (0.0, f64::INFINITY),
+    transform: Transform::Log,
+    start: (0.02, 1.0),
+    home: Home::Own(0.5),
+    free: FreeBy::Always,
+}];
+
+/// `microfacet`: `f = diffuse/π + specular·F·D·G/(4 cos θi cos θr)`.
+const MICROFACET: &[Spec] = &[
+    Spec {
+        name: "diffuse",
+        quantity: Quantity::Diffuse,
+        per_channel: true,
+        bounds: (0.0, f64::INFINITY),
+        transform: Transform::Log,
+        start: (0.01, 1.0),
+        home: Home::Own(0.3),
+        free: FreeBy::Always,
+    },
+    Spec {
+        name: "specular",
+        quantity: Quantity::Specular,
+        per_channel: false,
+        bounds: (0.0, f64::INFINITY),
+        transform: Transform::Log,
+        start: (0.01, 3.0),
+        home: Home::Own(0.3),
+        free: FreeBy::Always,
+    },
+    Spec {
+        name: "alpha",
+        quantity: Quantity::Alpha,
+        per_channel: false,
+        bounds: (0.005, 4.0),
+        transform: Transform::LogLogit,
+        start: (0.02, 1.0),
+        home: Home::Own(0.3),
+        free: FreeBy::Always,
+    },
+    Spec {
+        name: "eta",
+        quantity: Quantity::Eta,
+        per_channel: false,
+        bounds: (1.01, 3.0),
+        transform: Transform::Logit,
+        start: (1.3, 1.8),
+        home: Home::Own(1.5),
+        free: FreeBy::Never,
+    },
+];
+
+/// `fiber`: the flat fiber surface.
+const FIBER: &[Spec] = &[FIBER_ETA, FIBER_ROUGHNESS, FIBER_DIFFUSE, SCALE];
+
+/// `cloth`: the fiber, the yarn, the weave and its turn in the sample plane.
+const CLOTH: &[Spec] = &[
+    FIBER_ETA,
+    FIBER_ROUGHNESS,
+    FIBER_DIFFUSE,
+    yarn_spec!(
+        "yarn.lateral_length",
+        LateralLength,
+        lateral_length,
+        false,
+        (0.01, 100.0),
+        LogLogit,
+        (0.1, 20.0)
+    ),
+    yarn_spec!(
+        "yarn.slope_mean",
+        SlopeMean,
+        slope_mean,
+        false,
+        (0.0, FRAC_PI_2 - 1e-3),
+        Logit,
+        (0.0, 1.2)
+    ),
+    yarn_spec!(
+        "yarn.slope_std",
+        SlopeStd,
+        slope_std,
+        false,
+        (0.0, PI),
+        Logit,
+        (0.05, 1.5)
+    ),
+    yarn_spec!(
+        "yarn.interreflection",
+        Interreflection,
+        interreflection,
+        false,
+        (0.0, 0.999),
+        Logit,
+        (0.0, 0.8)
+    ),
+    yarn_spec!(
+        "yarn.interreflection_albedo",
+        InterreflectionAlbedo,
+        interreflection_albedo,
+        true,
+        (0.0, 1.0),
+        Logit,
+        (0.05, 0.95)
+    ),
+    Spec {
+        name: "yarn.twist_std",
+        quantity: Quantity::TwistStd,
+        per_channel: false,
+        bounds: (0.0, PI),
+        transform: Transform::Logit,
+        start: (0.05, 1.0),
+        home: Home::Material {
+            // An isotropic yarn has no twist to fit.
+            read: |m| m.yarn.filter(|y| !y.isotropic).map(|y| y.twist_std),
+            write: |m, twist_std, _| {
+                if let Some(y) = m.yarn.as_mut() {
+                    y.twist_std = twist_std;
+                }
+            },
+        },
+        free: FreeBy::Twisted,
+    },
+    Spec {
+        name: "weave.weft_fraction",
+        quantity: Quantity::WeftFraction,
+        per_channel: false,
+        bounds: (0.0, 1.0),
+        transform: Transform::Logit,
+        start: (0.0, 1.0),
+        home: Home::Material {
+            read: |m| Some(m.weft_fraction()),
+            write: |m, gamma, free| {
+                // A weave pattern stays when its γ was not fitted.
+                let keep = matches!(m.weave, Some(Weave::Pattern { .. }))
+                    && !free
+                    && (gamma - m.weft_fraction()).abs() < 1e-12;
+                if !keep {
+                    m.weave = Some(Weave::WeftFraction(gamma));
+                }
+            },
+        },
+        free: FreeBy::Anisotropic,
+    },
+    Spec {
+        name: "rotation",
+        quantity: Quantity::Rotation,
+        per_channel: false,
+        bounds: (-PI, PI),
+        transform: Transform::Linear,
+        start: (-FRAC_PI_4, FRAC_PI_4),
+        home: Home::Own(0.0),
+        free: FreeBy::Anisotropic,
+    },
+    SCALE,
+];
+
+/// The parameter table of `model`, in the order of [`ParamSet::params`].
+fn specs(model: ModelKind) -> &'static [Spec] {
+    match model {
+        ModelKind::Lambert => LAMBERT,
+        ModelKind::Microfacet => MICROFACET,
+        ModelKind::Fiber => FIBER,
+        ModelKind::Cloth => CLOTH,
+    }
+}
+
+/// The initial material of `model` (`None` for the baselines), checked for what the fitter
+/// needs.
+fn template(model: ModelKind, init: Option<&Material>) -> Result<Option<Material>, FitError> {
+    if !model.is_material() {
+        return match init {
+            Some(m) => Err(FitError::invalid(
+                "init",
+                m.name.as_deref().unwrap_or("(a material)"),
+                format!(
+                    "no initial material for model {model}: it is not a woven material (its \
+                     parameters start at their defaults, or at the values given to `fix`)"
+                ),
+            )),
+            None => Ok(None),
+        };
+    }
+    let m = match init {
+        Some(m) => m.clone(),
+        None => Material::preset(DEFAULT_CLOTH_INIT)?,
+    };
+    if let FiberModel::Htsg { .. } = m.fiber.model {
+        return Err(FitError::invalid(
+            "fiber.model",
+            "\"htsg\"",
+            "an initial material with model = \"rough\" (the fitter adjusts σ_h/τ)",
+        ));
+    }
+    if model == ModelKind::Cloth && m.yarn.is_none() {
+        return Err(FitError::invalid(
+            "init",
+            m.name.as_deref().unwrap_or("(material)"),
+            "a material with a [yarn] table for model cloth (or model fiber)",
+        ));
+    }
+    Ok(Some(m))
+}
+
 /// The parameters of one fit: the model, every parameter (free and fixed) and, for the woven
 /// models, the material everything not fitted comes from.
 #[derive(Clone, Debug, PartialEq)]
@@ -304,250 +630,71 @@ pub struct ParamSet {
     pub template: Option<Material>,
 }
 
-/// The initial material of a `cloth` fit when `--init` is not given: the twisted belt cloth.
+/// The initial material of a `cloth` or `fiber` fit when none is given: the twisted belt cloth.
 pub const DEFAULT_CLOTH_INIT: &str = "belt-cloth";
 
 impl ParamSet {
     /// The parameters of `model` for data with `channels` colour channels (1 or 3), starting at
     /// `init` (`cloth` and `fiber`: a material; `None` takes the belt-cloth preset; the baselines
     /// take no material). `relative`: the data is calibrated only up to a factor, so `scale` is
-    /// free.
+    /// free. The model's table of [`Spec`]s gives every parameter.
     ///
     /// # Errors
-    /// [`FitError::InvalidParameter`] for a material the fitter cannot use (an `htsg` fiber, a
-    /// flat surface for `cloth`), or for `init` given to a baseline.
+    /// [`FitError::InvalidParameter`] for `channels` other than 1 or 3, for a material the fitter
+    /// cannot use (an `htsg` fiber, a flat surface for `cloth`), or for `init` given to a baseline.
     pub fn new(
         model: ModelKind,
         init: Option<&Material>,
         channels: usize,
         relative: bool,
     ) -> Result<Self, FitError> {
-        assert!(channels == 1 || channels == 3, "1 or 3 channels");
+        if channels != 1 && channels != 3 {
+            return Err(FitError::invalid(
+                "channels",
+                channels,
+                "1 (single-channel data) or 3 (RGB)",
+            ));
+        }
+        let template = template(model, init)?;
+        let yarn = template.as_ref().and_then(|m| m.yarn);
         let mut params = Vec::new();
-        let per_channel = |params: &mut Vec<Param>, p: Param| {
-            if channels == 1 {
-                params.push(p);
+        for spec in specs(model) {
+            let value = match spec.home {
+                Home::Own(value) => value,
+                Home::Material { read, .. } => match template.as_ref().and_then(read) {
+                    Some(value) => value,
+                    // The material has no such quantity (an isotropic yarn has no twist).
+                    None => continue,
+                },
+            };
+            let free = match spec.free {
+                FreeBy::Always => true,
+                FreeBy::Never => false,
+                FreeBy::Relative => relative,
+                FreeBy::Twisted => yarn.is_some_and(|y| y.twist_std > 0.0),
+                FreeBy::Anisotropic => yarn.is_some_and(|y| !y.isotropic),
+            };
+            let param = Param {
+                name: spec.name.to_string(),
+                quantity: spec.quantity,
+                channel: 0,
+                value,
+                lo: spec.bounds.0,
+                hi: spec.bounds.1,
+                transform: spec.transform,
+                free,
+                start: spec.start,
+            };
+            if spec.per_channel && channels == 3 {
+                for (channel, suffix) in CHANNELS.iter().enumerate() {
+                    params.push(Param {
+                        name: format!("{}.{suffix}", spec.name),
+                        channel,
+                        ..param.clone()
+                    });
+                }
             } else {
-                for (c, suffix) in CHANNELS.iter().enumerate() {
-                    let mut q = p.clone();
-                    q.name = format!("{}.{suffix}", p.name);
-                    q.channel = c;
-                    params.push(q);
-                }
-            }
-        };
-        let template = match model {
-            ModelKind::Lambert | ModelKind::Microfacet => {
-                if init.is_some() {
-                    return Err(FitError::invalid(
-                        "--init",
-                        "(a material)",
-                        format!(
-                            "no --init for --model {model}: it is not a woven material (set its \
-                             starting values with --fix and --free)"
-                        ),
-                    ));
-                }
-                None
-            }
-            ModelKind::Cloth | ModelKind::Fiber => {
-                let m = match init {
-                    Some(m) => m.clone(),
-                    None => Material::preset(DEFAULT_CLOTH_INIT)?,
-                };
-                if let FiberModel::Htsg { .. } = m.fiber.model {
-                    return Err(FitError::invalid(
-                        "fiber.model",
-                        "\"htsg\"",
-                        "an initial material with model = \"rough\" (the fitter adjusts σ_h/τ)",
-                    ));
-                }
-                if model == ModelKind::Cloth && m.yarn.is_none() {
-                    return Err(FitError::invalid(
-                        "--init",
-                        m.name.as_deref().unwrap_or("(material)"),
-                        "a material with a [yarn] table for --model cloth (or use --model fiber)",
-                    ));
-                }
-                Some(m)
-            }
-        };
-        match model {
-            ModelKind::Lambert => {
-                let mut d = Param::new(
-                    "diffuse",
-                    Quantity::Diffuse,
-                    0.5,
-                    (0.0, f64::INFINITY),
-                    Transform::Log,
-                    (0.02, 1.0),
-                );
-                d.free = true;
-                per_channel(&mut params, d);
-            }
-            ModelKind::Microfacet => {
-                let mut d = Param::new(
-                    "diffuse",
-                    Quantity::Diffuse,
-                    0.3,
-                    (0.0, f64::INFINITY),
-                    Transform::Log,
-                    (0.01, 1.0),
-                );
-                d.free = true;
-                per_channel(&mut params, d);
-                let mut s = Param::new(
-                    "specular",
-                    Quantity::Specular,
-                    0.3,
-                    (0.0, f64::INFINITY),
-                    Transform::Log,
-                    (0.01, 3.0),
-                );
-                s.free = true;
-                params.push(s);
-                let mut a = Param::new(
-                    "alpha",
-                    Quantity::Alpha,
-                    0.3,
-                    (0.005, 4.0),
-                    Transform::LogLogit,
-                    (0.02, 1.0),
-                );
-                a.free = true;
-                params.push(a);
-                params.push(Param::new(
-                    "eta",
-                    Quantity::Eta,
-                    1.5,
-                    (1.01, 3.0),
-                    Transform::Logit,
-                    (1.3, 1.8),
-                ));
-            }
-            ModelKind::Cloth | ModelKind::Fiber => {
-                let m = template.as_ref().expect("a template for woven models");
-                let f = &m.fiber;
-                let eta = f.eta.at(woven::fiber::DEFAULT_WAVELENGTH_NM);
-                params.push(Param::new(
-                    "fiber.eta",
-                    Quantity::Eta,
-                    eta,
-                    (1.01, 3.0),
-                    Transform::Logit,
-                    (1.3, 1.8),
-                ));
-                let mut r = Param::new(
-                    "fiber.roughness",
-                    Quantity::Roughness,
-                    f.model.roughness(),
-                    (0.005, 2.0),
-                    Transform::LogLogit,
-                    (0.02, 0.6),
-                );
-                r.free = true;
-                params.push(r);
-                let mut d = Param::new(
-                    "fiber.diffuse",
-                    Quantity::Diffuse,
-                    f.diffuse,
-                    (0.0, 0.99),
-                    Transform::Logit,
-                    (0.01, 0.8),
-                );
-                d.free = true;
-                per_channel(&mut params, d);
-                if let (ModelKind::Cloth, Some(y)) = (model, &m.yarn) {
-                    let free = |mut p: Param| {
-                        p.free = true;
-                        p
-                    };
-                    params.push(free(Param::new(
-                        "yarn.lateral_length",
-                        Quantity::LateralLength,
-                        y.lateral_length,
-                        (0.01, 100.0),
-                        Transform::LogLogit,
-                        (0.1, 20.0),
-                    )));
-                    params.push(free(Param::new(
-                        "yarn.slope_mean",
-                        Quantity::SlopeMean,
-                        y.slope_mean,
-                        (0.0, FRAC_PI_2 - 1e-3),
-                        Transform::Logit,
-                        (0.0, 1.2),
-                    )));
-                    params.push(free(Param::new(
-                        "yarn.slope_std",
-                        Quantity::SlopeStd,
-                        y.slope_std,
-                        (0.0, PI),
-                        Transform::Logit,
-                        (0.05, 1.5),
-                    )));
-                    params.push(free(Param::new(
-                        "yarn.interreflection",
-                        Quantity::Interreflection,
-                        y.interreflection,
-                        (0.0, 0.999),
-                        Transform::Logit,
-                        (0.0, 0.8),
-                    )));
-                    per_channel(
-                        &mut params,
-                        free(Param::new(
-                            "yarn.interreflection_albedo",
-                            Quantity::InterreflectionAlbedo,
-                            y.interreflection_albedo,
-                            (0.0, 1.0),
-                            Transform::Logit,
-                            (0.05, 0.95),
-                        )),
-                    );
-                    if !y.isotropic {
-                        let mut t = Param::new(
-                            "yarn.twist_std",
-                            Quantity::TwistStd,
-                            y.twist_std,
-                            (0.0, PI),
-                            Transform::Logit,
-                            (0.05, 1.0),
-                        );
-                        t.free = y.twist_std > 0.0;
-                        params.push(t);
-                    }
-                    let mut g = Param::new(
-                        "weave.weft_fraction",
-                        Quantity::WeftFraction,
-                        m.weft_fraction(),
-                        (0.0, 1.0),
-                        Transform::Logit,
-                        (0.0, 1.0),
-                    );
-                    g.free = !y.isotropic;
-                    params.push(g);
-                    let mut rot = Param::new(
-                        "rotation",
-                        Quantity::Rotation,
-                        0.0,
-                        (-PI, PI),
-                        Transform::Linear,
-                        (-FRAC_PI_4, FRAC_PI_4),
-                    );
-                    rot.free = !y.isotropic;
-                    params.push(rot);
-                }
-                let mut s = Param::new(
-                    "scale",
-                    Quantity::Scale,
-                    1.0,
-                    (0.0, f64::INFINITY),
-                    Transform::Log,
-                    (0.3, 3.0),
-                );
-                s.free = relative;
-                params.push(s);
+                params.push(param);
             }
         }
         Ok(ParamSet {
@@ -591,7 +738,7 @@ impl ParamSet {
         Ok(hits)
     }
 
-    /// `--fix name=value`: sets the parameter (every channel of a per-channel one) and holds it.
+    /// Sets the parameter (every channel of a per-channel one) and holds it.
     ///
     /// # Errors
     /// [`FitError::UnknownParameter`], or [`FitError::InvalidParameter`] for a value outside
@@ -612,14 +759,14 @@ impl ParamSet {
         Ok(())
     }
 
-    /// Parses and applies a `--fix name=value` argument.
+    /// Parses and applies `name=value` text with [`fix`](Self::fix).
     ///
     /// # Errors
     /// As [`fix`](Self::fix), and for text that is not `name=number`.
     pub fn fix_arg(&mut self, arg: &str) -> Result<(), FitError> {
         let Some((name, value)) = arg.split_once('=') else {
             return Err(FitError::invalid(
-                "--fix",
+                "fix",
                 arg,
                 "name=value, e.g. fiber.roughness=0.1",
             ));
@@ -631,8 +778,8 @@ impl ParamSet {
         self.fix(name.trim(), v)
     }
 
-    /// `--free name`: lets the fit adjust the parameter (every channel). A value sitting on a
-    /// bound (a twist of 0, say) moves to the middle of its start range, where it can move.
+    /// Lets the fit adjust the parameter (every channel). A value sitting on a bound (a twist of
+    /// 0, say) moves to the middle of its start range, where it can move.
     ///
     /// # Errors
     /// [`FitError::UnknownParameter`].
@@ -683,51 +830,25 @@ impl ParamSet {
     /// file: [`crate::FitResult`] reports them. `None` for the baselines.
     pub fn material(&self) -> Option<Material> {
         let mut m = self.template.clone()?;
-        let mean = |q| {
-            let v = self.channels_of(q);
-            (v[0] + v[1] + v[2]) / 3.0
-        };
         if self.model == ModelKind::Fiber {
             m.yarn = None;
             m.weave = None;
         }
-        let eta_param = self.params.iter().find(|p| p.quantity == Quantity::Eta);
-        if let Some(p) = eta_param {
-            // A fixed Cauchy index stays dispersive; a fitted one is a constant.
-            if p.free || matches!(m.fiber.eta, Ior::Constant(_)) {
-                m.fiber.eta = Ior::Constant(p.value);
-            }
-        }
-        m.fiber.model = FiberModel::Rough {
-            roughness: self
-                .get(Quantity::Roughness, 0)
-                .unwrap_or(m.fiber.model.roughness()),
-        };
-        m.fiber.diffuse = mean(Quantity::Diffuse);
-        if let Some(y) = m.yarn.as_mut() {
-            let get = |q, old: f64| self.get(q, 0).unwrap_or(old);
-            *y = YarnParams {
-                lateral_length: get(Quantity::LateralLength, y.lateral_length),
-                slope_mean: get(Quantity::SlopeMean, y.slope_mean),
-                slope_std: get(Quantity::SlopeStd, y.slope_std),
-                interreflection: get(Quantity::Interreflection, y.interreflection),
-                interreflection_albedo: mean(Quantity::InterreflectionAlbedo),
-                twist_std: get(Quantity::TwistStd, y.twist_std),
-                isotropic: y.isotropic,
+        for spec in specs(self.model) {
+            let Home::Material { write, .. } = spec.home else {
+                continue;
             };
-            let gamma_param = self
-                .params
-                .iter()
-                .find(|p| p.quantity == Quantity::WeftFraction);
-            if let Some(p) = gamma_param {
-                // A weave pattern stays when its γ was not fitted.
-                let keep = matches!(m.weave, Some(Weave::Pattern { .. }))
-                    && !p.free
-                    && (p.value - m.weft_fraction()).abs() < 1e-12;
-                if !keep {
-                    m.weave = Some(Weave::WeftFraction(p.value));
-                }
-            }
+            let mut params = self.params.iter().filter(|p| p.quantity == spec.quantity);
+            let Some(first) = params.next() else {
+                continue; // a quantity the material does not have
+            };
+            let value = if spec.per_channel {
+                let v = self.channels_of(spec.quantity);
+                (v[0] + v[1] + v[2]) / 3.0
+            } else {
+                first.value
+            };
+            write(&mut m, value, first.free);
         }
         Some(m)
     }
@@ -901,6 +1022,55 @@ mod tests {
         let back = Material::from_toml_str(&m.to_toml_string(), "fitted.toml").unwrap();
         assert_eq!(back, m);
         assert!(ParamSet::new(ModelKind::Lambert, Some(&m), 1, false).is_err());
+    }
+
+    #[test]
+    fn new_refuses_what_it_cannot_use_without_panicking() {
+        let preset = |name| Some(Material::preset(name).unwrap());
+        let mut htsg = Material::preset("silk").unwrap();
+        htsg.fiber.model = FiberModel::Htsg {
+            sigma_h_um: 0.1,
+            tau_um: 1.0,
+        };
+        let flat = Material::flat(woven::fiber::FiberParams::rough(1.5, 0.1, 0.1));
+        let inits = [
+            None,
+            preset("belt-cloth"),
+            preset("silk"),
+            preset("polyester-sateen"),
+            Some(flat),
+            Some(htsg),
+        ];
+        for model in ModelKind::ALL {
+            for channels in 0..6 {
+                for (k, init) in inits.iter().enumerate() {
+                    let usable = match init {
+                        None => true,
+                        Some(m) => {
+                            model.is_material()
+                                && !matches!(m.fiber.model, FiberModel::Htsg { .. })
+                                && (model == ModelKind::Fiber || m.yarn.is_some())
+                        }
+                    };
+                    let want = usable && (channels == 1 || channels == 3);
+                    match ParamSet::new(model, init.as_ref(), channels, k % 2 == 0) {
+                        Ok(set) => {
+                            assert!(want, "{model}, {channels} channels, init {k}: accepted");
+                            assert_eq!(set.material().is_some(), model.is_material());
+                            for p in &set.params {
+                                assert!(p.value.is_finite() && p.lo <= p.value && p.value <= p.hi);
+                            }
+                        }
+                        Err(e) => {
+                            let e = e.to_string();
+                            assert!(!want, "{model}, {channels} channels, init {k}: {e}");
+                            // The library names its own parameters, never a command-line flag.
+                            assert!(!e.contains("--"), "{e}");
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

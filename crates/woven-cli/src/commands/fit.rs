@@ -215,7 +215,13 @@ fn param_set(
         Some(woven_fit::data::Value::Rgb(_)) => 3,
         _ => 1,
     };
-    let mut set = ParamSet::new(model, init.as_ref(), channels, dataset.relative)?;
+    // The library names its parameters (`init`, `fix`); the context names the flags.
+    let mut set = ParamSet::new(model, init.as_ref(), channels, dataset.relative).with_context(
+        || match (&args.init, &init) {
+            (Some(src), Some(_)) => format!("--model {model} --init {src}"),
+            _ => format!("--model {model}"),
+        },
+    )?;
     for f in &args.fix {
         set.fix_arg(f).with_context(|| format!("--fix {f}"))?;
     }
