@@ -48,8 +48,10 @@ fn yarns_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<[f64; 2]> {
     if let Ok(n) = obj.extract::<f64>() {
         return Ok([n, n]);
     }
-    if let Ok((a, b)) = obj.extract::<(f64, f64)>() {
-        return Ok([a, b]);
+    if let Ok(v) = obj.extract::<Vec<f64>>() {
+        if let [a, b] = v[..] {
+            return Ok([a, b]);
+        }
     }
     Err(PyValueError::new_err(format!(
         "`yarns_per_unit` = {obj}: expected a number or a pair (n_u, n_v)"
@@ -108,6 +110,36 @@ fn point(uv: &Dirs, footprint: &Option<Dirs>, i: usize) -> SurfacePoint {
     SurfacePoint {
         uv: [u, v],
         footprint,
+    }
+}
+
+/// Per-point dyes: (N, 3) or (3,) colours.
+struct Dyes {
+    weft: Option<Dirs>,
+    warp: Option<Dirs>,
+}
+
+impl Dyes {
+    fn extract(weft: Option<&Bound<'_, PyAny>>, warp: Option<&Bound<'_, PyAny>>) -> PyResult<Dyes> {
+        let get = |o: Option<&Bound<'_, PyAny>>, name| {
+            o.filter(|o| !o.is_none())
+                .map(|o| Dirs::extract(o, name))
+                .transpose()
+        };
+        Ok(Dyes {
+            weft: get(weft, "weft_color")?,
+            warp: get(warp, "warp_color")?,
+        })
+    }
+
+    fn at(&self, i: usize) -> (Option<Rgb>, Option<Rgb>) {
+        let c = |d: &Option<Dirs>| {
+            d.as_ref().map(|d| {
+                let v = d.get(i);
+                Rgb([v.x, v.y, v.z])
+            })
+        };
+        (c(&self.weft), c(&self.warp))
     }
 }
 
@@ -259,8 +291,10 @@ impl Surface {
         })
     }
 
-    /// f(wi, wo) per channel, sr⁻¹ without the cosine: (N, 3).
-    #[pyo3(signature = (uv, wi, wo, footprint = None))]
+    /// f(wi, wo) per channel, sr⁻¹ without the cosine: (N, 3). `weft_color` and `warp_color`
+    /// (N, 3) or (3,), if given, dye each point anew (a textured colour read at the points).
+    #[pyo3(signature = (uv, wi, wo, footprint = None, weft_color = None, warp_color = None))]
+    #[allow(clippy::too_many_arguments)]
     fn eval<'py>(
         &self,
         py: Python<'py>,
@@ -268,7 +302,10 @@ impl Surface {
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
         footprint: Option<&Bound<'py, PyAny>>,
+        weft_color: Option<&Bound<'py, PyAny>>,
+        warp_color: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let dyes = Dyes::extract(weft_color, warp_color)?;
         let (uv, wi, wo) = (
             Dirs::extract_width(uv, "uv", 2)?,
             Dirs::extract(wi, "wi")?,
@@ -280,10 +317,16 @@ impl Surface {
             ("wi", wi.n),
             ("wo", wo.n),
             ("footprint", fp.as_ref().map_or(1, |f| f.n)),
+            ("weft_color", dyes.weft.as_ref().map_or(1, |d| d.n)),
+            ("warp_color", dyes.warp.as_ref().map_or(1, |d| d.n)),
         ])?;
         let s = &*self.inner;
         let out = map_batch::<3, _>(py, n, |i| {
-            s.at(&point(&uv, &fp, i)).eval(wi.get(i), wo.get(i)).0
+            let (weft, warp) = dyes.at(i);
+            s.at(&point(&uv, &fp, i))
+                .dyed(weft, warp)
+                .eval(wi.get(i), wo.get(i))
+                .0
         });
         Ok(PyArray1::from_vec(py, out).reshape([n, 3])?.into_any())
     }
@@ -322,8 +365,10 @@ impl Surface {
 
     /// Draws the unknown direction for `known` (`wo` in mode "radiance": returns `wi`; `wi` in
     /// mode "importance": returns `wo`) with `uc` (N,) choosing the lobe and `u` (N, 2) drawing
-    /// within it: `(drawn (N, 3), f (N, 3), pdf (N,))`; a failed draw has all zeros.
-    #[pyo3(signature = (uv, known, uc, u, footprint = None, mode = "radiance"))]
+    /// within it: `(drawn (N, 3), f (N, 3), pdf (N,))`; a failed draw has all zeros. Dyes as
+    /// in `eval`.
+    #[pyo3(signature = (uv, known, uc, u, footprint = None, mode = "radiance", weft_color = None,
+        warp_color = None))]
     #[allow(clippy::too_many_arguments)]
     fn sample<'py>(
         &self,
@@ -334,8 +379,11 @@ impl Surface {
         u: &Bound<'py, PyAny>,
         footprint: Option<&Bound<'py, PyAny>>,
         mode: &str,
+        weft_color: Option<&Bound<'py, PyAny>>,
+        warp_color: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let mode = mode_arg(mode)?;
+        let dyes = Dyes::extract(weft_color, warp_color)?;
         let (uv, known, uc, u) = (
             Dirs::extract_width(uv, "uv", 2)?,
             Dirs::extract(known, "known")?,
@@ -349,13 +397,17 @@ impl Surface {
             ("uc", uc.n),
             ("u", u.n),
             ("footprint", fp.as_ref().map_or(1, |f| f.n)),
+            ("weft_color", dyes.weft.as_ref().map_or(1, |d| d.n)),
+            ("warp_color", dyes.warp.as_ref().map_or(1, |d| d.n)),
         ])?;
         let s = &*self.inner;
         let out = map_batch::<7, _>(py, n, |i| {
             let c = uc.get(if uc.n == 1 { 0 } else { i });
             let (a, b) = u.get2(i);
+            let (weft, warp) = dyes.at(i);
             match s
                 .at(&point(&uv, &fp, i))
+                .dyed(weft, warp)
                 .sample(known.get(i), c, [a, b], mode)
             {
                 Some(smp) => {

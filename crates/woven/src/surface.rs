@@ -285,6 +285,8 @@ enum Layout {
 pub struct WovenSurface {
     yarn: Arc<Table>,
     layout: Layout,
+    /// The material's own albedos (what dyes replace).
+    own: Albedos,
     weft: [Albedos; 3],
     warp: [Albedos; 3],
     yarns_per_unit: [f64; 2],
@@ -338,6 +340,7 @@ impl WovenSurface {
         Ok(WovenSurface {
             yarn,
             layout,
+            own,
             weft: dyed(own, spec.weft_color),
             warp: dyed(own, spec.warp_color),
             yarns_per_unit: spec.yarns_per_unit,
@@ -385,6 +388,7 @@ impl WovenSurface {
         Ok(WovenSurface {
             yarn: table,
             layout: Layout::Whole,
+            own,
             weft: dyed(own, color),
             warp: dyed(own, color),
             yarns_per_unit: [1.0, 1.0],
@@ -515,6 +519,8 @@ impl WovenSurface {
         PointBsdf {
             surface: self,
             mix: self.lobes(at),
+            weft: self.weft,
+            warp: self.warp,
         }
     }
 
@@ -590,9 +596,8 @@ impl WovenSurface {
     /// tilted yarn's BRDF is taken per unit of cloth area: `f′ cos θ′i cos θ′o / (cos θi cos θo
     /// cos ψ)`, its own cosines over the cloth's, and its area `1/cos ψ` per unit of cloth.
     #[inline]
-    fn lobe_eval(&self, lobe: &Lobe, wi: Vec3, wo: Vec3) -> Rgb {
+    fn lobe_eval(&self, lobe: &Lobe, albedos: &[Albedos; 3], wi: Vec3, wo: Vec3) -> Rgb {
         let (wi, wo) = into_lobe_frame(lobe, wi, wo);
-        let albedos = self.albedos(lobe.warp);
         if lobe.tilt == 0.0 {
             return Rgb(self.yarn.eval_dyed(wi, wo, albedos));
         }
@@ -649,12 +654,26 @@ impl WovenSurface {
 pub struct PointBsdf<'a> {
     surface: &'a WovenSurface,
     mix: LobeMix,
+    weft: [Albedos; 3],
+    warp: [Albedos; 3],
 }
 
 impl PointBsdf<'_> {
     /// The lobes mixed here.
     pub fn mix(&self) -> &LobeMix {
         &self.mix
+    }
+
+    /// The same point with other dyes where given (a textured colour, read at the point), each
+    /// channel clamped to `[0, 1]`.
+    pub fn dyed(mut self, weft_color: Option<Rgb>, warp_color: Option<Rgb>) -> Self {
+        if weft_color.is_some() {
+            self.weft = dyed(self.surface.own, weft_color);
+        }
+        if warp_color.is_some() {
+            self.warp = dyed(self.surface.own, warp_color);
+        }
+        self
     }
 
     fn pdf_mix(&self, known: Vec3, drawn: Vec3) -> f64 {
@@ -691,13 +710,13 @@ impl Bsdf for PointBsdf<'_> {
         if let Layout::Flat { model } = &self.surface.layout {
             let affine = model.eval_affine(wi, wo);
             return Rgb(self
-                .surface
                 .weft
                 .map(|a| affine.at(a.diffuse, a.interreflection).max(0.0)));
         }
         let mut f = Rgb::BLACK;
         for l in self.mix.lobes() {
-            f += self.surface.lobe_eval(l, wi, wo) * l.weight;
+            let albedos = if l.warp { &self.warp } else { &self.weft };
+            f += self.surface.lobe_eval(l, albedos, wi, wo) * l.weight;
         }
         f
     }

@@ -14,6 +14,8 @@ NumPy in, NumPy out, computed by the Rust library ``woven``::
 Directions are unit vectors in the cloth's frame (z the macro normal, weft along x, warp along
 y), both pointing away from the surface: ``wi`` toward the light (the paper's s), ``wo`` toward
 the viewer (v). Bad parameters raise ValueError with the library's message, files OSError.
+``woven.Surface`` is a woven material laid on a surface (pattern cells, dyes, yarn tilt, gaps,
+the footprint filter), the one ``woven render`` and the Mitsuba plugin evaluate.
 ``woven.mitsuba.register()`` adds the ``woven`` BSDF to Mitsuba 3.
 """
 
@@ -22,6 +24,7 @@ from ._woven import (
     Material,
     Model,
     Section,
+    Surface,
     Table,
     __version__,
     export_merl,
@@ -35,6 +38,7 @@ __all__ = [
     "Material",
     "Model",
     "Section",
+    "Surface",
     "Table",
     "export_merl",
     "from_spherical",

@@ -168,3 +168,61 @@ class Table:
         """f at every node, (2, n_theta, n_phi, n_h, n_h)."""
     def raw(self) -> Dict[str, Any]:
         """The arrays and grid the Mitsuba plugin reads."""
+
+class Surface:
+    """A woven material laid on a surface: see the native docstring (``help(woven.Surface)``)."""
+
+    def __init__(
+        self,
+        material: Union["Material", str, PathLike, None] = None,
+        *,
+        table: Optional["Table"] = None,
+        pattern: Optional[str] = None,
+        weft_fraction: Optional[float] = None,
+        yarns_per_unit: Union[float, Tuple[float, float], None] = None,
+        weft_color: Optional[ArrayLike] = None,
+        warp_color: Optional[ArrayLike] = None,
+        u_max_deg: float = 0.0,
+        gap: float = 0.0,
+        wavelength_nm: float = 550.0,
+        progress: Any = None,
+    ) -> None: ...
+    def eval(
+        self,
+        uv: ArrayLike,
+        wi: ArrayLike,
+        wo: ArrayLike,
+        footprint: Optional[ArrayLike] = None,
+        weft_color: Optional[ArrayLike] = None,
+        warp_color: Optional[ArrayLike] = None,
+    ) -> FloatArray: ...
+    def pdf(
+        self,
+        uv: ArrayLike,
+        wi: ArrayLike,
+        wo: ArrayLike,
+        footprint: Optional[ArrayLike] = None,
+        mode: str = "radiance",
+    ) -> FloatArray: ...
+    def sample(
+        self,
+        uv: ArrayLike,
+        known: ArrayLike,
+        uc: ArrayLike,
+        u: ArrayLike,
+        footprint: Optional[ArrayLike] = None,
+        mode: str = "radiance",
+        weft_color: Optional[ArrayLike] = None,
+        warp_color: Optional[ArrayLike] = None,
+    ) -> Tuple[FloatArray, FloatArray, FloatArray]: ...
+    def lobes(
+        self, uv: ArrayLike, footprint: Optional[ArrayLike] = None
+    ) -> Tuple[FloatArray, FloatArray, FloatArray]: ...
+    def layout(self) -> Dict[str, Any]: ...
+    @property
+    def table(self) -> "Table": ...
+    @property
+    def material(self) -> Optional["Material"]: ...
+    @property
+    def uses_footprint(self) -> bool: ...
+

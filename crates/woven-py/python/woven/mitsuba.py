@@ -6,40 +6,48 @@
     bsdf = mi.load_dict({"type": "woven", "material": "polyester-sateen",
                          "weft_color": {"type": "rgb", "value": [0.6, 0.1, 0.1]}})
 
-Parameters (the meaning of a ``woven`` material in ``woven render`` scenes):
+Parameters (the meaning of a ``woven`` material in ``woven render`` scenes, with the same keys;
+the library's ``woven.Surface`` holds that meaning, and this plugin takes it from there):
 
-=================  ==========================================================================
-``material``       a preset name or a material file (TOML). The table of its yarn alone is
-                   taken from the table cache ``woven render`` uses, or built there (render
-                   grid, dyeable; seconds per preset).
-``table``          instead of ``material``: a ``.wtab`` file. It is rendered as it is (the
-                   BRDF it was built for), or, with ``pattern``, as the yarn of the pattern.
-``weft_fraction``  γ in place of the material's weave (its pattern too): the macro BRDF, the
-                   γ-mix of the yarn as weft and, turned 90°, as warp. With ``table`` (of a yarn
-                   alone), the γ-mix of that table's yarn.
-``wavelength_nm``  the wavelength the material's table is built at (default 550).
-``pattern``        a weave pattern (``"plain"``, ``"twill-2/1"``, ``"satin-5"``, …) replacing
-                   the material's weave. With a pattern, the cell at (u·n_u, v·n_v) of the
-                   shape's uv decides whether the weft (along u) or the warp (along v) is on top.
-                   Without one, the material's macro BRDF: the γ-mix of weft and warp.
-``yarns_per_unit`` pattern cells per unit of uv: one number or "n_u, n_v" (default 40).
-``weft_color``,    dyed fiber albedos ρ0 per channel (values or textures); the interreflection
-``warp_color``     albedo follows in proportion. Default: the material's own (grey).
-=================  ==========================================================================
+====================  =======================================================================
+``material``          a preset name or a material file (TOML). The table of its yarn alone is
+                      taken from the table cache ``woven render`` uses, or built there (render
+                      grid, dyeable; seconds per preset).
+``table``             instead of ``material``: a ``.wtab`` file. It is rendered as it is (the
+                      BRDF it was built for), or, with ``pattern``, as the yarn of the pattern.
+``weft_fraction``     γ in place of the material's weave (its pattern too): the macro BRDF, the
+                      γ-mix of the yarn as weft and, turned 90°, as warp.
+``wavelength_nm``     the wavelength the material's table is built at (default 550).
+``pattern``           a weave pattern (``"plain"``, ``"twill-2/1"``, ``"satin-5"``, …) replacing
+                      the material's weave. The cell at (u·n_u, v·n_v) of the shape's uv decides
+                      whether the weft (along u) or the warp (along v) is on top.
+``yarns_per_unit``    pattern cells per unit of uv: one number or "n_u, n_v" (default 40).
+``weft_color``,       dyed fiber albedos ρ0 per channel (values or textures); the
+``warp_color``        interreflection albedo follows in proportion. Default: the material's own.
+``u_max_deg``         yarn tilt at the ends of each float, degrees in [0, 80] (default 0).
+``gap``               fraction of each cell between yarns, in [0, 0.95] (default 0): the crossing
+                      yarn shows there, and a hole where both leave one.
+``footprint_filter``  blend toward the macro BRDF where a pixel's footprint (``si.duv_dx``,
+                      ``si.duv_dy``) spans more than half a cell (default false: Mitsuba 3's
+                      stock integrators leave those partials zero, measured on 3.9.1's
+                      ``path``, so the filter would only cost; turn it on with an integrator
+                      that computes them).
+====================  =======================================================================
 
-Directions: Mitsuba's ``si.wi`` points toward the viewer (woven's ``v``) and ``wo`` toward the
-light (woven's ``s``). ``sample`` draws the light direction for the viewer with the table's roles
-swapped (``Table.sample_direction`` with ``s = si.wi``), and ``pdf`` returns that density, so the
-``paper`` normalization's missing reciprocity is handled exactly: the weight is the true
-f(s = wo, v = wi) cos θo / pdf.
+Directions: Mitsuba's ``si.wi`` points toward the viewer (woven's ``wo``) and ``wo`` toward the
+light (woven's ``wi``). ``sample`` draws the light direction for the viewer (the library's
+radiance transport mode), and ``pdf`` returns that density, so the ``paper`` normalization's
+missing reciprocity is handled exactly: the weight is the true f(wi, wo) cos θ / pdf.
 
 In JIT variants (``llvm_*``, ``cuda_*``) ``eval``, ``pdf`` and ``sample`` are Dr.Jit code: the
-table's arrays (``Table.raw()``) are handed over once, and every look-up is a gather, traced into
-Mitsuba's kernels (symbolic loops and calls stay on). The code repeats the library's
-interpolation and sampling operation by operation (crates/woven/src/table/{eval,grid,sampler}.rs;
-docs/python.md). It interpolates everywhere: tables of single-orientation yarns that the library
-evaluates exactly for near-forward pairs (|wi + wo| < 0.5) give ``Table.eval_interpolated``
-there. In scalar variants each call goes to the Rust library directly.
+table's arrays (``Table.raw()``) and the surface's layout (``Surface.layout()``) are handed over
+once, and every look-up is a gather, traced into Mitsuba's kernels. ``JitTable`` repeats the
+library's interpolation and sampling operation by operation (crates/woven/src/table/), and
+``JitLayout`` the surface's lobes at a point (crates/woven/src/surface.rs); both are tested lane
+for lane against the library. They interpolate everywhere: tables of single-orientation yarns
+that the library evaluates exactly for near-forward pairs (|wi + wo| < 0.5) give
+``Table.eval_interpolated`` there, and flat fiber surfaces their table, not the exact model. In
+scalar variants each call goes to the library's ``woven.Surface``.
 """
 
 from __future__ import annotations
@@ -50,7 +58,7 @@ import numpy as np
 
 import woven
 
-__all__ = ["register", "JitTable"]
+__all__ = ["register", "JitTable", "JitLayout"]
 
 _REGISTERED = set()
 
@@ -370,13 +378,34 @@ def _axis_nodes(axis):
     return axis["lo"] + (axis["hi"] - axis["lo"]) * u * (1.0 + axis["grading"] * (1.0 - u))
 
 
-def _to_warp(mi, d):
-    """Into a warp yarn's frame: a 90° turn about z taking y (the warp) to x."""
-    return mi.Vector3f(d.y, -d.x, d.z)
+def _turn(mi, dr, d, warp):
+    """Into a warp yarn's frame where ``warp`` (a bool or a Bool per lane): the library's 90°
+    turn about z taking y (the warp) to x (woven::surface)."""
+    if warp is False:
+        return d
+    t = mi.Vector3f(d.y, -d.x, d.z)
+    if warp is True:
+        return t
+    return mi.Vector3f(dr.select(warp, t.x, d.x), dr.select(warp, t.y, d.y), d.z)
 
 
-def _from_warp(mi, d):
-    return mi.Vector3f(-d.y, d.x, d.z)
+def _unturn(mi, dr, d, warp):
+    """Back from ``_turn``."""
+    if warp is False:
+        return d
+    t = mi.Vector3f(-d.y, d.x, d.z)
+    if warp is True:
+        return t
+    return mi.Vector3f(dr.select(warp, t.x, d.x), dr.select(warp, t.y, d.y), d.z)
+
+
+def _tilt_into(mi, d, s, c):
+    """Into the frame of a yarn tilted by (sin, cos) of its tilt: x turned toward +z."""
+    return mi.Vector3f(c * d.x + s * d.z, d.y, c * d.z - s * d.x)
+
+
+def _tilt_from(mi, d, s, c):
+    return mi.Vector3f(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
 
 
 def _yarns(value):
@@ -394,6 +423,140 @@ def _yarns(value):
     return parts
 
 
+def _surface(props, mi):
+    """The ``woven.Surface`` a plugin's properties describe, and its textured colours."""
+    has = props.__contains__
+    if has("table") == has("material"):
+        raise ValueError("woven BSDF: give exactly one of `table` and `material`")
+    kwargs = {
+        "pattern": props["pattern"] if has("pattern") else None,
+        "weft_fraction": float(props["weft_fraction"]) if has("weft_fraction") else None,
+        "yarns_per_unit": _yarns(props["yarns_per_unit"]) if has("yarns_per_unit") else 40.0,
+        "u_max_deg": float(props["u_max_deg"]) if has("u_max_deg") else 0.0,
+        "gap": float(props["gap"]) if has("gap") else 0.0,
+    }
+    textures = {}
+    for key in ("weft_color", "warp_color"):
+        if has(key):
+            value = props[key]
+            if isinstance(value, mi.Texture):
+                textures[key] = value
+            else:
+                kwargs[key] = [float(x) for x in mi.ScalarColor3f(value)]
+    try:
+        if has("table"):
+            table = woven.Table.load(str(props["table"]))
+            surface = woven.Surface(table=table, **kwargs)
+        else:
+            wavelength = float(props["wavelength_nm"]) if has("wavelength_nm") else 550.0
+            surface = woven.Surface(
+                woven.Material.open(str(props["material"])),
+                wavelength_nm=wavelength,
+                progress=False,
+                **kwargs,
+            )
+    except ValueError as e:
+        raise ValueError(f"woven BSDF: {e}") from None
+    if textures and surface.table.raw()["own"] is None:
+        raise ValueError("woven BSDF: a textured colour needs a table that records its material")
+    return surface, textures
+
+
+class JitLayout:
+    """The layout of a ``woven.Surface`` in Dr.Jit: the lobes mixed at each lane's point. The
+    Python twin of ``WovenSurface::lobes`` (crates/woven/src/surface.rs), tested lane for lane
+    against it (tests/test_mitsuba.py); every constant (pattern cells, floats, the macro
+    BRDF's lobes, the filter's range, the dyed albedos) comes from ``Surface.layout()``."""
+
+    def __init__(self, surface, mi, footprint_filter=True):
+        import drjit as dr
+
+        self.mi, self.dr = mi, dr
+        self.filter = footprint_filter
+        lay = surface.layout()
+        self.kind = lay["kind"]
+        self.nu, self.nv = lay["yarns_per_unit"]
+        self.u_max, self.gap = lay["u_max"], lay["gap"]
+        self.filter_lo, self.filter_hi = lay["filter_cells"]
+        self.macro = [(bool(w), float(t), float(g)) for w, t, g in lay["macro"]]
+        self.albedos = lay["albedos"]
+        if self.kind == "pattern":
+            cells = np.asarray(lay["cells"])
+            self.rows, self.cols = cells.shape
+            self.cells = mi.UInt32(cells.reshape(-1).astype(np.uint32))
+            floats = np.asarray(lay["floats"])
+            self.tilted = floats.size > 0
+            if self.tilted:
+                self.before = mi.Float(floats[..., 0].reshape(-1).astype(np.float64))
+                self.length = mi.Float(floats[..., 1].reshape(-1).astype(np.float64))
+
+    def macro_weight(self, si):
+        """``WovenSurface::macro_weight``: the footprint filter's weight of the macro BRDF."""
+        dr = self.dr
+        a, b = si.duv_dx, si.duv_dy
+        cells = dr.maximum(
+            self.nu * (dr.abs(a.x) + dr.abs(b.x)), self.nv * (dr.abs(a.y) + dr.abs(b.y))
+        )
+        x = dr.clip((cells - self.filter_lo) / (self.filter_hi - self.filter_lo), 0.0, 1.0)
+        return dr.select(cells > self.filter_lo, x * x * (3.0 - 2.0 * x), 0.0)
+
+    def _cell(self, t, n):
+        """``Pattern::cell_at``'s wrap: floor(t) mod n, in range."""
+        dr, mi = self.dr, self.mi
+        x = dr.floor(t)
+        x = x - n * dr.floor(x / n)
+        return dr.minimum(mi.UInt32(dr.maximum(x, 0.0)), n - 1)
+
+    def cell_lobe(self, si):
+        """``WovenSurface::push_cell`` at weight 1: (warp, tilt, weight) per lane."""
+        dr, mi = self.dr, self.mi
+        x, y = si.uv.x * self.nu, si.uv.y * self.nv
+        finite = dr.isfinite(x) & dr.isfinite(y)
+        row, col = self._cell(y, self.rows), self._cell(x, self.cols)
+        index = row * self.cols + col
+        weft = (dr.gather(mi.UInt32, self.cells, index) != 0) | ~finite
+        if self.gap == 0 and self.u_max == 0:
+            return ~weft, mi.Float(0.0), mi.Float(1.0)
+        cx, cy = x - dr.floor(x), y - dr.floor(y)
+        half = 0.5 * (1.0 - self.gap)
+        covers_warp = dr.abs(cx - 0.5) < half  # the warp spans x
+        covers_weft = dr.abs(cy - 0.5) < half
+        covers_top = dr.select(weft, covers_weft, covers_warp)
+        covers_below = dr.select(weft, covers_warp, covers_weft)
+        tilt = mi.Float(0.0)
+        if self.tilted:
+            before = dr.gather(mi.Float, self.before, index)
+            length = dr.gather(mi.Float, self.length, index)
+            along = dr.select(weft, cx, cy)
+            ok = length > 0
+            tilt = dr.select(
+                ok, self.u_max * (1.0 - 2.0 * (before + along) / dr.select(ok, length, 1.0)), 0.0
+            )
+        warp = dr.select(covers_top, ~weft, weft)
+        tilt = dr.select(covers_top, tilt, 0.0)
+        weight = dr.select(covers_top | covers_below, 1.0, 0.0)
+        # A non-finite uv shades as the weft, flat.
+        return (
+            dr.select(finite, warp, False),
+            dr.select(finite, tilt, 0.0),
+            dr.select(finite, weight, 1.0),
+        )
+
+    def lobes(self, si):
+        """The lobes at each lane: a list of (warp, tilt, weight), warp and tilt constants or
+        lanes; ``WovenSurface::lobes`` (the Rust mix merges equal lobes; the sum is the same)."""
+        mi = self.mi
+        if self.kind != "pattern":
+            return [(w, t, mi.Float(g)) for w, t, g in self.macro]
+        if not self.filter:
+            return [self.cell_lobe(si)]
+        w = self.macro_weight(si)
+        warp, tilt, weight = self.cell_lobe(si)
+        out = [(warp, tilt, weight * (1.0 - w))]
+        out += [(mw, mt, w * mg) for mw, mt, mg in self.macro]
+        return out
+
+
 def _bsdf_class(mi):
     """The BSDF class for the current variant."""
     import drjit as dr
@@ -405,186 +568,116 @@ def _bsdf_class(mi):
 
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            has = props.__contains__
-            if has("table") == has("material"):
-                raise ValueError("woven BSDF: give exactly one of `table` and `material`")
-            wavelength = float(props["wavelength_nm"]) if has("wavelength_nm") else 550.0
-            pattern = props["pattern"] if has("pattern") else None
-            self.yarns = _yarns(props["yarns_per_unit"]) if has("yarns_per_unit") else [40.0, 40.0]
-            if has("table"):
-                table = woven.Table.load(str(props["table"]))
-                material = table.material
-                weave = None
-                if pattern is not None:
-                    weave = {"pattern": pattern}
-                elif has("weft_fraction"):
-                    weave = {"weft_fraction": float(props["weft_fraction"])}
-                if weave is not None:
-                    if material is None or material.weave is not None or material.yarn is None:
-                        raise ValueError(
-                            "woven BSDF: `pattern` or `weft_fraction` with `table` needs the table"
-                            " of a yarn alone (a material without [weave]: Material.yarn_family())"
-                        )
-                    material = material.replace({"weave": weave})
-                    self.layout = "pattern" if pattern is not None else "macro"
-                else:
-                    self.layout = "table"
-            else:
-                material = woven.Material.open(str(props["material"]))
-                if pattern is not None:
-                    material = material.replace({"weave": {"pattern": pattern}})
-                elif has("weft_fraction"):
-                    if material.yarn is None:
-                        raise ValueError("woven BSDF: `weft_fraction` needs a material with yarns")
-                    fraction = float(props["weft_fraction"])
-                    material = material.replace({"weave": {"weft_fraction": fraction}})
-                yarn = material.yarn_family()
-                table = woven.Table.cached(yarn, wavelength, grid="render", progress=False)
-                if material.yarn is None:
-                    self.layout = "table"
-                elif material.pattern() is not None:
-                    self.layout = "pattern"
-                else:
-                    self.layout = "macro"
-            self.material = material
-            self.table = table
-            self.gamma = material.weft_fraction if material is not None else 1.0
-            cells = material.pattern() if self.layout == "pattern" else None
-            if cells is not None:
-                self.rows, self.cols = cells.shape
-            own = table.raw()["own"]
-            if own is None and material is not None:
-                y = material.yarn
-                own = (material.fiber.diffuse, y.interreflection_albedo if y is not None else 0.0)
-            self.own = own
-            self.colors = {}
-            for key in ("weft_color", "warp_color"):
-                if has(key):
-                    if own is None:
-                        raise ValueError(
-                            f"woven BSDF: `{key}` needs a table that records its material"
-                        )
-                    value = props[key]
-                    if isinstance(value, mi.Texture):
-                        self.colors[key] = value
-                    else:
-                        self.colors[key] = mi.Color3f(value)
+            self.surface, self.textures = _surface(props, mi)
+            self.filter = bool(props["footprint_filter"]) if "footprint_filter" in props else False
+            self.table = self.surface.table
+            self.material = self.surface.material
+            self.own = self.table.raw()["own"]
             flags = (
                 mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide | mi.BSDFFlags.Anisotropic
             )
-            if self.layout == "pattern" or any(
-                isinstance(c, mi.Texture) for c in self.colors.values()
-            ):
+            if self.surface.uses_footprint or self.textures:
                 flags |= mi.BSDFFlags.SpatiallyVarying
             self.m_flags = flags
             self.m_components = [flags]
             if jit:
-                self.jt = JitTable(table, mi)
-                if cells is not None:
-                    self.cells = mi.UInt32(cells.reshape(-1).astype(np.uint32))
-            else:
-                self.cells_np = cells
+                self.jt = JitTable(self.table, mi)
+                self.layout = JitLayout(self.surface, mi, self.filter)
 
         # -- colour ---------------------------------------------------------------------------
 
-        def _albedos(self, key, si, active):
-            """(ρ0, ρ) per channel for the weft or warp colour at ``si``, or None (own)."""
-            c = self.colors.get(key)
+        def _dye(self, key, si, active):
+            """(ρ0, ρ) per channel for the weft or the warp at ``si``: a textured colour read
+            there (the library's dye rule, woven::surface), else the layout's albedos."""
+            c = self.textures.get(key)
             if c is None:
-                return None
-            if isinstance(c, mi.Texture):
-                c = c.eval(si, active)
+                a = self.layout.albedos["warp" if key == "warp_color" else "weft"]
+                return mi.Color3f(*(x[0] for x in a)), mi.Color3f(*(x[1] for x in a))
+            c = c.eval(si, active)
             d0, r0 = self.own
             rho0 = dr.clip(c, 0.0, 0.999)
             rho = dr.clip(r0 * c / d0, 0.0, 1.0) if d0 > 0 else c * 0.0 + r0
             return rho0, rho
 
-        # -- JIT: Dr.Jit code ------------------------------------------------------------------
+        def _albedos(self, warp, si, active):
+            weft = self._dye("weft_color", si, active)
+            if warp is False:
+                return weft
+            warp_a = self._dye("warp_color", si, active)
+            if warp is True:
+                return warp_a
+            return (dr.select(warp, warp_a[0], weft[0]), dr.select(warp, warp_a[1], weft[1]))
 
-        def _family_eval(self, warp, s, v, si, active):
-            jt = self.jt
-            if warp:
-                s, v = _to_warp(mi, s), _to_warp(mi, v)
-            alb = self._albedos("warp_color" if warp else "weft_color", si, active)
-            if alb is None:
-                return mi.Color3f(jt.eval(s, v, active))
-            return jt.eval_dyed(s, v, alb[0], alb[1], active)
+        # -- JIT: one lobe in Dr.Jit (WovenSurface::lobe_eval, lobe_pdf, lobe_sample) ----------
 
-        def _family_pdf(self, warp, wi, wo, active):
-            # Drawn with the roles swapped: the table's s is the viewer wi.
-            if warp:
-                wi, wo = _to_warp(mi, wi), _to_warp(mi, wo)
-            return self.jt.pdf(wi, wo, active)
+        def _lobe_eval(self, lobe, s, v, si, active):
+            """One lobe's f per channel for light from ``s`` seen from ``v``."""
+            warp, tilt, _ = lobe
+            a, b = _turn(mi, dr, s, warp), _turn(mi, dr, v, warp)
+            rho0, rho = self._albedos(warp, si, active)
+            if isinstance(tilt, float) and tilt == 0.0:
+                return self.jt.eval_dyed(a, b, rho0, rho, active)
+            sn, cs = dr.sincos(tilt)
+            ta, tb = _tilt_into(mi, a, sn, cs), _tilt_into(mi, b, sn, cs)
+            ok = active & (ta.z > 0) & (tb.z > 0)
+            f = self.jt.eval_dyed(ta, tb, rho0, rho, ok)
+            scale = ta.z * tb.z / dr.select(ok, a.z * b.z * cs, 1.0)
+            return dr.select(ok, f * scale, 0.0)
 
-        def _warp_on_top(self, si):
-            u = si.uv.x * self.yarns[0]
-            v = si.uv.y * self.yarns[1]
-            # cell_index of Pattern::weft_at_uv(u / cols, v / rows).
-            col = _cell(u / self.cols, self.cols)
-            row = _cell(v / self.rows, self.rows)
-            weft = dr.gather(mi.UInt32, self.cells, row * self.cols + col) != 0
-            return ~weft & dr.isfinite(u) & dr.isfinite(v)
+        def _lobe_pdf(self, lobe, known, drawn, active):
+            warp, tilt, _ = lobe
+            k, d = _turn(mi, dr, known, warp), _turn(mi, dr, drawn, warp)
+            if not (isinstance(tilt, float) and tilt == 0.0):
+                sn, cs = dr.sincos(tilt)
+                k, d = _tilt_into(mi, k, sn, cs), _tilt_into(mi, d, sn, cs)
+                active = active & (k.z > 0) & (d.z > 0)
+            return dr.select(active, self.jt.pdf(k, d, active), 0.0)
 
         def _eval_jit(self, si, wo, active):
-            wi = si.wi
-            s, v = wo, wi
-            if self.layout == "table":
-                return self._family_eval(False, s, v, si, active)
-            if self.layout == "pattern":
-                warp = self._warp_on_top(si)
-                return dr.select(
-                    warp,
-                    self._family_eval(True, s, v, si, active & warp),
-                    self._family_eval(False, s, v, si, active & ~warp),
-                )
-            g = self.gamma
+            s, v = wo, si.wi  # Mitsuba's wo is toward the light: woven's wi (s)
             f = mi.Color3f(0.0)
-            if g > 0:
-                f += self._family_eval(False, s, v, si, active) * g
-            if g < 1:
-                f += self._family_eval(True, s, v, si, active) * (1.0 - g)
+            for lobe in self.layout.lobes(si):
+                f += self._lobe_eval(lobe, s, v, si, active & (lobe[2] > 0)) * lobe[2]
             return f
 
+        def _pdf_mix(self, lobes, known, drawn, active):
+            p, total = mi.Float(0.0), mi.Float(0.0)
+            for lobe in lobes:
+                p += lobe[2] * self._lobe_pdf(lobe, known, drawn, active & (lobe[2] > 0))
+                total += lobe[2]
+            return dr.select(total > 0, p / dr.select(total > 0, total, 1.0), 0.0)
+
         def _pdf_jit(self, si, wo, active):
-            wi = si.wi
-            if self.layout == "table":
-                return self._family_pdf(False, wi, wo, active)
-            if self.layout == "pattern":
-                warp = self._warp_on_top(si)
-                return dr.select(
-                    warp,
-                    self._family_pdf(True, wi, wo, active & warp),
-                    self._family_pdf(False, wi, wo, active & ~warp),
-                )
-            g = self.gamma
-            p = mi.Float(0.0)
-            if g > 0:
-                p += g * self._family_pdf(False, wi, wo, active)
-            if g < 1:
-                p += (1.0 - g) * self._family_pdf(True, wi, wo, active)
-            return p
+            # Drawn for a camera path: the viewer si.wi is known, the light direction drawn.
+            return self._pdf_mix(self.layout.lobes(si), si.wi, wo, active)
 
         def _sample_jit(self, si, sample1, sample2, active):
-            """(wo, pdf, ok): a draw and its density, the mixture's where two families mix. The
-            drawn family's density is the draw's own (the cell its sampler chose), so only the
-            other family's is looked up."""
-            wi = si.wi
-            g = self.gamma
-            if self.layout == "table":
-                warp = mi.Bool(False)
-            elif self.layout == "pattern":
-                warp = self._warp_on_top(si)
-            else:
-                warp = mi.Bool(sample1 >= g)
-            wi_t = dr.select(warp, _to_warp(mi, wi), wi)
-            d, pdf, ok = self.jt.sample_direction(wi_t, sample2.x, sample2.y, active)
-            wo = dr.select(warp, _from_warp(mi, d), d)
-            if self.layout == "macro" and 0 < g < 1:
-                # The other family's density, in its own frame.
-                wi_o = dr.select(warp, wi, _to_warp(mi, wi))
-                wo_o = dr.select(warp, wo, _to_warp(mi, wo))
-                other = self.jt.pdf(wi_o, wo_o, active & ok)
-                pdf = dr.select(warp, (1.0 - g) * pdf + g * other, g * pdf + (1.0 - g) * other)
+            """(wo, pdf, ok): a lobe picked with ``sample1`` in proportion to its weight, a
+            direction drawn from it with ``sample2``, the mixture's density."""
+            lobes = self.layout.lobes(si)
+            total = mi.Float(0.0)
+            for lobe in lobes:
+                total += lobe[2]
+            x = sample1 * total
+            # The picked lobe's warp and tilt, per lane (the first whose cumulative weight
+            # exceeds x; the last where rounding leaves none).
+            warp, tilt, found, before = mi.Bool(False), mi.Float(0.0), mi.Bool(False), mi.Float(0.0)
+            for i, (lw, lt, lg) in enumerate(lobes):
+                take = ~found & ((x < before + lg) | (i == len(lobes) - 1)) & (lg > 0)
+                warp = dr.select(take, lw, warp)
+                tilt = dr.select(take, lt, tilt)
+                found |= take
+                before += lg
+            active = active & found
+            known = _turn(mi, dr, si.wi, warp)
+            sn, cs = dr.sincos(tilt)
+            known = _tilt_into(mi, known, sn, cs)
+            active &= known.z > 0
+            d, pdf, ok = self.jt.sample_direction(known, sample2.x, sample2.y, active)
+            wo = _unturn(mi, dr, _tilt_from(mi, d, sn, cs), warp)
+            ok &= active & (wo.z > 0)
+            if len(lobes) > 1:
+                pdf = self._pdf_mix(lobes, si.wi, wo, ok)
             return wo, pdf, ok
 
         # -- the BSDF interface ----------------------------------------------------------------
@@ -608,7 +701,7 @@ def _bsdf_class(mi):
                 return dr.select(active, self._pdf_jit(si, wo, active), 0.0)
             if not active:
                 return 0.0
-            return self._rust_pdf(si, wo)
+            return float(self.surface.pdf(*self._rust_args(si, wo)))
 
         def eval_pdf(self, ctx, si, wo, active=True):
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
@@ -625,10 +718,9 @@ def _bsdf_class(mi):
             else:
                 if not active:
                     return bs, mi.Color3f(0.0)
-                wo = self._rust_sample(si, sample1, sample2)
+                wo, pdf = self._rust_sample(si, sample1, sample2)
                 if wo is None:
                     return bs, mi.Color3f(0.0)
-                pdf = self.pdf(ctx, si, wo, active)
             bs.wo = wo
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
@@ -639,92 +731,46 @@ def _bsdf_class(mi):
             weight = dr.select(active, f / dr.select(active, pdf, 1.0), 0.0)
             return bs, weight
 
-        # -- scalar variants: the Rust library per call ------------------------------------------
+        # -- scalar variants: the library's woven.Surface per call ------------------------------
 
-        def _rust_family(self, warp, s, v, si):
-            key = "warp_color" if warp else "weft_color"
-            if warp:
-                s, v = (s[1], -s[0], s[2]), (v[1], -v[0], v[2])
-            alb = self._albedos(key, si, True)
-            if alb is None:
-                return np.full(3, float(self.table.eval(s, v)))
-            albedos = [(float(alb[0][k]), float(alb[1][k])) for k in range(3)]
-            return self.table.eval_dyed(s, v, albedos)[0]
+        def _point(self, si):
+            uv = (float(si.uv[0]), float(si.uv[1]))
+            if not self.filter:
+                return uv, (0.0, 0.0, 0.0, 0.0)
+            a, b = si.duv_dx, si.duv_dy
+            return uv, (float(a[0]), float(a[1]), float(b[0]), float(b[1]))
 
-        def _rust_warp(self, si):
-            u = float(si.uv[0]) * self.yarns[0]
-            v = float(si.uv[1]) * self.yarns[1]
-            if not (math.isfinite(u) and math.isfinite(v)):
-                return False
-            col = int(math.floor(u / self.cols * self.cols)) % self.cols
-            row = int(math.floor(v / self.rows * self.rows)) % self.rows
-            return not bool(self.cells_np[row, col])
+        def _rust_args(self, si, wo):
+            uv, fp = self._point(si)
+            wi = tuple(float(x) for x in wo)  # toward the light
+            view = tuple(float(x) for x in si.wi)
+            return uv, wi, view, fp
+
+        def _rust_dyes(self, si):
+            out = {}
+            for key, tex in self.textures.items():
+                out[key] = [float(x) for x in tex.eval(si, True)]
+            return out
 
         def _rust_eval(self, si, wo):
-            s = (float(wo[0]), float(wo[1]), float(wo[2]))
-            v = (float(si.wi[0]), float(si.wi[1]), float(si.wi[2]))
-            if self.layout == "table":
-                f = self._rust_family(False, s, v, si)
-            elif self.layout == "pattern":
-                f = self._rust_family(self._rust_warp(si), s, v, si)
-            else:
-                g = self.gamma
-                f = np.zeros(3)
-                if g > 0:
-                    f += g * self._rust_family(False, s, v, si)
-                if g < 1:
-                    f += (1 - g) * self._rust_family(True, s, v, si)
+            uv, wi, view, fp = self._rust_args(si, wo)
+            f = self.surface.eval(uv, wi, view, fp, **self._rust_dyes(si))[0]
             return mi.Color3f(*map(float, f))
 
-        def _rust_family_pdf(self, warp, wi, wo):
-            if warp:
-                wi, wo = (wi[1], -wi[0], wi[2]), (wo[1], -wo[0], wo[2])
-            return float(self.table.pdf(wi, wo))
-
-        def _rust_pdf(self, si, wo):
-            wi = (float(si.wi[0]), float(si.wi[1]), float(si.wi[2]))
-            wo = (float(wo[0]), float(wo[1]), float(wo[2]))
-            if self.layout == "table":
-                return self._rust_family_pdf(False, wi, wo)
-            if self.layout == "pattern":
-                return self._rust_family_pdf(self._rust_warp(si), wi, wo)
-            g = self.gamma
-            p = 0.0
-            if g > 0:
-                p += g * self._rust_family_pdf(False, wi, wo)
-            if g < 1:
-                p += (1 - g) * self._rust_family_pdf(True, wi, wo)
-            return p
-
         def _rust_sample(self, si, sample1, sample2):
-            wi = (float(si.wi[0]), float(si.wi[1]), float(si.wi[2]))
-            if self.layout == "table":
-                warp = False
-            elif self.layout == "pattern":
-                warp = self._rust_warp(si)
-            else:
-                warp = float(sample1) >= self.gamma
-            if warp:
-                wi = (wi[1], -wi[0], wi[2])
-            d, pdf = self.table.sample_direction(wi, (float(sample2[0]), float(sample2[1])))
+            uv, fp = self._point(si)
+            view = tuple(float(x) for x in si.wi)
+            u = (float(sample2[0]), float(sample2[1]))
+            d, _f, pdf = self.surface.sample(uv, view, float(sample1), u, fp, **self._rust_dyes(si))
             if pdf[0] <= 0:
-                return None
-            d = d[0]
-            if warp:
-                d = (-d[1], d[0], d[2])
-            return mi.Vector3f(*map(float, d))
+                return None, 0.0
+            return mi.Vector3f(*map(float, d[0])), float(pdf[0])
 
         def traverse(self, callback):
             pass
 
         def to_string(self):
-            return f"WovenBSDF[layout={self.layout}, table={self.table!r}, gamma={self.gamma}]"
-
-    def _cell(t, n):
-        """``cell_index``: floor(t n) mod n."""
-        x = dr.floor(t * n)
-        x = x - n * dr.floor(x / n)
-        return dr.minimum(mi.UInt32(dr.maximum(x, 0.0)), n - 1)
+            return f"WovenBSDF[{self.surface!r}, table={self.table!r}]"
 
     return WovenBSDF
 
