@@ -9,5 +9,6 @@ mod golden;
 mod masking;
 mod material_files;
 mod robustness;
+mod surface;
 mod table;
 mod weave;

@@ -1,0 +1,237 @@
+//! The woven surface (`woven::surface`) and the `Bsdf` interface's transport modes: sampling
+//! and densities agree in both modes, the pattern's layout is what its cells and floats say,
+//! and parameters out of range are refused by name.
+
+use crate::common::Rng;
+use std::sync::{Arc, OnceLock};
+use woven::bsdf::{Bsdf, Transport};
+use woven::color::Rgb;
+use woven::material::{Material, Weave};
+use woven::surface::{SurfacePoint, SurfaceSpec, WovenSurface};
+use woven::table::{Table, TableOptions};
+use woven::{Error, Vec3};
+
+/// A small dyeable table of the sateen's yarn alone (built once).
+fn yarn() -> Arc<Table> {
+    static T: OnceLock<Arc<Table>> = OnceLock::new();
+    Arc::clone(T.get_or_init(|| {
+        let m = Material::preset("polyester-sateen").unwrap().yarn_family();
+        let options = TableOptions {
+            n_theta: 8,
+            n_phi: 5,
+            n_h: 21,
+            colour: true,
+            ..TableOptions::default()
+        };
+        Arc::new(Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {}).unwrap())
+    }))
+}
+
+fn spec(pattern: &str, u_max_deg: f64, gap: f64) -> SurfaceSpec {
+    let mut m = Material::preset("polyester-sateen").unwrap();
+    m.weave = Some(Weave::named(pattern).unwrap());
+    SurfaceSpec {
+        yarns_per_unit: [6.0, 4.0],
+        weft_color: Some(Rgb([0.7, 0.2, 0.1])),
+        warp_color: Some(Rgb([0.1, 0.3, 0.6])),
+        u_max: u_max_deg.to_radians(),
+        gap,
+        ..SurfaceSpec::new(m)
+    }
+}
+
+fn direction(rng: &mut Rng, max_theta: f64) -> Vec3 {
+    Vec3::from_spherical(
+        (1.0 - rng.uniform() * (1.0 - max_theta.cos())).acos(),
+        rng.range(0.0, 2.0 * std::f64::consts::PI),
+    )
+}
+
+/// In both modes, a drawn pair's density is what `pdf` says for it, `f` is `eval`'s, and
+/// `eval_pdf` gives both; for a table, for the exact model and for a surface's point.
+#[test]
+fn sampling_and_densities_agree_in_both_modes() {
+    let table = yarn();
+    let model = Material::preset("polyester-sateen")
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    let surface = WovenSurface::new(&spec("twill-2/1", 30.0, 0.3), Arc::clone(&table)).unwrap();
+    let mut rng = Rng(11);
+    let mut drawn = [0usize; 2];
+    for (m, mode) in [Transport::Radiance, Transport::Importance]
+        .into_iter()
+        .enumerate()
+    {
+        for _ in 0..3000 {
+            let known = direction(&mut rng, 1.45);
+            let (uc, u) = (rng.uniform(), [rng.uniform(), rng.uniform()]);
+            if let Some(s) = table.sample(known, uc, u, mode) {
+                let (f, pdf) = table.eval_pdf(s.wi, s.wo, mode);
+                // The sampler's own f (importance mode) is the same sum in its folded frame.
+                assert!((f - s.f).abs() <= 1e-9 * f.max(1e-300), "{mode:?}: {f} vs {}", s.f);
+                assert!(
+                    (pdf - s.pdf).abs() <= 1e-5 * pdf,
+                    "{mode:?}: {pdf} vs {}",
+                    s.pdf
+                );
+                let known_is = if mode == Transport::Radiance {
+                    s.wo
+                } else {
+                    s.wi
+                };
+                assert_eq!(known_is, known);
+                drawn[m] += 1;
+            }
+            let s = model.sample(known, uc, u, mode).unwrap();
+            assert!((model.pdf(s.wi, s.wo, mode) - s.pdf).abs() <= 1e-12);
+            assert!((model.eval(s.wi, s.wo) - s.f).abs() <= 1e-12 * s.f.max(1.0));
+            let at = SurfacePoint {
+                uv: [rng.range(-1.0, 2.0), rng.range(-1.0, 2.0)],
+                footprint: [[rng.range(0.0, 0.3), 0.0], [0.0, rng.range(0.0, 0.3)]],
+            };
+            let bsdf = surface.at(&at);
+            if let Some(s) = bsdf.sample(known, uc, u, mode) {
+                let (f, pdf) = bsdf.eval_pdf(s.wi, s.wo, mode);
+                assert_eq!(f, s.f);
+                assert!(
+                    (pdf - s.pdf).abs() <= 1e-5 * pdf,
+                    "{mode:?}: {pdf} vs {}",
+                    s.pdf
+                );
+            }
+        }
+    }
+    assert!(drawn.iter().all(|&n| n > 2500), "{drawn:?}");
+}
+
+/// The two modes draw different directions for the same uniforms — the known one is `wo` in
+/// radiance mode and `wi` in importance mode — and weigh by the drawn direction's cosine.
+#[test]
+fn the_mode_says_which_direction_is_known() {
+    let table = yarn();
+    let known = Vec3::from_spherical(0.7, 0.4);
+    let r = table
+        .sample(known, 0.5, [0.3, 0.6], Transport::Radiance)
+        .unwrap();
+    let i = table
+        .sample(known, 0.5, [0.3, 0.6], Transport::Importance)
+        .unwrap();
+    assert_eq!((r.wo, i.wi), (known, known));
+    // The same table draw, named the other way round.
+    assert_eq!(r.wi, i.wo);
+    assert_eq!(r.f, table.eval(r.wi, known));
+    assert_eq!(i.f, table.eval(known, i.wo));
+    assert!((r.weight(Transport::Radiance) - r.f * r.wi.z / r.pdf).abs() < 1e-12);
+    assert!((i.weight(Transport::Importance) - i.f * i.wo.z / i.pdf).abs() < 1e-12);
+}
+
+/// Without tilt, gaps or a footprint, each point is its cell's yarn alone: the weft where the
+/// pattern says weft, the warp (the table turned 90°) elsewhere, in its dye.
+#[test]
+fn a_point_is_its_cells_yarn() {
+    let table = yarn();
+    let s = spec("twill-2/1", 0.0, 0.0);
+    let surface = WovenSurface::new(&s, Arc::clone(&table)).unwrap();
+    let pattern = surface.pattern().unwrap().clone();
+    let mut rng = Rng(3);
+    for _ in 0..500 {
+        let uv = [rng.range(-3.0, 3.0), rng.range(-3.0, 3.0)];
+        let cell = pattern.cell_at(uv[0] * 6.0, uv[1] * 4.0);
+        let mix = surface.lobes(&SurfacePoint {
+            uv,
+            footprint: [[0.0; 2]; 2],
+        });
+        assert_eq!(mix.lobes().len(), 1);
+        assert_eq!(mix.lobes()[0].warp, !cell.weft);
+        assert_eq!((mix.lobes()[0].tilt, mix.lobes()[0].weight), (0.0, 1.0));
+    }
+    // A wide footprint is the macro BRDF: the γ-mix of weft and warp.
+    let wide = SurfacePoint {
+        uv: [0.3, 0.3],
+        footprint: [[1.0, 0.0], [0.0, 1.0]],
+    };
+    let mix = surface.lobes(&wide);
+    let weft: f64 = mix
+        .lobes()
+        .iter()
+        .filter(|l| !l.warp)
+        .map(|l| l.weight)
+        .sum();
+    assert!((weft - pattern.weft_fraction()).abs() < 1e-12);
+    assert!((mix.total() - 1.0).abs() < 1e-12);
+}
+
+/// With tilt, a yarn's tilt runs from +u_max to −u_max along its float; in a gap the crossing
+/// yarn shows flat, and where both leave a gap, nothing.
+#[test]
+fn tilt_runs_along_floats_and_gaps_show_the_yarn_below() {
+    let table = yarn();
+    let surface = WovenSurface::new(&spec("satin-5", 40.0, 0.4), Arc::clone(&table)).unwrap();
+    let at = |x: f64, y: f64| {
+        surface.lobes(&SurfacePoint {
+            uv: [x / 6.0, y / 4.0],
+            footprint: [[0.0; 2]; 2],
+        })
+    };
+    // satin-5: the warp floats over four picks of five. Column 0's weft cell is at row 0; its
+    // warp float runs over rows 1..=4: tilt +u_max at its start, −u_max at its end.
+    let pattern = surface.pattern().unwrap();
+    assert!(pattern.is_weft(0, 0) && !pattern.is_weft(1, 0));
+    let start = at(0.5, 1.0 + 1e-9);
+    let end = at(0.5, 5.0 - 1e-9);
+    let u_max = 40f64.to_radians();
+    assert!(start.lobes()[0].warp && (start.lobes()[0].tilt - u_max).abs() < 1e-6);
+    assert!(end.lobes()[0].warp && (end.lobes()[0].tilt + u_max).abs() < 1e-6);
+    // Across the warp's gap (x near a cell's edge) the weft below shows, flat; at a cell's
+    // corner both leave a gap: a hole.
+    let below = at(0.05, 2.5);
+    assert!(!below.lobes()[0].warp && below.lobes()[0].tilt == 0.0);
+    assert_eq!(at(0.05, 2.05).lobes().len(), 0);
+}
+
+/// Parameters out of range are refused, by name, with the valid range.
+#[test]
+fn bad_parameters_are_refused_by_name() {
+    let table = yarn();
+    let cases: [(&str, Box<dyn Fn(&mut SurfaceSpec)>); 5] = [
+        (
+            "yarns_per_unit",
+            Box::new(|s| s.yarns_per_unit = [0.0, 4.0]),
+        ),
+        (
+            "weft_color",
+            Box::new(|s| s.weft_color = Some(Rgb([1.2, 0.0, 0.0]))),
+        ),
+        (
+            "warp_color",
+            Box::new(|s| s.warp_color = Some(Rgb([f64::NAN; 3]))),
+        ),
+        ("u_max", Box::new(|s| s.u_max = 1.5)),
+        ("gap", Box::new(|s| s.gap = 0.99)),
+    ];
+    for (name, change) in cases {
+        let mut s = spec("plain", 0.0, 0.0);
+        change(&mut s);
+        match WovenSurface::new(&s, Arc::clone(&table)) {
+            Err(Error::InvalidParameter {
+                name: n, expected, ..
+            }) => {
+                assert_eq!(n, name);
+                assert!(!expected.is_empty());
+            }
+            other => panic!("{name}: {:?}", other.map(|_| ())),
+        }
+    }
+    // A dye needs a dyeable table.
+    let m = Material::preset("polyester-sateen").unwrap().yarn_family();
+    let options = TableOptions {
+        n_theta: 4,
+        n_phi: 3,
+        n_h: 11,
+        ..TableOptions::default()
+    };
+    let plain = Arc::new(Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {}).unwrap());
+    let err = WovenSurface::new(&spec("plain", 0.0, 0.0), plain).unwrap_err();
+    assert!(err.to_string().contains("weft_color"), "{err}");
+}
