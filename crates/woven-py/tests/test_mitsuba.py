@@ -201,7 +201,7 @@ class HalfVectorDomain:
         self.jt, self.warp = jt, warp
         s = mi.Vector3f(*wi)
         if warp:
-            s = woven.mitsuba._to_warp(mi, s)
+            s = woven.mitsuba._turn(mi, dr, s, True)
         self.apply, self.undo = jt._fold(s)
         self.s = self.apply(s)
 
@@ -215,12 +215,12 @@ class HalfVectorDomain:
         v, _, valid = self.jt._jacobian(self.s, p.x, p.y)
         v = self.undo(v)
         if self.warp:
-            v = woven.mitsuba._from_warp(mi, v)
+            v = woven.mitsuba._unturn(mi, dr, v, True)
         return dr.select(valid, v, mi.Vector3f(0, 0, -1))
 
     def map_backward(self, v):
         if self.warp:
-            v = woven.mitsuba._to_warp(mi, v)
+            v = woven.mitsuba._turn(mi, dr, v, True)
         h = self.s + self.apply(v)
         return mi.Vector2f(self.jt._t_of_slope(h.x / h.z), self.jt._t_of_slope(h.y / h.z))
 

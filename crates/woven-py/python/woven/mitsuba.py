@@ -701,7 +701,7 @@ def _bsdf_class(mi):
                 return dr.select(active, self._pdf_jit(si, wo, active), 0.0)
             if not active:
                 return 0.0
-            return float(self.surface.pdf(*self._rust_args(si, wo)))
+            return float(self.surface.pdf(*self._rust_args(si, wo))[0])
 
         def eval_pdf(self, ctx, si, wo, active=True):
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
