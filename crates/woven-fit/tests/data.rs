@@ -326,6 +326,29 @@ fn gonio_csv_converts_radiance_to_the_brdf() {
     assert!(load_text("gonio-rel", "g.csv", &rel).unwrap().relative);
 }
 
+#[test]
+fn gonio_csv_written_reads_back_exactly() {
+    // What `woven gonio` writes (`gonio::write`): the same angles, radiance / cos θi, to the bit.
+    let model = woven::material::Material::preset("belt-cloth")
+        .unwrap()
+        .build(550.0)
+        .unwrap();
+    let readings = woven::gonio::sweep(&model, &[0.0, 90.0], &[-30.0, 0.0, 44.0], || {});
+    let mut bytes = Vec::new();
+    data::gonio::write(&readings, &mut bytes).unwrap();
+    let text = String::from_utf8(bytes).unwrap();
+    assert!(text.starts_with(data::gonio::HEADER), "{text}");
+    let d = load_text("gonio-write", "gonio.csv", &text).unwrap();
+    assert_eq!(
+        (d.samples.len(), d.dropped_below_horizon),
+        (readings.len(), 0)
+    );
+    for (s, r) in d.samples.iter().zip(&readings) {
+        assert_eq!((s.theta_i, s.theta_r), (r.theta_i, r.theta_r));
+        assert_eq!(mono(s), r.radiance / r.theta_i.cos());
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // CUReT
 

@@ -19,7 +19,7 @@
 //! ignored). Lines starting with `#` are comments; before the header, `# name = …` names the
 //! dataset (default: the file's stem) and `# relative = true` marks relatively calibrated values.
 
-use super::rows::{directives, shorten, stem, Cell, Collector, CsvTable};
+use super::rows::{directives, shorten, stem, Cell, Collector, CsvTable, Num};
 use super::{DataError, Dataset, Sample, Value};
 use std::io::{self, Write};
 use std::path::Path;
@@ -175,22 +175,6 @@ pub fn write(dataset: &Dataset, out: &mut dyn Write) -> io::Result<()> {
         writeln!(out, ",{}", Num(s.weight))?;
     }
     Ok(())
-}
-
-/// A number in the shortest text that reads back as the same `f64`: plain for magnitudes in
-/// `[1e-5, 1e16)` and 0, scientific otherwise (Rust's `{}` never switches to an exponent and
-/// would spell 1e-300 with 300 zeros).
-struct Num(f64);
-
-impl std::fmt::Display for Num {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let a = self.0.abs();
-        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
-            write!(f, "{}", self.0)
-        } else {
-            write!(f, "{:e}", self.0)
-        }
-    }
 }
 
 /// Writes `dataset` to `path` as the fitter CSV ([`write()`]), atomically: a reader never sees half

@@ -1,4 +1,5 @@
-//! The goniometer CSV that `woven gonio` writes (`woven::gonio`; docs/spec.md §4).
+//! The goniometer CSV that `woven gonio` writes ([`write()`]; the readings of `woven::gonio`;
+//! docs/spec.md §4).
 //!
 //! Header `azimuth_deg,tilt_deg,theta_i,theta_r,radiance`. Light and sensor lie in one vertical
 //! plane through the normal: the light at `θi`, azimuth `φi = A` (the sample azimuth), the sensor
@@ -13,9 +14,11 @@
 //! an overall scale. Rows with `|t| ≥ 45°` put the light or the sensor on or below the horizon
 //! and are dropped and counted.
 
-use super::rows::{directives, stem, Cell, Collector, CsvTable};
+use super::rows::{directives, stem, Cell, Collector, CsvTable, Num};
 use super::{DataError, Dataset, Value};
+use std::io::{self, Write};
 use std::path::Path;
+use woven::gonio::Reading;
 
 /// The header `woven gonio` writes.
 pub const HEADER: &str = "azimuth_deg,tilt_deg,theta_i,theta_r,radiance";
@@ -77,4 +80,25 @@ pub fn read(path: &Path, bytes: &[u8]) -> Result<Dataset, DataError> {
         d.name.unwrap_or_else(|| stem(path)),
         d.relative.unwrap_or(false),
     )
+}
+
+/// Writes `readings` as the goniometer CSV: [`HEADER`], then one row per reading, numbers in
+/// Rust's shortest round-trip form (what `woven gonio` prints; [`read()`] reads it back).
+///
+/// # Errors
+/// The writer's.
+pub fn write(readings: &[Reading], out: &mut dyn Write) -> io::Result<()> {
+    writeln!(out, "{HEADER}")?;
+    for r in readings {
+        writeln!(
+            out,
+            "{},{},{},{},{}",
+            Num(r.azimuth_deg),
+            Num(r.tilt_deg),
+            Num(r.theta_i),
+            Num(r.theta_r),
+            Num(r.radiance)
+        )?;
+    }
+    Ok(())
 }

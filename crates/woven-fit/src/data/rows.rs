@@ -1,6 +1,6 @@
 //! What every reader shares: reading a file with a size cap, CSV tables with their line numbers,
 //! checked numbers (angles, values, weights), the horizon rule and the `# key = value` directives
-//! at the top of a CSV file.
+//! at the top of a CSV file; and, for the writers, numbers as the shortest text that reads back.
 
 use super::{DataError, Dataset, Sample, Value};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -459,5 +459,21 @@ fn csv_error(path: &Path, headers: &[String], e: csv::Error, line: Option<u64>) 
             source: std::io::Error::new(io.kind(), io.to_string()),
         },
         _ => format_error(path, format!("not CSV: {e}")),
+    }
+}
+
+/// A number in the shortest text that reads back as the same `f64`: plain for magnitudes in
+/// `[1e-5, 1e16)` and 0, scientific otherwise (Rust's `{}` never switches to an exponent and
+/// would spell 1e-300 with 300 zeros).
+pub(crate) struct Num(pub(crate) f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
     }
 }
