@@ -1,7 +1,7 @@
-//! Input and output plumbing shared by the commands: atomic output files, stdin/stdout, and the
-//! formatting of numbers in CSV output.
+//! Input and output plumbing shared by the commands: output folders checked before the work,
+//! atomic output files, stdin/stdout, and the formatting of numbers in CSV output.
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -45,6 +45,24 @@ impl std::fmt::Display for InputSource {
             InputSource::File(path) => write!(f, "{}", path.display()),
         }
     }
+}
+
+/// Checks that every output's folder exists, before a (slow) computation.
+pub fn check_output_dirs(outputs: &[PathBuf]) -> Result<()> {
+    for path in outputs {
+        let dir = match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        };
+        if !dir.is_dir() {
+            bail!(
+                "--output `{}`: directory `{}` does not exist",
+                path.display(),
+                dir.display()
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Writes a file so that it either appears complete or not at all: the library's

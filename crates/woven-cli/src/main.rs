@@ -2,17 +2,17 @@
 //!
 //! This file only declares the command line and dispatches; each subcommand lives in
 //! [`commands`]; bare `woven` renders the built-in showcase ([`commands::render`]), and
-//! `woven gonio` without `--material` runs the goniometer job of [`commands::default_job`]. Exit status: 0 on success, 2 for usage errors (reported by clap), 1 for any
-//! other error.
+//! `woven gonio` without `--material` runs the goniometer job of
+//! [`commands::gonio::default_job`]. Exit status: 0 on success, 2 for usage errors (reported by
+//! clap), 1 for any other error.
 
 mod args;
 mod commands;
-mod figures;
-mod glyphs;
-mod goniometer;
 mod io;
+mod numbers;
+mod plotting;
 mod progress;
-mod summary;
+mod tables;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

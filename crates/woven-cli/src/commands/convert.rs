@@ -175,12 +175,10 @@ mod tests {
         // What `woven gonio` writes, read back: radiance / cos θi is the model's BRDF there.
         let material = woven::material::Material::from_preset_or_path("belt-cloth").unwrap();
         let model = material.build(550.0).unwrap();
-        let readings =
-            crate::goniometer::sweep(&model, &[0.0, 90.0], &[-44.0, -15.0, 0.0, 30.0], || {});
+        let readings = woven::gonio::sweep(&model, &[0.0, 90.0], &[-44.0, -15.0, 0.0, 30.0], || {});
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("gonio.csv");
-        crate::io::write_atomically(&path, |out| super::super::gonio::write_csv(out, &readings))
-            .unwrap();
+        crate::io::write_atomically(&path, |out| Ok(data::gonio::write(&readings, out)?)).unwrap();
         let d = data::load(&path).unwrap();
         assert_eq!(
             (d.samples.len(), d.dropped_below_horizon, d.relative),

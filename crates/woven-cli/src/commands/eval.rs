@@ -247,7 +247,7 @@ fn evaluate_chunk(
 
 /// The BRDF for one direction pair (validated angles). Exactly 0 at grazing `θ = π/2`, where
 /// `cos θ` is not exactly 0 in floating point.
-pub fn eval_row(
+fn eval_row(
     brdf: &dyn Bsdf<Value = f64>,
     theta_i: f64,
     phi_i: f64,

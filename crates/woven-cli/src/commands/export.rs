@@ -1,11 +1,10 @@
 //! `woven export`: a material's BRDF in a renderer's file format (the MERL BRDF layout).
 
-use super::plot::check_output_dirs;
-use super::tabulate::{self, group_digits, megabytes, seconds};
 use crate::args::{self, material_help, parse_finite, MaterialSource, DEFAULT_WAVELENGTH_NM};
 use crate::io;
+use crate::numbers::{group_digits, megabytes, seconds};
 use crate::progress::Progress;
-use crate::summary::short;
+use crate::tables::{build_table, Built};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use rayon::prelude::*;
@@ -13,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use woven::bsdf::Bsdf;
 use woven::export::merl::{self, MerlBrdf, MERL_BINS, PHI_D_RES};
+use woven::figures::words::short;
 use woven::material::Material;
 use woven::table::{Symmetry, Table, TableOptions};
 
@@ -86,7 +86,7 @@ enum Source {
     /// A table the user gave (`--table`).
     GivenTable(Table),
     /// A table built for this export, and how long the build took.
-    BuiltTable(tabulate::Built),
+    BuiltTable(Built),
 }
 
 impl Source {
@@ -107,7 +107,7 @@ pub fn run(args: &ExportArgs) -> Result<()> {
 }
 
 fn export_merl(args: &ExportArgs) -> Result<()> {
-    check_output_dirs(std::slice::from_ref(&args.output))?;
+    io::check_output_dirs(std::slice::from_ref(&args.output))?;
     let table = match &args.table {
         Some(path) => Some(args::load_table(path, args.wavelength_nm)?),
         None => None,
@@ -136,8 +136,7 @@ fn export_merl(args: &ExportArgs) -> Result<()> {
                 format!("cannot prepare material `{name}` at --wavelength-nm {wavelength_nm}")
             })?;
             if material.yarn.is_some() {
-                let built =
-                    tabulate::build_table(&material, &model, &TableOptions::for_model(&model))?;
+                let built = build_table(&material, &model, &TableOptions::for_model(&model))?;
                 let (n_theta, _, n_h) = built.table.dims();
                 println!(
                     "`{name}` has isotropic yarns: an exact evaluation takes about a millisecond, \

@@ -3,8 +3,8 @@
 //! library's; this module parses, reports progress, writes files and draws the plot.
 
 use crate::args::{parse_finite, MaterialSource};
-use crate::commands::plot::{plot_error, render_image, tick_label, Drawing, ImageFormat, FONT};
 use crate::io;
+use crate::plotting::{plot_error, render_image, tick_label, Drawing, ImageFormat, FONT};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
@@ -128,10 +128,10 @@ fn parse_residual(s: &str) -> Result<Residual, String> {
 /// Runs `woven fit`.
 pub fn run(args: &FitArgs) -> Result<()> {
     for path in args.output.iter().chain(&args.report).chain(&args.plot) {
-        crate::commands::plot::check_output_dirs(std::slice::from_ref(path))?;
+        io::check_output_dirs(std::slice::from_ref(path))?;
     }
     if let Some(plot) = &args.plot {
-        crate::commands::plot::ImageFormat::from_path(plot).map_err(|_| {
+        ImageFormat::from_path(plot).map_err(|_| {
             anyhow!(
                 "--plot `{}`: the file name must end in .svg or .png",
                 plot.display()

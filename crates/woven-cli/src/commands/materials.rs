@@ -1,10 +1,10 @@
 //! `woven materials`: the built-in presets, as a table or as their TOML text.
 
-use crate::summary::{description, Summary};
 use anyhow::{Context, Result};
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 use std::io::Write;
+use woven::figures::words::{description, Summary};
 use woven::material::Material;
 
 /// Arguments of `woven materials`.

@@ -1,17 +1,18 @@
 //! `woven tabulate`: builds a material's BRDF table (`.wtab`) for fast evaluation and sampling.
 
-use super::plot::check_output_dirs;
 use crate::args::MaterialArgs;
 use crate::io;
+use crate::numbers::{group_digits, megabytes, percent, seconds};
 use crate::progress::Progress;
-use crate::summary::short;
-use anyhow::{bail, Context, Result};
+use crate::tables::{build_table, Built};
+use anyhow::{Context, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+use woven::figures::words::short;
 use woven::material::Material;
 use woven::table::report::{AccuracyReport, BANDS_DEG};
-use woven::table::{grid_of, value_count, Symmetry, Table, TableOptions, F0_PHI_NODES, MAX_VALUES};
+use woven::table::{Symmetry, Table, TableOptions, F0_PHI_NODES};
 use woven::Model;
 
 /// The long help of `woven tabulate`.
@@ -139,53 +140,9 @@ fn options(args: &TabulateArgs, model: &Model) -> TableOptions {
     }
 }
 
-/// Refuses a grid whose file could not be read back, naming the flags.
-fn check_size(symmetry: Symmetry, options: &TableOptions) -> Result<()> {
-    let (n_theta, n_phi, n_h) = grid_of(symmetry, options);
-    let values = value_count(symmetry, options);
-    if values > MAX_VALUES {
-        let product = match symmetry {
-            Symmetry::Isotropic => format!("2 × --n-theta {n_theta} × --n-h-isotropic {n_h}²"),
-            Symmetry::Mirror => {
-                format!("2 × --n-theta {n_theta} × --n-phi {n_phi} × --n-h {n_h}²")
-            }
-        };
-        bail!(
-            "{product} = {} values is more than a table file holds ({}); use fewer nodes",
-            group_digits(values),
-            group_digits(MAX_VALUES)
-        );
-    }
-    Ok(())
-}
-
-/// A built table and how long the build took.
-pub struct Built {
-    /// The table.
-    pub table: Table,
-    /// Wall-clock build time.
-    pub elapsed: Duration,
-}
-
-/// Builds the table of `model` (prepared from `material`) with a progress bar on standard error.
-pub fn build_table(material: &Material, model: &Model, options: &TableOptions) -> Result<Built> {
-    check_size(Symmetry::of(model), options)?;
-    let bar = Progress::new(Some(0), "table rows", true);
-    let start = Instant::now();
-    let table = Table::build(model, material, options, &|done, total| {
-        bar.set(done as u64, total as u64)
-    })
-    .context("cannot build the table")?;
-    bar.finish();
-    Ok(Built {
-        table,
-        elapsed: start.elapsed(),
-    })
-}
-
 /// Runs `woven tabulate`.
 pub fn run(args: &TabulateArgs) -> Result<()> {
-    check_output_dirs(std::slice::from_ref(&args.output))?;
+    io::check_output_dirs(std::slice::from_ref(&args.output))?;
     let (material, model) = args.material.load_and_build()?;
     let options = options(args, &model);
     let built = build_table(&material, &model, &options)?;
@@ -336,53 +293,6 @@ fn report_paragraph(report: &AccuracyReport, elapsed: Duration, reduced: bool) -
     out.trim_end().to_string()
 }
 
-/// `n` with thousands separated by commas: `2,558,430`.
-pub fn group_digits(n: u64) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (k, c) in digits.chars().enumerate() {
-        if k > 0 && (digits.len() - k) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-/// A fraction as a percentage with two significant digits: `0.0402` → `4.0 %`.
-pub fn percent(x: f64) -> String {
-    let p = 100.0 * x;
-    let decimals = match p.abs() {
-        a if a >= 10.0 => 0,
-        a if a >= 1.0 => 1,
-        a if a >= 0.1 => 2,
-        _ => 3,
-    };
-    format!("{p:.decimals$} %")
-}
-
-/// A file size in megabytes (10⁶ bytes), or kilobytes below one megabyte.
-pub fn megabytes(bytes: u64) -> String {
-    if bytes >= 1_000_000 {
-        format!("{:.1} MB", bytes as f64 / 1e6)
-    } else {
-        format!("{:.1} kB", bytes as f64 / 1e3)
-    }
-}
-
-/// A duration in seconds (milliseconds below a tenth of a second), with a sensible number of
-/// digits.
-pub fn seconds(d: Duration) -> String {
-    let s = d.as_secs_f64();
-    if s < 0.1 {
-        format!("{:.0} ms", 1e3 * s)
-    } else if s < 10.0 {
-        format!("{s:.2} s")
-    } else {
-        format!("{s:.1} s")
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -414,36 +324,5 @@ mod tests {
         assert!(!has_slow_yarns(&preset("polyester-sateen")));
         let flat = Material::flat(woven::fiber::FiberParams::rough(1.5, 0.1, 0.1));
         assert!(!has_slow_yarns(&flat));
-    }
-
-    #[test]
-    fn oversized_grids_are_refused_naming_the_flags() {
-        let big = TableOptions {
-            n_theta: 1024,
-            n_phi: 1024,
-            ..TableOptions::default()
-        };
-        let e = check_size(Symmetry::Mirror, &big).unwrap_err().to_string();
-        assert!(e.contains("--n-phi 1024") && e.contains("--n-h 81²"), "{e}");
-        // The library refuses what this check refuses.
-        assert!(value_count(Symmetry::Mirror, &big) > MAX_VALUES);
-        assert!(check_size(Symmetry::Isotropic, &big).is_ok());
-        assert!(check_size(Symmetry::Mirror, &TableOptions::default()).is_ok());
-    }
-
-    #[test]
-    fn numbers_for_people() {
-        assert_eq!(group_digits(2_558_430), "2,558,430");
-        assert_eq!(group_digits(999), "999");
-        assert_eq!(group_digits(1000), "1,000");
-        assert_eq!(megabytes(10_340_000), "10.3 MB");
-        assert_eq!(megabytes(52_000), "52.0 kB");
-        assert_eq!(seconds(Duration::from_millis(1234)), "1.23 s");
-        assert_eq!(seconds(Duration::from_micros(4400)), "4 ms");
-        assert_eq!(percent(0.04021), "4.0 %");
-        assert_eq!(percent(0.2316), "23 %");
-        assert_eq!(percent(0.00134), "0.13 %");
-        assert_eq!(percent(0.0004), "0.040 %");
-        assert_eq!(seconds(Duration::from_secs(75)), "75.0 s");
     }
 }

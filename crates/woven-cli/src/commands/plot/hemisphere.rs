@@ -1,15 +1,13 @@
 //! `woven plot hemisphere`: a material's BRDF over the whole view hemisphere as a false-colour
 //! disc (data in [`woven::figures::hemisphere`]).
 
-use super::plot::{
-    check_output_dirs, encode_png, plot_error, register_embedded_font, tick_label, ImageFormat,
-    FONT,
-};
 use crate::args::{parse_degrees, parse_finite, MaterialArgs};
-use crate::glyphs::CrispText;
 use crate::io;
+use crate::plotting::glyphs::CrispText;
+use crate::plotting::{
+    encode_png, plot_error, register_embedded_font, tick_label, ImageFormat, FONT,
+};
 use crate::progress::Progress;
-use crate::summary::short;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use plotters::coord::Shift;
@@ -19,6 +17,7 @@ use plotters::style::FontTransform;
 use std::f64::consts::FRAC_1_SQRT_2;
 use std::path::PathBuf;
 use woven::figures::hemisphere::{self, Grid};
+use woven::figures::words::short;
 use woven::Vec3;
 
 /// The long help of `woven plot hemisphere` (also set on its `plot` subcommand entry, whose doc
@@ -184,7 +183,7 @@ pub fn run(args: &HemisphereArgs) -> Result<()> {
             args.output.display()
         );
     }
-    check_output_dirs(std::slice::from_ref(&args.output))?;
+    io::check_output_dirs(std::slice::from_ref(&args.output))?;
     let (material, model) = args.material.load_and_build()?;
     let layout = Layout::new(args.size);
     let n = (args.grid as usize).min(layout.diameter as usize).max(8);

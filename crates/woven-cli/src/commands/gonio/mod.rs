@@ -1,16 +1,20 @@
-//! `woven gonio`: the paper's virtual goniometer (docs/spec.md §4) as a CSV table.
+//! `woven gonio`: the paper's virtual goniometer (docs/spec.md §4) as a CSV table. The geometry,
+//! a reading and the parallel sweep are the library's ([`woven::gonio`]), the CSV the fitter's
+//! ([`woven_fit::data::gonio`], which reads it back); without `--material`, [`default_job`].
+
+pub mod default_job;
 
 use crate::args::{
     material_help, parse_degrees_in, parse_finite, Interval, MaterialArgs, MaterialSource,
     DEFAULT_WAVELENGTH_NM,
 };
-use crate::goniometer::{self, Reading};
 use crate::io;
 use crate::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
-use std::io::Write;
 use std::path::PathBuf;
+use woven::gonio::{sweep, HALF_ANGLE_DEG};
+use woven_fit::data::gonio::write as write_csv;
 
 /// Arguments of `woven gonio`.
 #[derive(Args, Debug)]
@@ -56,7 +60,7 @@ pub struct GonioArgs {
     /// Sample tilts t in degrees, each in (-45, 45) (±45° is grazing): a range START:STOP:STEP
     /// (STOP included when the steps land on it), a comma list, or one angle. The default is the
     /// paper's grid.
-    #[arg(long, value_name = "DEGREES", default_value = goniometer::PAPER_TILTS,
+    #[arg(long, value_name = "DEGREES", default_value = PAPER_TILTS,
           allow_hyphen_values = true, value_parser = parse_tilts)]
     pub tilt_deg: DegreeList,
 
@@ -69,6 +73,10 @@ pub struct GonioArgs {
 #[derive(Clone, Debug)]
 pub struct DegreeList(pub Vec<f64>);
 
+/// The paper's tilt steps as a `--tilt-deg` range: −42° to 42° by 3° (§4;
+/// [`woven::gonio::paper_tilts_deg`]).
+pub const PAPER_TILTS: &str = "-42:42:3";
+
 /// The sample azimuths `--azimuth-deg` accepts: one turn either way.
 pub const AZIMUTHS: Interval = Interval {
     lo: -360.0,
@@ -79,9 +87,9 @@ pub const AZIMUTHS: Interval = Interval {
 
 /// The tilts `--tilt-deg` accepts: short of grazing on both sides.
 pub const TILTS: Interval = Interval {
-    lo: -goniometer::HALF_ANGLE_DEG,
+    lo: -HALF_ANGLE_DEG,
     lo_open: true,
-    hi: goniometer::HALF_ANGLE_DEG,
+    hi: HALF_ANGLE_DEG,
     hi_open: true,
 };
 
@@ -93,9 +101,6 @@ fn parse_tilts(value: &str) -> Result<DegreeList, String> {
     parse_degrees_in("--tilt-deg", value, TILTS).map(DegreeList)
 }
 
-/// The CSV header.
-pub const HEADER: &str = "azimuth_deg,tilt_deg,theta_i,theta_r,radiance";
-
 /// Runs `woven gonio`.
 pub fn run(args: &GonioArgs) -> Result<()> {
     let Some(material) = &args.material else {
@@ -103,10 +108,10 @@ pub fn run(args: &GonioArgs) -> Result<()> {
             anyhow::bail!(
                 "-o needs --material: without it, `woven gonio` runs the main job, which writes \
                  its files to {}/",
-                super::default_job::OUT_DIR
+                default_job::OUT_DIR
             );
         }
-        return super::default_job::run();
+        return default_job::run();
     };
     let model = MaterialArgs {
         material: material.clone(),
@@ -119,28 +124,8 @@ pub fn run(args: &GonioArgs) -> Result<()> {
         "readings",
         args.output.is_some() || !std::io::IsTerminal::is_terminal(&std::io::stdout()),
     );
-    let readings = goniometer::sweep(&model, azimuths, tilts, || bar.inc(1));
+    let readings = sweep(&model, azimuths, tilts, || bar.inc(1));
     bar.finish();
-    io::write_output(args.output.as_deref(), |out| write_csv(out, &readings))
+    io::write_output(args.output.as_deref(), |out| Ok(write_csv(&readings, out)?))
         .context("writing the goniometer table")
-}
-
-/// Writes the readings as CSV under [`HEADER`].
-pub fn write_csv(out: &mut dyn Write, readings: &[Reading]) -> Result<()> {
-    writeln!(out, "{HEADER}")?;
-    let mut line = String::new();
-    for r in readings {
-        line.clear();
-        for (k, x) in [r.azimuth_deg, r.tilt_deg, r.theta_i, r.theta_r, r.radiance]
-            .into_iter()
-            .enumerate()
-        {
-            if k > 0 {
-                line.push(',');
-            }
-            io::push_f64(&mut line, x);
-        }
-        writeln!(out, "{line}")?;
-    }
-    Ok(())
 }

@@ -6,17 +6,19 @@
 //! then a short summary for people: what was computed, where the files are, a few readings, and
 //! the commands to try next. It takes well under a second.
 
-use super::gonio::{self, AZIMUTHS, TILTS};
-use super::plot::{self, ImageFormat, DEFAULT_SIZE};
+use super::{AZIMUTHS, PAPER_TILTS, TILTS};
 use crate::args::{parse_degrees_in, DEFAULT_WAVELENGTH_NM};
-use crate::figures::{self, FigureId};
-use crate::goniometer::{self, Reading};
 use crate::io;
+use crate::plotting::figure::{self, DEFAULT_SIZE};
+use crate::plotting::ImageFormat;
 use anyhow::{Context, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use woven::figures::FigureId;
+use woven::gonio::{sweep, Reading};
 use woven::material::Material;
+use woven_fit::data::gonio::write as write_csv;
 
 /// The folder the files go to, relative to the current directory.
 pub const OUT_DIR: &str = "woven-out";
@@ -50,16 +52,15 @@ pub fn run() -> Result<()> {
     let model = material
         .build(DEFAULT_WAVELENGTH_NM)
         .with_context(|| format!("cannot prepare the preset `{PRESET}`"))?;
-    let tilts = parse_degrees_in("--tilt-deg", goniometer::PAPER_TILTS, TILTS)
-        .map_err(anyhow::Error::msg)?;
+    let tilts = parse_degrees_in("--tilt-deg", PAPER_TILTS, TILTS).map_err(anyhow::Error::msg)?;
     debug_assert!(SAMPLE_AZIMUTHS_DEG.iter().all(|&a| AZIMUTHS.contains(a)));
-    let readings = goniometer::sweep(&model, &SAMPLE_AZIMUTHS_DEG, &tilts, || {});
-    io::write_atomically(&csv, |out| gonio::write_csv(out, &readings))?;
+    let readings = sweep(&model, &SAMPLE_AZIMUTHS_DEG, &tilts, || {});
+    io::write_atomically(&csv, |out| Ok(write_csv(&readings, out)?))?;
 
     // Figure 8, as `woven plot fig8` draws it.
-    let figure = figures::figure(FigureId::Fig8)?;
+    let fig8 = woven::figures::figure(FigureId::Fig8)?;
     for (path, format) in [(&svg, ImageFormat::Svg), (&png, ImageFormat::Png)] {
-        let bytes = plot::render(&figure, figure.y_scale, format, DEFAULT_SIZE)
+        let bytes = figure::render(&fig8, fig8.y_scale, format, DEFAULT_SIZE)
             .with_context(|| format!("drawing Fig. 8 for `{}`", path.display()))?;
         io::write_atomically(path, |out| Ok(out.write_all(&bytes)?))?;
     }
@@ -158,25 +159,25 @@ fn summary(readings: &[Reading], n_tilts: usize, seconds: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::figures::cloth;
+    use woven::figures::cloth;
 
     #[test]
     fn summary_shows_the_readings_asked_for() {
         let model = Material::preset(PRESET).unwrap().build(550.0).unwrap();
         let tilts: Vec<f64> = SHOWN_TILTS_DEG.to_vec();
-        let readings = goniometer::sweep(&model, &SAMPLE_AZIMUTHS_DEG, &tilts, || {});
+        let readings = sweep(&model, &SAMPLE_AZIMUTHS_DEG, &tilts, || {});
         let text = summary(&readings, tilts.len(), 0.1);
         assert!(!text.contains("NaN"), "{text}");
         let row = text.lines().find(|l| l.trim_start().starts_with("+15°"));
         let row = row.unwrap_or_else(|| panic!("no +15° row in\n{text}"));
-        let want = goniometer::read(&model, 90.0, 15.0).radiance;
+        let want = woven::gonio::read(&model, 90.0, 15.0).radiance;
         let got: f64 = row.split_whitespace().last().unwrap().parse().unwrap();
         assert!((got - want).abs() < 1e-4, "{got} vs {want}");
         for path in outputs() {
             assert!(text.contains(&path.display().to_string()), "{text}");
         }
         // The shown tilts lie on the paper's grid, so the CSV holds them.
-        let grid = parse_degrees_in("--tilt-deg", goniometer::PAPER_TILTS, TILTS).unwrap();
+        let grid = parse_degrees_in("--tilt-deg", PAPER_TILTS, TILTS).unwrap();
         assert!(SHOWN_TILTS_DEG.iter().all(|t| grid.contains(t)));
         assert_eq!(cloth::AZIMUTHS.map(|(a, _)| a), SAMPLE_AZIMUTHS_DEG);
     }
