@@ -363,21 +363,79 @@ fn plot_rejects_unknown_formats_and_figures() {
         .stderr(predicate::str::contains("--width"));
 }
 
+/// The modules of src/commands/ (files and folders, `mod.rs` aside), sorted: one per command.
+fn command_modules() -> Vec<String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/commands");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|entry| {
+            let path = entry.unwrap().path();
+            path.file_stem().unwrap().to_string_lossy().into_owned()
+        })
+        .filter(|name| name != "mod")
+        .collect();
+    names.sort();
+    names
+}
+
+/// What `woven ARGS` prints on standard output (a successful run).
+fn help_text(args: &[&str]) -> String {
+    let out = woven().args(args).assert().success();
+    String::from_utf8(out.get_output().stdout.clone()).unwrap()
+}
+
+/// The commands a help text lists under `Commands:` (each entry's first word; wrapped
+/// descriptions are indented further), `help` aside, sorted.
+fn listed_commands(help: &str) -> Vec<String> {
+    let section = help
+        .split_once("Commands:\n")
+        .unwrap_or_else(|| panic!("no Commands: section in\n{help}"))
+        .1;
+    let mut names: Vec<String> = section
+        .lines()
+        .take_while(|line| !line.trim().is_empty())
+        .filter(|line| line.starts_with("  ") && !line.starts_with("   "))
+        .filter_map(|line| line.split_whitespace().next())
+        .filter(|&name| name != "help")
+        .map(str::to_string)
+        .collect();
+    names.sort();
+    names
+}
+
 #[test]
 fn help_is_complete() {
-    woven()
-        .arg("--help")
-        .assert()
-        .success()
-        .stdout(predicate::str::contains("eval"))
-        .stdout(predicate::str::contains("albedo"))
-        .stdout(predicate::str::contains("plot"))
-        .stdout(predicate::str::contains("gonio"))
-        .stdout(predicate::str::contains("materials"))
-        .stdout(predicate::str::contains("tabulate"))
-        .stdout(predicate::str::contains("export"))
-        .stdout(predicate::str::contains("woven-out"))
-        .stdout(predicate::str::contains("Examples:"));
+    // Every command, named here and checked against the sources (one module per command in
+    // src/commands/), so that a command added to either is noticed.
+    let mut commands = [
+        "albedo",
+        "convert",
+        "eval",
+        "export",
+        "fit",
+        "gonio",
+        "materials",
+        "plot",
+        "render",
+        "serve",
+        "tabulate",
+    ];
+    commands.sort_unstable();
+    assert_eq!(commands.to_vec(), command_modules());
+    let help = help_text(&["--help"]);
+    assert!(help.contains("woven-out") && help.contains("Examples:"));
+    assert_eq!(listed_commands(&help), commands, "{help}");
+    let mut figures = [
+        "fig10",
+        "fig3",
+        "fig4",
+        "fig5",
+        "fig8",
+        "fig9",
+        "hemisphere",
+    ];
+    figures.sort_unstable();
+    assert_eq!(listed_commands(&help_text(&["plot", "--help"])), figures);
     for figure in ["fig8", "hemisphere"] {
         woven()
             .args(["plot", figure, "--help"])
