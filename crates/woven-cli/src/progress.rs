@@ -7,6 +7,7 @@
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// How long a job runs before its bar appears: shorter jobs finish without one.
@@ -24,6 +25,9 @@ pub struct Progress {
     /// Whether the bar may be drawn at all.
     enabled: bool,
     revealed: AtomicBool,
+    /// Held while [`set`](Self::set) compares and moves the position, so that a report that
+    /// lost a race cannot move the bar back.
+    setting: Mutex<()>,
 }
 
 impl Progress {
@@ -31,14 +35,28 @@ impl Progress {
     /// ("rows", "directions"). `enabled` says whether it may appear; it never does when standard
     /// error is not a terminal.
     pub fn new(total: Option<u64>, what: &str, enabled: bool) -> Self {
-        let bar = ProgressBar::with_draw_target(total, ProgressDrawTarget::hidden());
         let template = match total {
             Some(_) => {
                 format!("{{bar:40.cyan/blue}} {{pos}}/{{len}} {what}, {{elapsed}} elapsed, ~{{eta}} left")
             }
             None => format!("{{spinner}} {{pos}} {what}, {{elapsed}} elapsed"),
         };
-        if let Ok(style) = ProgressStyle::with_template(&template) {
+        Self::with_template(total, &template, enabled)
+    }
+
+    /// A bar for `total` units named `what` that also shows the rate (units per second), for
+    /// jobs whose speed is the figure of merit (a render's samples).
+    pub fn with_rate(total: u64, what: &str, enabled: bool) -> Self {
+        let template = format!(
+            "{{bar:40.cyan/blue}} {{percent:>3}}% {{human_pos}}/{{human_len}} {what}, \
+             {{per_sec}}, ~{{eta}} left"
+        );
+        Self::with_template(Some(total), &template, enabled)
+    }
+
+    fn with_template(total: Option<u64>, template: &str, enabled: bool) -> Self {
+        let bar = ProgressBar::with_draw_target(total, ProgressDrawTarget::hidden());
+        if let Ok(style) = ProgressStyle::with_template(template) {
             bar.set_style(style.progress_chars("##-"));
         }
         Progress {
@@ -46,6 +64,7 @@ impl Progress {
             start: Instant::now(),
             enabled: enabled && stderr_is_terminal(),
             revealed: AtomicBool::new(false),
+            setting: Mutex::new(()),
         }
     }
 
@@ -59,11 +78,15 @@ impl Progress {
     /// count for themselves, such as a table build's `progress(done, total)`. A call reporting less
     /// than the bar shows is ignored: worker threads may report out of order.
     pub fn set(&self, done: u64, total: u64) {
-        if self.bar.length() != Some(total) {
-            self.bar.set_length(total);
-        }
-        if done > self.bar.position() {
-            self.bar.set_position(done);
+        {
+            // A poisoned lock guards nothing but the order of updates: carry on.
+            let _order = self.setting.lock().unwrap_or_else(|e| e.into_inner());
+            if self.bar.length() != Some(total) {
+                self.bar.set_length(total);
+            }
+            if done > self.bar.position() {
+                self.bar.set_position(done);
+            }
         }
         self.reveal_if_long();
     }
@@ -113,6 +136,23 @@ mod tests {
         let p = Progress::new(Some(1000), "rows", false);
         (0..1000).into_par_iter().for_each(|_| p.inc(1));
         assert_eq!(p.position(), 1000);
+        assert!(p.bar.is_hidden());
+        p.finish();
+    }
+
+    /// A render reports `(done, total)` from many threads, out of order; the bar keeps the
+    /// largest.
+    #[test]
+    fn a_rate_bar_counts_reports_from_many_threads() {
+        use rayon::prelude::*;
+        use std::sync::atomic::AtomicU64;
+        let p = Progress::with_rate(640, "samples", false);
+        let done = AtomicU64::new(0);
+        (0..10).into_par_iter().for_each(|_| {
+            let d = done.fetch_add(64, Ordering::Relaxed) + 64;
+            p.set(d, 640);
+        });
+        assert_eq!((p.position(), p.bar.length()), (640, Some(640)));
         assert!(p.bar.is_hidden());
         p.finish();
     }

@@ -1,11 +1,11 @@
-//! Rendering a scene into an image: tiles over all cores, a progress bar, per-pixel means.
+//! Rendering a scene into an image: tiles over all cores, per-pixel means, progress reported to
+//! a callback (the library draws nothing; the CLI draws a bar).
 
 use crate::color::Rgb;
 use crate::integrator;
 use crate::rng::Sampler;
 use crate::scene::Scene;
 use crate::{Error, Result};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -18,8 +18,6 @@ pub const TILE: usize = 16;
 pub struct RenderOptions {
     /// Worker threads; `None`: all cores (rayon's global pool).
     pub threads: Option<usize>,
-    /// Whether to draw a progress bar on standard error (hidden when it is not a terminal).
-    pub progress: bool,
 }
 
 /// A rendered image: linear RGB per pixel, row 0 at the top.
@@ -55,13 +53,27 @@ impl Image {
     }
 }
 
-/// Renders `scene` with its film settings.
+/// Renders `scene` with its film settings, reporting no progress.
+///
+/// # Errors
+/// As [`render_with_progress`].
+pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Image> {
+    render_with_progress(scene, options, &|_, _| {})
+}
+
+/// Renders `scene` with its film settings, calling `progress(samples done, samples in all)` as
+/// the render starts and after each finished tile, from the worker threads (calls may arrive
+/// out of order: keep the largest). The library draws nothing itself; the CLI draws a bar.
 ///
 /// # Errors
 /// [`Error::InvalidSetting`] for zero threads or when the thread pool cannot start.
-pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Image> {
+pub fn render_with_progress(
+    scene: &Scene,
+    options: &RenderOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<Image> {
     match options.threads {
-        None => Ok(render_in_pool(scene, options)),
+        None => Ok(render_in_pool(scene, progress)),
         Some(n) => {
             if n == 0 {
                 return Err(Error::InvalidSetting {
@@ -78,30 +90,19 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Image> {
                     value: n.to_string(),
                     expected: format!("a thread count the system can start ({e})"),
                 })?;
-            Ok(pool.install(|| render_in_pool(scene, options)))
+            Ok(pool.install(|| render_in_pool(scene, progress)))
         }
     }
 }
 
-fn render_in_pool(scene: &Scene, options: &RenderOptions) -> Image {
+fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image {
     let film = &scene.film;
     let (w, h, spp) = (film.width, film.height, film.spp);
     let tiles_x = w.div_ceil(TILE);
     let tiles_y = h.div_ceil(TILE);
     let total = (w * h * spp) as u64;
-    let bar = if options.progress {
-        let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
-        bar.set_style(
-            ProgressStyle::with_template(
-                "rendering {bar:30} {percent:>3}%  {human_pos}/{human_len} samples  {per_sec}  eta {eta}",
-            )
-            .expect("a valid template")
-            .progress_chars("=> "),
-        );
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    progress(0, total);
+    let done = AtomicU64::new(0);
     let invalid = AtomicU64::new(0);
     let start = Instant::now();
 
@@ -148,11 +149,11 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions) -> Image {
                 }
             }
             invalid.fetch_add(bad, Ordering::Relaxed);
-            bar.inc((out.len() * spp) as u64);
+            let samples = (out.len() * spp) as u64;
+            progress(done.fetch_add(samples, Ordering::Relaxed) + samples, total);
             out
         })
         .collect();
-    bar.finish_and_clear();
 
     let mut pixels = vec![Rgb::BLACK; w * h];
     let mut std_error = vec![Rgb::BLACK; w * h];

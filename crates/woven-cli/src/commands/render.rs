@@ -2,14 +2,14 @@
 //! Bare `woven` runs it on the built-in showcase.
 
 use crate::args::parse_finite;
-use crate::progress::{stderr_is_terminal, Progress};
+use crate::progress::Progress;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use woven::table::TableOptions;
 use woven_render::output::{self, Format};
-use woven_render::render::{render, RenderOptions};
+use woven_render::render::{render_with_progress, RenderOptions};
 use woven_render::rng::SamplerKind;
 use woven_render::scene::{Scene, SceneDescription, EXAMPLE_SCENE, SHOWCASE_SCENE};
 use woven_render::woven_material::{TableCache, TableGrid};
@@ -189,13 +189,21 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         b.finish();
     }
 
-    let image = render(
+    // The renderer reports samples done; the bar shows once the render turns out to be long.
+    let film = &scene.film;
+    let bar = Progress::with_rate(
+        (film.width * film.height * film.spp) as u64,
+        "samples",
+        true,
+    );
+    let image = render_with_progress(
         &scene,
         &RenderOptions {
             threads: args.threads.map(|n| n as usize),
-            progress: stderr_is_terminal(),
         },
+        &|done, total| bar.set(done, total),
     )?;
+    bar.finish();
     for path in &outputs {
         output::write(&image, path, args.exposure)?;
     }

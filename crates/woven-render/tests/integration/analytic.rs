@@ -249,7 +249,6 @@ fn renders_are_deterministic_for_a_seed() {
         let scene = Scene::build(&desc, &crate::coarse_grid(), &|_| {}, &|_, _| {}).unwrap();
         let options = RenderOptions {
             threads: Some(threads),
-            progress: false,
         };
         render(&scene, &options).unwrap().pixels
     };
