@@ -6,34 +6,23 @@
 //! and so on; light sampling at a vertex happens only when a further vertex is allowed.
 //! **Russian roulette** from depth `rr_depth` (5 by default) continues with probability
 //! `min(max channel of the throughput, 0.95)`. **Emitters**: one light is chosen per light
-//! sample, in proportion to the lights' `sampling_weight` (Mitsuba's; uniformly by default);
+//! sample, in proportion to the lights' `sampling_weight` (Mitsuba's; uniformly by default),
+//! and asked only through [`Emitter`] (`sample_li`, `pdf_li`, `le`), whatever its kind;
 //! point lights are deltas (no MIS, never hit); a rectangle light's surface reflects nothing;
 //! surfaces are one-sided — a ray meeting a back face ends there, black.
 
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
-use crate::light::Light;
+use crate::light::{Emitter, EmitterHit};
 use crate::material::ShadingPoint;
 use crate::rng::Sampler;
 use crate::scene::{Scene, Strategy};
+use woven::math::sampling::power_heuristic as power;
 use woven::Vec3;
 
 /// The offset of a spawned ray's origin from its surface, relative to the point's magnitude
 /// (with an absolute floor of the same value): enough to leave the surface after rounding.
 const OFFSET: f64 = 1e-7;
-
-/// The power heuristic (β = 2) weight of a strategy with density `a` against one with `b`.
-#[inline]
-fn power(a: f64, b: f64) -> f64 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 && (a2 + b2).is_finite() {
-        a2 / (a2 + b2)
-    } else if a.is_infinite() {
-        1.0
-    } else {
-        0.0
-    }
-}
 
 /// A ray leaving `hit` in world direction `d`, its origin pushed off the surface to `d`'s side.
 #[inline]
@@ -54,13 +43,6 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
     // The probability that light sampling picks light `k` (in proportion to its weight).
     let pick = |k: usize| scene.light_choice.probability(k);
     let use_lights = settings.strategy != Strategy::Bsdf && n_lights > 0;
-    // Whether a ray can meet an emitter (point lights cannot be hit): otherwise a BSDF draw
-    // whose vertex may only add emission (the last one) is not made.
-    let hittable = scene.environment.is_some()
-        || scene
-            .lights
-            .iter()
-            .any(|l| matches!(l, Light::Rectangle { .. }));
 
     let mut l = Rgb::BLACK;
     let mut beta = Rgb::WHITE;
@@ -92,11 +74,11 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         };
         let Some(hit) = hit else {
             if let Some(e) = scene.environment {
-                if let Light::Environment(env) = &scene.lights[e] {
-                    let le = env.radiance(ray.d);
-                    if !le.is_black() {
-                        l += beta * emitted(le, pick(e) * env.pdf(ray.d));
-                    }
+                let light = &scene.lights[e];
+                let met = EmitterHit::escaped(ray.d);
+                let le = light.le(&met);
+                if !le.is_black() {
+                    l += beta * emitted(le, pick(e) * light.pdf_li(&met));
                 }
             }
             break;
@@ -108,17 +90,13 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         }
         let info = scene.prim_info[hit.prim];
         if let Some(li) = info.light {
-            if let Light::Rectangle {
-                edge_u,
-                edge_v,
-                radiance,
-                ..
-            } = &scene.lights[li]
-            {
-                let area = edge_u.cross(*edge_v).length();
-                let light_pdf = pick(li) * hit.t * hit.t / (cos_front * area);
-                l += beta * emitted(*radiance, light_pdf);
-            }
+            let light = &scene.lights[li];
+            let met = EmitterHit {
+                d: ray.d,
+                distance: hit.t,
+                cos_light: cos_front,
+            };
+            l += beta * emitted(light.le(&met), pick(li) * light.pdf_li(&met));
         }
         let Some(mi) = info.material else {
             break;
@@ -140,9 +118,9 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
 
         // Next-event estimation.
         if use_lights {
-            let (k, _) = scene.light_choice.sample(sampler.uniform());
+            let k = scene.light_choice.sample(sampler.uniform()).bin;
             let (u1, u2) = sampler.next2();
-            if let Some(ls) = scene.lights[k].sample(hit.p, u1, u2) {
+            if let Some(ls) = scene.lights[k].sample_li(hit.p, [u1, u2]) {
                 let wi = frame.to_local(ls.wi);
                 if wi.z > 0.0 && ls.wi.dot(hit.ng) > 0.0 && !ls.radiance.is_black() {
                     let f = material.eval(wi, wo, &at);
@@ -169,7 +147,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         }
 
         // BSDF sampling: the next direction. At the last vertex it can only find emission.
-        if depth + 2 >= max_depth && !hittable {
+        if depth + 2 >= max_depth && !scene.emitters_can_be_hit {
             break;
         }
         // The lobe choice has a dimension of its own (stratified points stay stratified).

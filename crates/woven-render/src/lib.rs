@@ -45,12 +45,14 @@
 //! ```
 //!
 //! ## Modules
-//! - [`scene`]: the scene file: parsing, checks, building.
-//! - [`render`]: tiles over all cores, per-pixel means, the progress bar.
+//! - [`scene`]: the scene file: parsing, checks, building (a file each).
+//! - [`render`]: tiles over all cores, per-pixel means, progress reported to a callback.
 //! - [`integrator`]: the path tracer (NEE + MIS, Russian roulette, Mitsuba's depth).
 //! - [`material`]: the [`SurfaceMaterial`](material::SurfaceMaterial) trait and the diffuse
 //!   material; [`woven_material`]: the woven cloth.
-//! - [`light`], [`camera`], [`geometry`], [`shapes`], [`accel`]: what a scene is made of.
+//! - [`light`]: the [`Emitter`](light::Emitter) interface (`sample_li`, `pdf_li`, `le`) and
+//!   the point, environment and rectangle lights; [`camera`], [`geometry`], [`shapes`],
+//!   [`accel`]: the rest of what a scene is made of.
 //! - [`output`]: OpenEXR and PNG files.
 
 pub mod accel;

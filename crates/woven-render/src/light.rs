@@ -1,5 +1,8 @@
 //! Light sources: point lights, environments (constant or an equirectangular map) and
-//! rectangular area lights.
+//! rectangular area lights, each an [`Emitter`]: what the path tracer asks of a light (pbrt-v4's
+//! `Light` interface, Mitsuba 3's `Emitter`) — a direction drawn toward it for next-event
+//! estimation ([`Emitter::sample_li`]), the density of that draw for a direction a BSDF-sampled
+//! ray found it in ([`Emitter::pdf_li`]), and the radiance such a ray receives ([`Emitter::le`]).
 //!
 //! Units: point intensity in W sr⁻¹, radiance in W m⁻² sr⁻¹ (per RGB channel). A rectangle emits
 //! from the side its normal `edge_u × edge_v` faces. An environment map is equirectangular with
@@ -11,67 +14,185 @@ use crate::color::Rgb;
 use crate::{Error, Result};
 use std::f64::consts::PI;
 use std::path::Path;
+use woven::math::sampling::{uniform_sphere, Distribution2D, UNIFORM_SPHERE_PDF};
 use woven::Vec3;
 
-/// A piecewise-constant distribution on `[0, 1)`, for sampling tabulated functions.
-#[derive(Clone, Debug)]
-pub struct Distribution1D {
-    /// The cumulative weights, `cdf[0] = 0`, `cdf[n] = 1`.
-    cdf: Vec<f64>,
-    /// The total weight.
-    total: f64,
+/// What the path tracer asks of a light source.
+pub trait Emitter {
+    /// Draws a direction from the shading point `p` toward the light from two uniforms in
+    /// `[0, 1)`; `None` when the draw gives nothing (a point on the light's back, or at `p`).
+    fn sample_li(&self, p: Vec3, u: [f64; 2]) -> Option<LightSample>;
+
+    /// The density per unit solid angle with which [`sample_li`](Self::sample_li), called at
+    /// the ray's origin, draws the direction along which the ray `at` met the light; 0 for a
+    /// delta light (never met).
+    fn pdf_li(&self, at: &EmitterHit) -> f64;
+
+    /// The radiance the ray `at` receives from the light, W m⁻² sr⁻¹ per channel.
+    fn le(&self, at: &EmitterHit) -> Rgb;
+
+    /// Whether the light is a delta in position or direction: no ray can meet it, and light
+    /// samples of it take no MIS weight.
+    fn is_delta(&self) -> bool;
 }
 
-impl Distribution1D {
-    /// From non-negative weights; all-zero weights give a uniform distribution.
-    pub fn new(weights: &[f64]) -> Distribution1D {
-        let n = weights.len();
-        let total: f64 = weights.iter().map(|w| w.max(0.0)).sum();
-        let mut cdf = Vec::with_capacity(n + 1);
-        cdf.push(0.0);
-        let mut acc = 0.0;
-        for (i, w) in weights.iter().enumerate() {
-            acc += if total > 0.0 {
-                w.max(0.0) / total
-            } else {
-                1.0 / n as f64
-            };
-            cdf.push(if i + 1 == n { 1.0 } else { acc });
+/// Where a ray met an emitter: on an area light's surface, or escaping to the environment.
+#[derive(Clone, Copy, Debug)]
+pub struct EmitterHit {
+    /// The ray's direction, unit, from its origin toward the light.
+    pub d: Vec3,
+    /// The distance from the ray's origin to the point met (infinite for the environment).
+    pub distance: f64,
+    /// The cosine between `-d` and the emitting surface's normal, > 0 on its emitting side
+    /// (1 for the environment, which has no surface).
+    pub cos_light: f64,
+}
+
+impl EmitterHit {
+    /// A ray in direction `d` that met nothing and so receives the environment's light.
+    pub fn escaped(d: Vec3) -> EmitterHit {
+        EmitterHit {
+            d,
+            distance: f64::INFINITY,
+            cos_light: 1.0,
         }
-        Distribution1D { cdf, total }
+    }
+}
+
+/// A light sample for next-event estimation at a shading point.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the shading point toward the light.
+    pub wi: Vec3,
+    /// Distance to the light (infinite for the environment).
+    pub distance: f64,
+    /// The incident radiance (point lights: `I / r²`, the irradiance a delta contributes).
+    pub radiance: Rgb,
+    /// The density per unit solid angle of the draw; 1 for a point light (a delta).
+    pub pdf: f64,
+    /// Whether the light is a delta (no MIS: BSDF sampling cannot find it).
+    pub delta: bool,
+}
+
+/// A point light, radiating `intensity` equally in all directions.
+#[derive(Clone, Copy, Debug)]
+pub struct PointLight {
+    /// Position.
+    pub position: Vec3,
+    /// Intensity, W sr⁻¹ per channel.
+    pub intensity: Rgb,
+}
+
+impl Emitter for PointLight {
+    fn sample_li(&self, p: Vec3, _: [f64; 2]) -> Option<LightSample> {
+        let d = self.position - p;
+        let r2 = d.dot(d);
+        if r2 <= 0.0 {
+            return None;
+        }
+        let r = r2.sqrt();
+        Some(LightSample {
+            wi: d * (1.0 / r),
+            distance: r,
+            radiance: self.intensity * (1.0 / r2),
+            pdf: 1.0,
+            delta: true,
+        })
     }
 
-    /// The number of bins.
-    pub fn len(&self) -> usize {
-        self.cdf.len() - 1
+    fn pdf_li(&self, _: &EmitterHit) -> f64 {
+        0.0
     }
 
-    /// Whether there are no bins.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
+    fn le(&self, _: &EmitterHit) -> Rgb {
+        Rgb::BLACK
     }
 
-    /// The total weight.
-    pub fn total(&self) -> f64 {
-        self.total
+    fn is_delta(&self) -> bool {
+        true
+    }
+}
+
+/// A one-sided parallelogram emitter, uniform radiance toward `edge_u × edge_v`; also geometry
+/// (primitive `prim`, which reflects nothing).
+#[derive(Clone, Copy, Debug)]
+pub struct RectangleLight {
+    /// A corner.
+    pub corner: Vec3,
+    /// First edge.
+    pub edge_u: Vec3,
+    /// Second edge.
+    pub edge_v: Vec3,
+    /// Radiance, W m⁻² sr⁻¹ per channel, toward `edge_u × edge_v`.
+    pub radiance: Rgb,
+    /// The primitive that is this light's surface.
+    pub prim: usize,
+    /// The unit normal of the emitting side, `edge_u × edge_v` normalized.
+    normal: Vec3,
+    /// The area, m².
+    area: f64,
+}
+
+impl RectangleLight {
+    /// The parallelogram at `corner` spanned by `edge_u` and `edge_v` (not parallel), emitting
+    /// `radiance` toward `edge_u × edge_v`; its surface is primitive `prim`.
+    pub fn new(corner: Vec3, edge_u: Vec3, edge_v: Vec3, radiance: Rgb, prim: usize) -> Self {
+        let n = edge_u.cross(edge_v);
+        let area = n.length();
+        RectangleLight {
+            corner,
+            edge_u,
+            edge_v,
+            radiance,
+            prim,
+            normal: n * (1.0 / area),
+            area,
+        }
     }
 
-    /// The probability of bin `i`.
-    pub fn probability(&self, i: usize) -> f64 {
-        self.cdf[i + 1] - self.cdf[i]
+    /// The area, m².
+    pub fn area(&self) -> f64 {
+        self.area
+    }
+}
+
+impl Emitter for RectangleLight {
+    /// A point drawn uniformly on the surface: density `r² / (cos θ_light · area)` per unit solid
+    /// angle.
+    fn sample_li(&self, p: Vec3, u: [f64; 2]) -> Option<LightSample> {
+        let q = self.corner + self.edge_u * u[0] + self.edge_v * u[1];
+        let d = q - p;
+        let r2 = d.dot(d);
+        let r = r2.sqrt();
+        let wi = d * (1.0 / r);
+        let cos_l = -wi.dot(self.normal);
+        // The emitting side only; at grazing angles the density diverges.
+        if cos_l <= 1e-12 || r <= 0.0 {
+            return None;
+        }
+        Some(LightSample {
+            wi,
+            distance: r,
+            radiance: self.radiance,
+            pdf: r2 / (cos_l * self.area),
+            delta: false,
+        })
     }
 
-    /// Draws a bin from a uniform `u ∈ [0, 1)`: `(bin, the position in it in [0, 1))`.
-    pub fn sample(&self, u: f64) -> (usize, f64) {
-        let n = self.len();
-        let i = self.cdf.partition_point(|&c| c <= u).clamp(1, n) - 1;
-        let p = self.probability(i);
-        let t = if p > 0.0 {
-            ((u - self.cdf[i]) / p).clamp(0.0, 1.0 - f64::EPSILON)
+    fn pdf_li(&self, at: &EmitterHit) -> f64 {
+        at.distance * at.distance / (at.cos_light * self.area)
+    }
+
+    fn le(&self, at: &EmitterHit) -> Rgb {
+        if at.cos_light > 0.0 {
+            self.radiance
         } else {
-            0.5
-        };
-        (i, t)
+            Rgb::BLACK
+        }
+    }
+
+    fn is_delta(&self) -> bool {
+        false
     }
 }
 
@@ -89,8 +210,8 @@ enum EnvKind {
         width: usize,
         height: usize,
         pixels: Vec<Rgb>,
-        rows: Distribution1D,
-        columns: Vec<Distribution1D>,
+        /// Over the pixels, in proportion to luminance × sin θ.
+        distribution: Distribution2D,
     },
 }
 
@@ -106,24 +227,19 @@ impl Environment {
     /// An equirectangular map (row-major, row 0 at the zenith), times `scale`.
     pub fn map(width: usize, height: usize, pixels: Vec<Rgb>, scale: f64) -> Environment {
         // Sample ∝ luminance × sin θ (the solid angle of a row).
-        let mut columns = Vec::with_capacity(height);
-        let mut row_weights = Vec::with_capacity(height);
-        for y in 0..height {
-            let sin = ((y as f64 + 0.5) * PI / height as f64).sin();
-            let w: Vec<f64> = pixels[y * width..(y + 1) * width]
-                .iter()
-                .map(|p| p.luminance().max(0.0) * sin)
-                .collect();
-            let d = Distribution1D::new(&w);
-            row_weights.push(d.total());
-            columns.push(d);
-        }
+        let weights: Vec<f64> = pixels
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let sin = ((i / width) as f64 + 0.5) * PI / height as f64;
+                p.luminance().max(0.0) * sin.sin()
+            })
+            .collect();
         Environment {
             kind: EnvKind::Map {
                 width,
                 height,
-                rows: Distribution1D::new(&row_weights),
-                columns,
+                distribution: Distribution2D::new(&weights, width, height),
                 pixels,
             },
             scale,
@@ -185,28 +301,17 @@ impl Environment {
         }
     }
 
-    /// Draws a direction toward the environment: `(d, density per unit solid angle)`.
-    pub fn sample(&self, u1: f64, u2: f64) -> Option<(Vec3, f64)> {
+    /// Draws a direction toward the environment from two uniforms in `[0, 1)`: `(d, density
+    /// per unit solid angle)`.
+    pub fn sample(&self, u: [f64; 2]) -> Option<(Vec3, f64)> {
         match &self.kind {
-            EnvKind::Constant(_) => {
-                // Uniform on the sphere.
-                let z = 1.0 - 2.0 * u1;
-                let r = (1.0 - z * z).max(0.0).sqrt();
-                let phi = 2.0 * PI * u2;
-                Some((Vec3::new(r * phi.cos(), r * phi.sin(), z), 1.0 / (4.0 * PI)))
-            }
-            EnvKind::Map {
-                width,
-                height,
-                rows,
-                columns,
-                ..
-            } => {
-                let (y, ty) = rows.sample(u1);
-                let (x, tx) = columns[y].sample(u2);
-                let theta = (y as f64 + ty) * PI / *height as f64;
-                let phi = (x as f64 + tx) * 2.0 * PI / *width as f64;
-                let d = Vec3::from_spherical(theta, phi);
+            EnvKind::Constant(_) => Some((uniform_sphere(u[0], u[1]), UNIFORM_SPHERE_PDF)),
+            EnvKind::Map { distribution, .. } => {
+                // u[0] picks the row (θ), u[1] the pixel in it (φ).
+                let s = distribution.sample([u[1], u[0]]);
+                let d = Vec3::from_spherical(s.point[1] * PI, s.point[0] * 2.0 * PI);
+                // The density of the pixel `d` falls in, as `pdf` reports it (rounding may carry
+                // a point on a pixel's edge into its neighbour).
                 let pdf = self.pdf(d);
                 (pdf > 0.0).then_some((d, pdf))
             }
@@ -216,12 +321,11 @@ impl Environment {
     /// The density [`sample`](Self::sample) draws `d` with, per unit solid angle.
     pub fn pdf(&self, d: Vec3) -> f64 {
         match &self.kind {
-            EnvKind::Constant(_) => 1.0 / (4.0 * PI),
+            EnvKind::Constant(_) => UNIFORM_SPHERE_PDF,
             EnvKind::Map {
                 width,
                 height,
-                rows,
-                columns,
+                distribution,
                 ..
             } => {
                 let (x, y) = pixel_of(d, *width, *height);
@@ -229,7 +333,7 @@ impl Environment {
                 if sin <= 0.0 {
                     return 0.0;
                 }
-                let p = rows.probability(y) * columns[y].probability(x);
+                let p = distribution.probability(x, y);
                 // Per texel area in (θ, φ): (π/H)(2π/W); dω = sin θ dθ dφ.
                 p * (*width * *height) as f64 / (2.0 * PI * PI * sin)
             }
@@ -249,109 +353,76 @@ fn pixel_of(d: Vec3, width: usize, height: usize) -> (usize, usize) {
     (x, y)
 }
 
-/// A light source.
+impl Emitter for Environment {
+    fn sample_li(&self, _: Vec3, u: [f64; 2]) -> Option<LightSample> {
+        let (wi, pdf) = self.sample(u)?;
+        Some(LightSample {
+            wi,
+            distance: f64::INFINITY,
+            radiance: self.radiance(wi),
+            pdf,
+            delta: false,
+        })
+    }
+
+    fn pdf_li(&self, at: &EmitterHit) -> f64 {
+        self.pdf(at.d)
+    }
+
+    fn le(&self, at: &EmitterHit) -> Rgb {
+        self.radiance(at.d)
+    }
+
+    fn is_delta(&self) -> bool {
+        false
+    }
+}
+
+/// A light source of a scene: one of the kinds above, each an [`Emitter`] (the enum dispatches
+/// without a virtual call).
 #[derive(Clone, Debug)]
 pub enum Light {
     /// A point light; never seen by camera rays, never hit by BSDF-sampled rays.
-    Point {
-        /// Position.
-        position: Vec3,
-        /// Intensity, W sr⁻¹ per channel.
-        intensity: Rgb,
-    },
+    Point(PointLight),
     /// Light from infinitely far away.
     Environment(Environment),
-    /// A one-sided parallelogram emitter (also geometry: primitive `prim`, which reflects
-    /// nothing).
-    Rectangle {
-        /// A corner.
-        corner: Vec3,
-        /// First edge.
-        edge_u: Vec3,
-        /// Second edge.
-        edge_v: Vec3,
-        /// Radiance, W m⁻² sr⁻¹ per channel, toward `edge_u × edge_v`.
-        radiance: Rgb,
-        /// The primitive that is this light's surface.
-        prim: usize,
-    },
+    /// A one-sided parallelogram emitter.
+    Rectangle(RectangleLight),
 }
 
-/// A light sample for next-event estimation at a shading point.
-#[derive(Clone, Copy, Debug)]
-pub struct LightSample {
-    /// Unit direction from the shading point toward the light.
-    pub wi: Vec3,
-    /// Distance to the light (infinite for the environment).
-    pub distance: f64,
-    /// The incident radiance (point lights: `I / r²`, the irradiance a delta contributes).
-    pub radiance: Rgb,
-    /// The density per unit solid angle of the draw; 1 for a point light (a delta).
-    pub pdf: f64,
-    /// Whether the light is a delta (no MIS: BSDF sampling cannot find it).
-    pub delta: bool,
-}
-
-impl Light {
-    /// Draws a point on the light as seen from `p`.
-    pub fn sample(&self, p: Vec3, u1: f64, u2: f64) -> Option<LightSample> {
+impl Emitter for Light {
+    #[inline]
+    fn sample_li(&self, p: Vec3, u: [f64; 2]) -> Option<LightSample> {
         match self {
-            Light::Point {
-                position,
-                intensity,
-            } => {
-                let d = *position - p;
-                let r2 = d.dot(d);
-                if r2 <= 0.0 {
-                    return None;
-                }
-                let r = r2.sqrt();
-                Some(LightSample {
-                    wi: d * (1.0 / r),
-                    distance: r,
-                    radiance: *intensity * (1.0 / r2),
-                    pdf: 1.0,
-                    delta: true,
-                })
-            }
-            Light::Environment(env) => {
-                let (wi, pdf) = env.sample(u1, u2)?;
-                Some(LightSample {
-                    wi,
-                    distance: f64::INFINITY,
-                    radiance: env.radiance(wi),
-                    pdf,
-                    delta: false,
-                })
-            }
-            Light::Rectangle {
-                corner,
-                edge_u,
-                edge_v,
-                radiance,
-                ..
-            } => {
-                let q = *corner + *edge_u * u1 + *edge_v * u2;
-                let n = edge_u.cross(*edge_v);
-                let area = n.length();
-                let n = n * (1.0 / area);
-                let d = q - p;
-                let r2 = d.dot(d);
-                let r = r2.sqrt();
-                let wi = d * (1.0 / r);
-                let cos_l = -wi.dot(n);
-                // The emitting side only; at grazing angles the density diverges.
-                if cos_l <= 1e-12 || r <= 0.0 {
-                    return None;
-                }
-                Some(LightSample {
-                    wi,
-                    distance: r,
-                    radiance: *radiance,
-                    pdf: r2 / (cos_l * area),
-                    delta: false,
-                })
-            }
+            Light::Point(l) => l.sample_li(p, u),
+            Light::Environment(l) => l.sample_li(p, u),
+            Light::Rectangle(l) => l.sample_li(p, u),
+        }
+    }
+
+    #[inline]
+    fn pdf_li(&self, at: &EmitterHit) -> f64 {
+        match self {
+            Light::Point(l) => l.pdf_li(at),
+            Light::Environment(l) => l.pdf_li(at),
+            Light::Rectangle(l) => l.pdf_li(at),
+        }
+    }
+
+    #[inline]
+    fn le(&self, at: &EmitterHit) -> Rgb {
+        match self {
+            Light::Point(l) => l.le(at),
+            Light::Environment(l) => l.le(at),
+            Light::Rectangle(l) => l.le(at),
+        }
+    }
+
+    fn is_delta(&self) -> bool {
+        match self {
+            Light::Point(l) => l.is_delta(),
+            Light::Environment(l) => l.is_delta(),
+            Light::Rectangle(l) => l.is_delta(),
         }
     }
 }
@@ -359,17 +430,6 @@ impl Light {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn distribution_samples_in_proportion() {
-        let d = Distribution1D::new(&[1.0, 0.0, 3.0]);
-        assert_eq!(d.sample(0.1).0, 0);
-        assert_eq!(d.sample(0.3).0, 2);
-        assert!((d.probability(2) - 0.75).abs() < 1e-15);
-        let (i, t) = d.sample(0.625);
-        assert_eq!(i, 2);
-        assert!((t - 0.5).abs() < 1e-12);
-    }
 
     /// The map's density integrates to 1 over the sphere and matches its draws' bins.
     #[test]
@@ -392,7 +452,80 @@ mod tests {
             }
         }
         assert!((integral - 1.0).abs() < 2e-3, "∫ pdf = {integral}");
-        let (d, pdf) = env.sample(0.3, 0.8).unwrap();
+        let (d, pdf) = env.sample([0.3, 0.8]).unwrap();
         assert!((env.pdf(d) - pdf).abs() < 1e-9 * pdf);
+    }
+
+    /// A ray that meets the rectangle where `sample_li` put its point is given the density and
+    /// radiance of that sample; the back side receives nothing.
+    #[test]
+    fn rectangle_pdf_li_and_le_match_its_samples() {
+        // edge_u × edge_v = −z: the light faces down, toward p.
+        let light = RectangleLight::new(
+            Vec3::new(-0.5, -0.25, 2.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Rgb::grey(3.0),
+            0,
+        );
+        assert!((light.area() - 0.5).abs() < 1e-15);
+        let p = Vec3::new(0.1, 0.2, 0.0);
+        for u in [[0.1, 0.9], [0.5, 0.5], [0.97, 0.02]] {
+            let s = light.sample_li(p, u).unwrap();
+            let at = EmitterHit {
+                d: s.wi,
+                distance: s.distance,
+                cos_light: s.wi.z,
+            };
+            assert!((light.pdf_li(&at) - s.pdf).abs() < 1e-12 * s.pdf);
+            assert_eq!(light.le(&at), s.radiance);
+            assert!(!s.delta && !light.is_delta());
+            let back = EmitterHit {
+                cos_light: -at.cos_light,
+                ..at
+            };
+            assert!(light.le(&back).is_black());
+        }
+        // Seen from above, the light shows its back: no sample.
+        assert!(light
+            .sample_li(Vec3::new(0.0, 0.0, 3.0), [0.5, 0.5])
+            .is_none());
+    }
+
+    /// Point lights are deltas: sampled with "density" 1 and the inverse-square falloff, never
+    /// met by a ray.
+    #[test]
+    fn point_lights_are_deltas() {
+        let light = Light::Point(PointLight {
+            position: Vec3::new(0.0, 0.0, 2.0),
+            intensity: Rgb::grey(8.0),
+        });
+        let s = light
+            .sample_li(Vec3::new(0.0, 0.0, 0.0), [0.3, 0.6])
+            .unwrap();
+        assert!(s.delta && light.is_delta());
+        assert_eq!((s.distance, s.pdf, s.radiance), (2.0, 1.0, Rgb::grey(2.0)));
+        let at = EmitterHit::escaped(s.wi);
+        assert_eq!((light.pdf_li(&at), light.le(&at)), (0.0, Rgb::BLACK));
+    }
+
+    /// The environment's `pdf_li` and `le` for an escaped ray are its map's density and
+    /// radiance, and agree with its samples.
+    #[test]
+    fn environment_samples_agree_with_pdf_li() {
+        let pixels: Vec<Rgb> = (0..8 * 4).map(|i| Rgb::grey(1.0 + i as f64)).collect();
+        for env in [
+            Environment::map(8, 4, pixels, 2.0),
+            Environment::constant(Rgb::grey(0.5), 2.0),
+        ] {
+            let light = Light::Environment(env);
+            for u in [[0.2, 0.7], [0.9, 0.1]] {
+                let s = light.sample_li(Vec3::new(0.0, 0.0, 0.0), u).unwrap();
+                let at = EmitterHit::escaped(s.wi);
+                assert!((light.pdf_li(&at) - s.pdf).abs() < 1e-12 * s.pdf);
+                assert_eq!(light.le(&at), s.radiance);
+                assert!(s.distance.is_infinite() && !light.is_delta());
+            }
+        }
     }
 }

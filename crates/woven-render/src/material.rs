@@ -8,8 +8,9 @@
 //! draws `wi` for a given `wo`, and [`SurfaceMaterial::pdf`] is the density of that draw.
 
 use crate::color::Rgb;
-use std::f64::consts::{FRAC_1_PI, PI};
+use std::f64::consts::FRAC_1_PI;
 use woven::bsdf::{BsdfSample, LobeFlags};
+use woven::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use woven::Vec3;
 
 /// What a material may read at a shading point besides the directions: its uv and the pixel's
@@ -51,14 +52,6 @@ pub struct Diffuse {
     pub reflectance: Rgb,
 }
 
-/// A cosine-weighted direction on the upper hemisphere (Malley's method), and its density.
-pub fn sample_cosine(u1: f64, u2: f64) -> (Vec3, f64) {
-    let r = u1.sqrt();
-    let phi = 2.0 * PI * u2;
-    let z = (1.0 - u1).max(0.0).sqrt();
-    (Vec3::new(r * phi.cos(), r * phi.sin(), z), z * FRAC_1_PI)
-}
-
 impl SurfaceMaterial for Diffuse {
     fn eval(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> Rgb {
         if wi.z <= 0.0 || wo.z <= 0.0 {
@@ -72,7 +65,8 @@ impl SurfaceMaterial for Diffuse {
         if wo.z <= 0.0 {
             return None;
         }
-        let (wi, pdf) = sample_cosine(u[0], u[1]);
+        let wi = cosine_hemisphere(u[0], u[1]);
+        let pdf = cosine_hemisphere_pdf(wi.z);
         // A draw on the horizon has density 0: reject it rather than divide by it.
         (pdf > 0.0).then_some(MaterialSample {
             wi,

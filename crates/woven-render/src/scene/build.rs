@@ -1,0 +1,242 @@
+//! Building a checked [`SceneDescription`] into a renderable [`Scene`]: materials (woven ones
+//! tabulated), lights, geometry and its BVH.
+
+use super::{LightDesc, MaterialDesc, PrimInfo, Scene, SceneDescription, ShapeDesc};
+use crate::accel::Accel;
+use crate::camera::Camera;
+use crate::geometry::{Mesh, Primitive};
+use crate::light::{Emitter, Environment, Light, PointLight, RectangleLight};
+use crate::material::{Diffuse, SurfaceMaterial};
+use crate::shapes;
+use crate::woven_material::{TableCache, TableGrid, WovenMaterial};
+use crate::Result;
+use std::collections::BTreeMap;
+use woven::math::sampling::Distribution1D;
+
+impl Scene {
+    /// Builds the scene: tabulates woven materials (`grid`), loads meshes and environment maps,
+    /// builds the BVH. `on_table` is called with a woven material's name before a table is
+    /// built for it (materials sharing a yarn share its table); `progress` receives the table
+    /// build's `(done, total)`.
+    ///
+    /// # Errors
+    /// Files that cannot be read; materials the model library refuses.
+    pub fn build(
+        desc: &SceneDescription,
+        grid: &TableGrid,
+        on_table: &dyn Fn(&str),
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Scene> {
+        Scene::build_with(desc, grid, TableCache::default(), on_table, progress)
+    }
+
+    /// [`build`](Self::build) with the tables of `cache` (e.g. [`TableCache::with_disk`], so that
+    /// tables built on an earlier run are loaded, not built).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build).
+    pub fn build_with(
+        desc: &SceneDescription,
+        grid: &TableGrid,
+        mut cache: TableCache,
+        on_table: &dyn Fn(&str),
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Scene> {
+        let camera = Camera::new(
+            desc.camera.origin,
+            desc.camera.target,
+            desc.camera.up,
+            desc.camera.fov_deg,
+            desc.film.width,
+            desc.film.height,
+        );
+        let (materials, index_of) = build_materials(desc, grid, &mut cache, on_table, progress)?;
+        let mut geometry = Geometry::default();
+        let lights = build_lights(desc, &mut geometry)?;
+        build_shapes(desc, &index_of, &mut geometry)?;
+        let mut integrator = desc.integrator.clone();
+        // Footprints only where a material reads them.
+        integrator.footprint_filter &= materials.iter().any(|m| m.uses_footprint());
+        Ok(Scene {
+            film: desc.film.clone(),
+            integrator,
+            camera,
+            environment: lights
+                .iter()
+                .position(|l| matches!(l, Light::Environment(_))),
+            emitters_can_be_hit: lights.iter().any(|l| !l.is_delta()),
+            lights,
+            light_choice: Distribution1D::new(&desc.light_weights),
+            accel: Accel::new(geometry.prims, geometry.meshes),
+            prim_info: geometry.prim_info,
+            materials,
+        })
+    }
+}
+
+/// The primitives gathered so far, what each is made of, and the meshes triangles refer to.
+#[derive(Default)]
+struct Geometry {
+    prims: Vec<Primitive>,
+    prim_info: Vec<PrimInfo>,
+    meshes: Vec<Mesh>,
+}
+
+impl Geometry {
+    /// Adds a primitive; returns its index.
+    fn push(&mut self, prim: Primitive, info: PrimInfo) -> usize {
+        self.prims.push(prim);
+        self.prim_info.push(info);
+        self.prims.len() - 1
+    }
+
+    /// Adds a mesh's triangles.
+    fn add_mesh(&mut self, mesh: Mesh, info: PrimInfo) {
+        let m = self.meshes.len();
+        for t in 0..mesh.indices.len() {
+            self.push(Primitive::Triangle { mesh: m, index: t }, info);
+        }
+        self.meshes.push(mesh);
+    }
+}
+
+/// The materials some shape uses, in name order, and each one's index by name.
+type Materials = (Vec<Box<dyn SurfaceMaterial>>, BTreeMap<String, usize>);
+
+/// Builds the materials some shape uses (woven ones tabulated, or taken from `cache`).
+fn build_materials(
+    desc: &SceneDescription,
+    grid: &TableGrid,
+    cache: &mut TableCache,
+    on_table: &dyn Fn(&str),
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Materials> {
+    let mut index_of = BTreeMap::new();
+    let mut materials: Vec<Box<dyn SurfaceMaterial>> = Vec::new();
+    for (name, m) in &desc.materials {
+        if !desc.shapes.iter().any(|(_, n)| n == name) {
+            continue;
+        }
+        let built: Box<dyn SurfaceMaterial> = match m {
+            MaterialDesc::Diffuse { reflectance } => Box::new(Diffuse {
+                reflectance: *reflectance,
+            }),
+            MaterialDesc::Woven(spec) => Box::new(WovenMaterial::build(
+                spec,
+                grid,
+                cache,
+                &|| on_table(name),
+                progress,
+            )?),
+        };
+        index_of.insert(name.clone(), materials.len());
+        materials.push(built);
+    }
+    Ok((materials, index_of))
+}
+
+/// Builds the lights in file order; a rectangle light adds its (non-reflecting) surface to
+/// `geometry`.
+fn build_lights(desc: &SceneDescription, geometry: &mut Geometry) -> Result<Vec<Light>> {
+    let mut lights = Vec::with_capacity(desc.lights.len());
+    for l in &desc.lights {
+        lights.push(match l {
+            LightDesc::Point {
+                position,
+                intensity,
+            } => Light::Point(PointLight {
+                position: *position,
+                intensity: *intensity,
+            }),
+            LightDesc::EnvironmentConstant { radiance, scale } => {
+                Light::Environment(Environment::constant(*radiance, *scale))
+            }
+            LightDesc::EnvironmentMap { path, scale } => {
+                Light::Environment(Environment::from_exr(path, *scale)?)
+            }
+            LightDesc::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+                radiance,
+            } => {
+                let prim = geometry.push(
+                    Primitive::Rectangle {
+                        corner: *corner,
+                        edge_u: *edge_u,
+                        edge_v: *edge_v,
+                    },
+                    PrimInfo {
+                        material: None,
+                        light: Some(lights.len()),
+                    },
+                );
+                Light::Rectangle(RectangleLight::new(
+                    *corner, *edge_u, *edge_v, *radiance, prim,
+                ))
+            }
+        });
+    }
+    Ok(lights)
+}
+
+/// Adds the shapes to `geometry` (meshes loaded, cloths generated), each with its material's
+/// index from `index_of`.
+fn build_shapes(
+    desc: &SceneDescription,
+    index_of: &BTreeMap<String, usize>,
+    geometry: &mut Geometry,
+) -> Result<()> {
+    for (k, (shape, name)) in desc.shapes.iter().enumerate() {
+        let info = PrimInfo {
+            material: Some(index_of[name]),
+            light: None,
+        };
+        match shape {
+            ShapeDesc::Sphere { center, radius } => {
+                geometry.push(
+                    Primitive::Sphere {
+                        center: *center,
+                        radius: *radius,
+                    },
+                    info,
+                );
+            }
+            ShapeDesc::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+            } => {
+                geometry.push(
+                    Primitive::Rectangle {
+                        corner: *corner,
+                        edge_u: *edge_u,
+                        edge_v: *edge_v,
+                    },
+                    info,
+                );
+            }
+            ShapeDesc::Cylinder { base, axis, radius } => {
+                geometry.push(
+                    Primitive::Cylinder {
+                        base: *base,
+                        axis: *axis,
+                        radius: *radius,
+                    },
+                    info,
+                );
+            }
+            ShapeDesc::Mesh {
+                path,
+                scale,
+                translate,
+            } => geometry.add_mesh(
+                shapes::load_obj(path, *scale, *translate, &format!("shape[{k}].file"))?,
+                info,
+            ),
+            ShapeDesc::Cloth(cloth) => geometry.add_mesh(cloth.mesh(), info),
+            ShapeDesc::Drape(drape) => geometry.add_mesh(drape.mesh(), info),
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,604 @@
+//! The checks of a parsed scene file: every value against its valid range, every reference
+//! against what the file defines; the result is a [`SceneDescription`]. Each error names the
+//! file, the key, the value and what was expected.
+
+use super::parse::{
+    line_of, RawCamera, RawCloth, RawFilm, RawIntegrator, RawLight, RawMaterial, RawPattern,
+    RawScene, RawShape, RawWif, RawWoven, RawYarns,
+};
+use super::{
+    CameraSpec, Film, IntegratorSettings, LightDesc, MaterialDesc, SceneDescription, ShapeDesc,
+    Strategy, MAX_FILM_SIDE, MAX_GAP, MAX_SPP, MAX_U_MAX_DEG,
+};
+use crate::color::Rgb;
+use crate::rng::SamplerKind;
+use crate::shapes::{Cloth, Drape};
+use crate::woven_material::WovenSpec;
+use crate::{Error, Result};
+use std::collections::BTreeMap;
+use std::path::Path;
+use toml::Spanned;
+use woven::material::{Material, PatternSpec, Weave};
+use woven::weave::Pattern;
+use woven::Vec3;
+
+/// Checks a parsed file (`text`, named `origin` in messages; relative paths resolve against
+/// `base`) table by table, in the file format's order: camera, film, integrator, lights,
+/// materials, shapes.
+///
+/// # Errors
+/// [`Error::Scene`] for the first value out of range or reference to nothing.
+pub(super) fn check(
+    raw: RawScene,
+    text: &str,
+    origin: &str,
+    base: &Path,
+) -> Result<SceneDescription> {
+    let c = Checker { origin, text, base };
+    let camera = camera(&c, raw.camera)?;
+    let film = film(&c, raw.film)?;
+    let integrator = integrator(&c, raw.integrator)?;
+    let (lights, light_weights) = lights(&c, raw.light)?;
+    let materials = materials(&c, raw.material)?;
+    let shapes = shapes(&c, raw.shape, &materials)?;
+    Ok(SceneDescription {
+        origin: origin.to_string(),
+        camera,
+        film,
+        integrator,
+        lights,
+        light_weights,
+        shapes,
+        materials,
+    })
+}
+
+/// `[camera]`.
+fn camera(c: &Checker, raw: Spanned<RawCamera>) -> Result<CameraSpec> {
+    let at = raw.span().start;
+    let cam = raw.into_inner();
+    let origin_v = c.vec("camera.origin", at, cam.origin)?;
+    let target = c.vec("camera.target", at, cam.target)?;
+    let up = c.nonzero("camera.up", at, cam.up)?;
+    if (target - origin_v).length() <= 0.0 {
+        return Err(c.err(
+            "camera.target",
+            at,
+            "equals camera.origin: nothing to look at",
+        ));
+    }
+    if (target - origin_v)
+        .normalize()
+        .cross(up.normalize())
+        .length()
+        < 1e-9
+    {
+        return Err(c.err("camera.up", at, "parallel to the view direction"));
+    }
+    if !(cam.fov_deg > 0.0 && cam.fov_deg < 180.0) {
+        return Err(c.err(
+            "camera.fov_deg",
+            at,
+            format!("{}: expected degrees in (0, 180)", cam.fov_deg),
+        ));
+    }
+    Ok(CameraSpec {
+        origin: origin_v,
+        target,
+        up,
+        fov_deg: cam.fov_deg,
+    })
+}
+
+/// `[film]` (absent: the defaults).
+fn film(c: &Checker, raw: Option<Spanned<RawFilm>>) -> Result<Film> {
+    Ok(match raw {
+        None => Film {
+            width: 512,
+            height: 512,
+            spp: 64,
+            seed: 0,
+            sampler: SamplerKind::default(),
+            first_sample: 0,
+        },
+        Some(f) => {
+            let at = f.span().start;
+            let f = f.into_inner();
+            let side = MAX_FILM_SIDE as i64;
+            Film {
+                width: c.range("film.width", at, f.width, 1, side)?,
+                height: c.range("film.height", at, f.height, 1, side)?,
+                spp: c.range("film.spp", at, f.spp, 1, MAX_SPP as i64)?,
+                seed: f.seed,
+                sampler: f.sampler,
+                first_sample: 0,
+            }
+        }
+    })
+}
+
+/// `[integrator]` (absent: the defaults).
+fn integrator(c: &Checker, raw: Option<Spanned<RawIntegrator>>) -> Result<IntegratorSettings> {
+    Ok(match raw {
+        None => IntegratorSettings {
+            max_depth: Some(16),
+            hide_emitters: false,
+            strategy: Strategy::Mis,
+            rr_depth: 5,
+            footprint_filter: true,
+        },
+        Some(i) => {
+            let at = i.span().start;
+            let i = i.into_inner();
+            let max_depth = match i.max_depth {
+                -1 => None,
+                d if (1..=1024).contains(&d) => Some(d as u32),
+                d => {
+                    return Err(c.err(
+                        "integrator.max_depth",
+                        at,
+                        format!("{d}: expected 1..=1024, or -1 for unlimited"),
+                    ))
+                }
+            };
+            IntegratorSettings {
+                max_depth,
+                hide_emitters: i.hide_emitters,
+                strategy: i.strategy,
+                rr_depth: c.range("integrator.rr_depth", at, i.rr_depth, 1, 1024)? as u32,
+                footprint_filter: i.footprint_filter,
+            }
+        }
+    })
+}
+
+/// `[[light]]`: the lights in file order and their sampling weights.
+fn lights(c: &Checker, raw: Vec<Spanned<RawLight>>) -> Result<(Vec<LightDesc>, Vec<f64>)> {
+    let mut lights = Vec::new();
+    let mut light_weights = Vec::new();
+    let mut environments = 0;
+    for (k, l) in raw.into_iter().enumerate() {
+        let at = l.span().start;
+        let key = format!("light[{k}]");
+        let l = l.into_inner();
+        let weight = l.sampling_weight();
+        if !(weight.is_finite() && weight > 0.0) {
+            return Err(c.err(
+                &format!("{key}.sampling_weight"),
+                at,
+                format!("{weight}: expected a finite number > 0"),
+            ));
+        }
+        light_weights.push(weight);
+        lights.push(match l {
+            RawLight::Point {
+                position,
+                intensity,
+                ..
+            } => LightDesc::Point {
+                position: c.vec(&format!("{key}.position"), at, position)?,
+                intensity: c.rgb(&format!("{key}.intensity"), at, intensity, None)?,
+            },
+            RawLight::Environment {
+                radiance,
+                file,
+                scale,
+                ..
+            } => {
+                environments += 1;
+                if environments > 1 {
+                    return Err(c.err(&key, at, "a second environment: a scene has at most one"));
+                }
+                if !(scale.is_finite() && scale >= 0.0) {
+                    return Err(c.err(
+                        &format!("{key}.scale"),
+                        at,
+                        format!("{scale}: expected a finite number >= 0"),
+                    ));
+                }
+                match (radiance, file) {
+                    (Some(r), None) => LightDesc::EnvironmentConstant {
+                        radiance: c.rgb(&format!("{key}.radiance"), at, r, None)?,
+                        scale,
+                    },
+                    (None, Some(f)) => LightDesc::EnvironmentMap {
+                        path: c.base.join(f),
+                        scale,
+                    },
+                    _ => {
+                        return Err(c.err(
+                            &key,
+                            at,
+                            "an environment takes exactly one of `radiance` and `file`",
+                        ))
+                    }
+                }
+            }
+            RawLight::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+                radiance,
+                ..
+            } => {
+                let (edge_u, edge_v) = c.edges(&key, at, edge_u, edge_v)?;
+                LightDesc::Rectangle {
+                    corner: c.vec(&format!("{key}.corner"), at, corner)?,
+                    edge_u,
+                    edge_v,
+                    radiance: c.rgb(&format!("{key}.radiance"), at, radiance, None)?,
+                }
+            }
+        });
+    }
+    Ok((lights, light_weights))
+}
+
+/// `[material.NAME]`.
+fn materials(
+    c: &Checker,
+    raw: BTreeMap<String, Spanned<RawMaterial>>,
+) -> Result<BTreeMap<String, MaterialDesc>> {
+    let mut materials = BTreeMap::new();
+    for (name, m) in raw {
+        let at = m.span().start;
+        let key = format!("material.{name}");
+        let desc = match m.into_inner() {
+            RawMaterial::Diffuse { reflectance } => MaterialDesc::Diffuse {
+                reflectance: c.rgb(&format!("{key}.reflectance"), at, reflectance, Some(1.0))?,
+            },
+            RawMaterial::Woven(w) => MaterialDesc::Woven(Box::new(woven(c, &key, at, w)?)),
+        };
+        materials.insert(name, desc);
+    }
+    Ok(materials)
+}
+
+/// A `type = "woven"` material at `key`: its model material (a preset's name or a file), the
+/// pattern, yarn density, colours, tilt and gaps.
+fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> {
+    let RawWoven {
+        material,
+        pattern,
+        yarns_per_unit,
+        weft_color,
+        warp_color,
+        u_max_deg,
+        gap,
+    } = raw;
+    let mkey = format!("{key}.material");
+    let mut woven = if Material::preset_toml(&material).is_some() {
+        Material::preset(&material)
+    } else {
+        Material::from_path(c.base.join(&material))
+    }
+    .map_err(|e| c.err(&mkey, at, format!("`{material}`: {e}")))?;
+    if let Some(p) = pattern {
+        let pkey = format!("{key}.pattern");
+        let (spec, pat) = match p {
+            RawPattern::Name(n) => (PatternSpec::Name(n.clone()), Pattern::from_name(&n)),
+            RawPattern::Matrix(m) => (PatternSpec::Matrix(m.clone()), Pattern::from_matrix(m)),
+            RawPattern::Wif(RawWif { wif }) => {
+                let path = c.base.join(&wif);
+                (
+                    PatternSpec::Wif(path.clone()),
+                    Pattern::from_wif_path(&path),
+                )
+            }
+        };
+        let pattern = pat.map_err(|e| c.err(&pkey, at, e.to_string()))?;
+        woven.weave = Some(Weave::Pattern { spec, pattern });
+        woven
+            .validate()
+            .map_err(|e| c.err(&pkey, at, e.to_string()))?;
+    }
+    if !(u_max_deg.is_finite() && (0.0..=MAX_U_MAX_DEG).contains(&u_max_deg)) {
+        return Err(c.err(
+            &format!("{key}.u_max_deg"),
+            at,
+            format!("{u_max_deg}: expected degrees in [0, {MAX_U_MAX_DEG}]"),
+        ));
+    }
+    if !(gap.is_finite() && (0.0..=MAX_GAP).contains(&gap)) {
+        return Err(c.err(
+            &format!("{key}.gap"),
+            at,
+            format!("{gap}: expected a fraction in [0, {MAX_GAP}]"),
+        ));
+    }
+    if woven.yarn.is_none() && (u_max_deg > 0.0 || gap > 0.0) {
+        let k = if gap > 0.0 { "gap" } else { "u_max_deg" };
+        return Err(c.err(
+            &format!("{key}.{k}"),
+            at,
+            format!(
+                "`{material}` is a flat fiber surface (no [yarn]): it has no yarns to tilt or space; remove `{k}`"
+            ),
+        ));
+    }
+    let color = |k: &str, v: Option<[f64; 3]>| -> Result<Option<Rgb>> {
+        v.map(|v| c.rgb(&format!("{key}.{k}"), at, v, Some(1.0)))
+            .transpose()
+    };
+    Ok(WovenSpec {
+        material: woven,
+        yarns_per_unit: {
+            let ykey = format!("{key}.yarns_per_unit");
+            let [nu, nv] = match yarns_per_unit {
+                RawYarns::Same(n) => [n, n],
+                RawYarns::PerAxis(p) => p,
+            };
+            [c.positive(&ykey, at, nu)?, c.positive(&ykey, at, nv)?]
+        },
+        weft_color: color("weft_color", weft_color)?,
+        warp_color: color("warp_color", warp_color)?,
+        u_max: u_max_deg.to_radians(),
+        gap,
+    })
+}
+
+/// `[[shape]]`, each with its material's name, which `materials` must define.
+fn shapes(
+    c: &Checker,
+    raw: Vec<Spanned<RawShape>>,
+    materials: &BTreeMap<String, MaterialDesc>,
+) -> Result<Vec<(ShapeDesc, String)>> {
+    let mut shapes = Vec::new();
+    for (k, s) in raw.into_iter().enumerate() {
+        let at = s.span().start;
+        let key = format!("shape[{k}]");
+        let (desc, material) = match s.into_inner() {
+            RawShape::Sphere {
+                center,
+                radius,
+                material,
+            } => (
+                ShapeDesc::Sphere {
+                    center: c.vec(&format!("{key}.center"), at, center)?,
+                    radius: c.positive(&format!("{key}.radius"), at, radius)?,
+                },
+                material,
+            ),
+            RawShape::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+                material,
+            } => {
+                let (edge_u, edge_v) = c.edges(&key, at, edge_u, edge_v)?;
+                (
+                    ShapeDesc::Rectangle {
+                        corner: c.vec(&format!("{key}.corner"), at, corner)?,
+                        edge_u,
+                        edge_v,
+                    },
+                    material,
+                )
+            }
+            RawShape::Cylinder {
+                base: b,
+                axis,
+                radius,
+                material,
+            } => (
+                ShapeDesc::Cylinder {
+                    base: c.vec(&format!("{key}.base"), at, b)?,
+                    axis: c.nonzero(&format!("{key}.axis"), at, axis)?,
+                    radius: c.positive(&format!("{key}.radius"), at, radius)?,
+                },
+                material,
+            ),
+            RawShape::Mesh {
+                file,
+                scale,
+                translate,
+                material,
+            } => (
+                ShapeDesc::Mesh {
+                    path: c.base.join(file),
+                    scale: c.positive(&format!("{key}.scale"), at, scale)?,
+                    translate: c.vec(&format!("{key}.translate"), at, translate)?,
+                },
+                material,
+            ),
+            RawShape::Cloth(raw) => cloth(c, &key, at, raw)?,
+        };
+        if !materials.contains_key(&material) {
+            let known: Vec<&str> = materials.keys().map(String::as_str).collect();
+            return Err(c.err(
+                &format!("{key}.material"),
+                at,
+                format!(
+                    "`{material}` is not defined: add a [material.{material}] table (defined: {})",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            ));
+        }
+        shapes.push((desc, material));
+    }
+    Ok(shapes)
+}
+
+/// A `type = "cloth"` shape at `key`: hanging in folds, or draped over a sphere.
+fn cloth(c: &Checker, key: &str, at: usize, raw: RawCloth) -> Result<(ShapeDesc, String)> {
+    let RawCloth {
+        corner,
+        edge_u,
+        edge_v,
+        folds,
+        amplitude,
+        taper,
+        resolution,
+        drape,
+        center,
+        radius,
+        material,
+    } = raw;
+    let (edge_u, edge_v) = c.edges(key, at, edge_u, edge_v)?;
+    let over_sphere = match drape.as_deref() {
+        None | Some("folds") => false,
+        Some("sphere") => true,
+        Some(other) => {
+            return Err(c.err(
+                &format!("{key}.drape"),
+                at,
+                format!("`{other}`: expected \"folds\" (the default) or \"sphere\""),
+            ))
+        }
+    };
+    if !over_sphere {
+        if let Some(k) = [("center", center.is_some()), ("radius", radius.is_some())]
+            .into_iter()
+            .find_map(|(k, given)| given.then_some(k))
+        {
+            return Err(c.err(
+                &format!("{key}.{k}"),
+                at,
+                "a cloth's sphere is only for drape = \"sphere\"",
+            ));
+        }
+    }
+    if !(folds.is_finite() && (0.0..=1000.0).contains(&folds)) {
+        return Err(c.err(
+            &format!("{key}.folds"),
+            at,
+            format!("{folds}: expected a number in [0, 1000]"),
+        ));
+    }
+    if !amplitude.is_finite() {
+        return Err(c.err(
+            &format!("{key}.amplitude"),
+            at,
+            format!("{amplitude}: expected a finite number"),
+        ));
+    }
+    if !(0.0..=1.0).contains(&taper) {
+        return Err(c.err(
+            &format!("{key}.taper"),
+            at,
+            format!("{taper}: expected a number in [0, 1]"),
+        ));
+    }
+    let rkey = format!("{key}.resolution");
+    let resolution = [
+        c.range(&rkey, at, resolution[0], 1, 4096)?,
+        c.range(&rkey, at, resolution[1], 1, 4096)?,
+    ];
+    if over_sphere {
+        let missing = |k: &str| {
+            c.err(
+                &format!("{key}.{k}"),
+                at,
+                "missing: drape = \"sphere\" needs the sphere's `center` and `radius`",
+            )
+        };
+        let center = center.ok_or_else(|| missing("center"))?;
+        let radius = radius.ok_or_else(|| missing("radius"))?;
+        let drape = Drape {
+            corner: c.vec(&format!("{key}.corner"), at, corner)?,
+            edge_u,
+            edge_v,
+            center: c.vec(&format!("{key}.center"), at, center)?,
+            radius: c.positive(&format!("{key}.radius"), at, radius)?,
+            folds,
+            amplitude,
+            resolution,
+        };
+        Ok((ShapeDesc::Drape(drape), material))
+    } else {
+        let cloth = Cloth {
+            corner: c.vec(&format!("{key}.corner"), at, corner)?,
+            edge_u,
+            edge_v,
+            folds,
+            amplitude,
+            taper,
+            resolution,
+        };
+        Ok((ShapeDesc::Cloth(cloth), material))
+    }
+}
+
+/// Builds [`Error::Scene`] errors for one file.
+struct Checker<'a> {
+    origin: &'a str,
+    text: &'a str,
+    /// The folder relative paths resolve against.
+    base: &'a Path,
+}
+
+impl Checker<'_> {
+    fn err(&self, key: &str, span_start: usize, message: impl Into<String>) -> Error {
+        Error::Scene {
+            path: self.origin.to_string(),
+            key: key.to_string(),
+            line: Some(line_of(self.text, span_start)),
+            message: message.into(),
+        }
+    }
+
+    fn vec(&self, key: &str, at: usize, v: [f64; 3]) -> Result<Vec3> {
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(Vec3::new(v[0], v[1], v[2]))
+        } else {
+            Err(self.err(key, at, format!("{v:?}: expected three finite numbers")))
+        }
+    }
+
+    fn nonzero(&self, key: &str, at: usize, v: [f64; 3]) -> Result<Vec3> {
+        let x = self.vec(key, at, v)?;
+        if x.length() > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(key, at, format!("{v:?}: expected a non-zero vector")))
+        }
+    }
+
+    fn rgb(&self, key: &str, at: usize, v: [f64; 3], max: Option<f64>) -> Result<Rgb> {
+        let ok = v
+            .iter()
+            .all(|c| c.is_finite() && *c >= 0.0 && max.is_none_or(|m| *c <= m));
+        if ok {
+            Ok(Rgb(v))
+        } else {
+            let range = match max {
+                Some(m) => format!("each in [0, {m}]"),
+                None => "each finite and >= 0".to_string(),
+            };
+            Err(self.err(key, at, format!("{v:?}: expected three numbers, {range}")))
+        }
+    }
+
+    fn positive(&self, key: &str, at: usize, x: f64) -> Result<f64> {
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(key, at, format!("{x}: expected a finite number > 0")))
+        }
+    }
+
+    fn range(&self, key: &str, at: usize, x: i64, lo: i64, hi: i64) -> Result<usize> {
+        if (lo..=hi).contains(&x) {
+            Ok(x as usize)
+        } else {
+            Err(self.err(key, at, format!("{x}: expected an integer in [{lo}, {hi}]")))
+        }
+    }
+
+    fn edges(&self, key: &str, at: usize, eu: [f64; 3], ev: [f64; 3]) -> Result<(Vec3, Vec3)> {
+        let u = self.nonzero(&format!("{key}.edge_u"), at, eu)?;
+        let v = self.nonzero(&format!("{key}.edge_v"), at, ev)?;
+        if u.cross(v).length() <= 1e-12 * u.length() * v.length() {
+            return Err(self.err(
+                &format!("{key}.edge_v"),
+                at,
+                "parallel to edge_u: the edges must span a parallelogram",
+            ));
+        }
+        Ok((u, v))
+    }
+}

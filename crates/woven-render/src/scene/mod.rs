@@ -1,0 +1,300 @@
+//! Scene files (TOML): parsing, validation, and building a renderable [`Scene`].
+//!
+//! The format is documented in `docs/render.md` and by [`EXAMPLE_SCENE`] (`woven render
+//! --example`). Loading has three steps, each in its own file: `parse.rs` deserializes the text
+//! into the file's raw form (syntax, unknown keys, types), `check.rs` checks every value and
+//! reference and gives a [`SceneDescription`] (fast, no tables), and `build.rs`
+//! ([`Scene::build`]) tabulates the woven materials, loads meshes and maps and builds the
+//! geometry. Unknown keys are errors; every error names the file, the key and, where TOML gives
+//! it, the line. Paths in a scene are relative to the scene file's folder.
+
+mod build;
+mod check;
+mod parse;
+
+use crate::accel::Accel;
+use crate::camera::Camera;
+use crate::color::Rgb;
+use crate::light::Light;
+use crate::material::SurfaceMaterial;
+use crate::rng::SamplerKind;
+use crate::shapes::{Cloth, Drape};
+use crate::woven_material::WovenSpec;
+use crate::{Error, Result};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use woven::math::sampling::Distribution1D;
+use woven::Vec3;
+
+/// A complete, commented scene to start from (`woven render --example`).
+pub const EXAMPLE_SCENE: &str = include_str!("../../scenes/example.toml");
+
+/// The built-in showcase (`woven render` without a file, and bare `woven`).
+pub const SHOWCASE_SCENE: &str = include_str!("../../scenes/showcase.toml");
+
+/// The longest scene file read, bytes (a guard against reading an endless stream).
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// The largest film side, pixels.
+pub const MAX_FILM_SIDE: usize = 1 << 14;
+
+/// The most samples per pixel.
+pub const MAX_SPP: usize = 1 << 20;
+
+/// The camera as the file gives it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraSpec {
+    /// Eye position.
+    pub origin: Vec3,
+    /// The point looked at.
+    pub target: Vec3,
+    /// Up, roughly.
+    pub up: Vec3,
+    /// Horizontal field of view, degrees in (0, 180).
+    pub fov_deg: f64,
+}
+
+/// The film.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// Samples per pixel.
+    pub spp: usize,
+    /// Random seed.
+    pub seed: u64,
+    /// How a pixel's samples are drawn.
+    pub sampler: SamplerKind,
+    /// The index of the first sample a render takes (0 from a file): a progressive render
+    /// renders passes of `spp` samples at 0, `spp`, 2 `spp`, … with one seed, and the passes'
+    /// mean is then one render of all their samples (with Sobol points, stratified together).
+    pub first_sample: u64,
+}
+
+/// Which sampling strategies the path tracer combines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Strategy {
+    /// Light sampling and BSDF sampling, by multiple importance sampling (power heuristic).
+    Mis,
+    /// BSDF sampling only (point lights then contribute nothing).
+    Bsdf,
+    /// Light sampling only (emitters hit by BSDF-sampled rays are not counted).
+    Light,
+}
+
+/// The `[integrator]` table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntegratorSettings {
+    /// Mitsuba's `max_depth`: 1 = emitters only, 2 = direct lighting, …; `None`: unlimited.
+    pub max_depth: Option<u32>,
+    /// Whether emitters seen directly by the camera render black.
+    pub hide_emitters: bool,
+    /// The sampling strategies.
+    pub strategy: Strategy,
+    /// Path depth from which Russian roulette may end a path (Mitsuba's `rr_depth`).
+    pub rr_depth: u32,
+    /// Whether woven materials see the pixel's footprint (ray differentials) and blend from
+    /// the yarn of each pattern cell to the macro BRDF where the footprint covers cells
+    /// (docs/render.md, "Fine weaves"); `false`: every point shows its cell's yarn.
+    pub footprint_filter: bool,
+}
+
+/// A shape as the file gives it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ShapeDesc {
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f64,
+    },
+    /// A parallelogram.
+    Rectangle {
+        /// A corner.
+        corner: Vec3,
+        /// First edge.
+        edge_u: Vec3,
+        /// Second edge.
+        edge_v: Vec3,
+    },
+    /// An open cylinder.
+    Cylinder {
+        /// Base centre.
+        base: Vec3,
+        /// Base to top.
+        axis: Vec3,
+        /// Radius.
+        radius: f64,
+    },
+    /// An OBJ mesh.
+    Mesh {
+        /// The file (resolved against the scene's folder).
+        path: PathBuf,
+        /// Uniform scale applied first.
+        scale: f64,
+        /// Translation applied after the scale.
+        translate: Vec3,
+    },
+    /// A procedural cloth hanging in folds.
+    Cloth(Cloth),
+    /// A procedural cloth draped over a sphere.
+    Drape(Drape),
+}
+
+/// A material as the file gives it.
+#[derive(Clone, Debug)]
+pub enum MaterialDesc {
+    /// Lambertian.
+    Diffuse {
+        /// Reflectance per channel.
+        reflectance: Rgb,
+    },
+    /// The woven-cloth BRDF.
+    Woven(Box<WovenSpec>),
+}
+
+/// A parsed and checked scene file, before any table or geometry is built.
+#[derive(Clone, Debug)]
+pub struct SceneDescription {
+    /// Where it came from (for messages).
+    pub origin: String,
+    /// The camera.
+    pub camera: CameraSpec,
+    /// The film.
+    pub film: Film,
+    /// The integrator.
+    pub integrator: IntegratorSettings,
+    /// Lights in file order (a rectangle light adds geometry too).
+    pub lights: Vec<LightDesc>,
+    /// Each light's `sampling_weight` (Mitsuba's): next-event estimation picks a light with
+    /// probability proportional to it. All 1 by default (a uniform choice).
+    pub light_weights: Vec<f64>,
+    /// Shapes in file order, each with its material's name.
+    pub shapes: Vec<(ShapeDesc, String)>,
+    /// Materials by name.
+    pub materials: BTreeMap<String, MaterialDesc>,
+}
+
+/// A light as the file gives it.
+#[derive(Clone, Debug)]
+pub enum LightDesc {
+    /// A point light.
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Intensity, W/sr.
+        intensity: Rgb,
+    },
+    /// A uniform environment.
+    EnvironmentConstant {
+        /// Radiance.
+        radiance: Rgb,
+        /// Multiplier.
+        scale: f64,
+    },
+    /// An environment map.
+    EnvironmentMap {
+        /// The EXR file (resolved).
+        path: PathBuf,
+        /// Multiplier.
+        scale: f64,
+    },
+    /// A rectangle emitter.
+    Rectangle {
+        /// A corner.
+        corner: Vec3,
+        /// First edge.
+        edge_u: Vec3,
+        /// Second edge.
+        edge_v: Vec3,
+        /// Radiance.
+        radiance: Rgb,
+    },
+}
+
+/// The largest yarn tilt `u_max_deg`, degrees.
+pub const MAX_U_MAX_DEG: f64 = 80.0;
+
+/// The largest gap fraction.
+pub const MAX_GAP: f64 = 0.95;
+
+impl SceneDescription {
+    /// Reads and checks a scene file.
+    ///
+    /// # Errors
+    /// [`Error::Io`] if it cannot be read; [`Error::Scene`] naming the key and line otherwise.
+    pub fn from_path(path: &Path) -> Result<SceneDescription> {
+        use std::io::Read;
+        let file = std::fs::File::open(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut text = String::new();
+        file.take(MAX_SCENE_BYTES + 1)
+            .read_to_string(&mut text)
+            .map_err(|source| Error::Io {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        if text.len() as u64 > MAX_SCENE_BYTES {
+            return Err(Error::Scene {
+                path: path.display().to_string(),
+                key: "(file)".into(),
+                line: None,
+                message: "longer than 16 MiB: not a scene file".into(),
+            });
+        }
+        let base = path.parent().unwrap_or(Path::new("."));
+        Self::from_str(&text, &path.display().to_string(), base)
+    }
+
+    /// Parses and checks scene text (`parse.rs`, then `check.rs`); `origin` names it in
+    /// messages, relative paths resolve against `base`.
+    ///
+    /// # Errors
+    /// [`Error::Scene`] naming the key and line.
+    pub fn from_str(text: &str, origin: &str, base: &Path) -> Result<SceneDescription> {
+        let raw = parse::parse(text, origin)?;
+        check::check(raw, text, origin, base)
+    }
+}
+
+/// A scene ready to render: camera, lights, geometry with its BVH, and built materials.
+pub struct Scene {
+    /// The film settings.
+    pub film: Film,
+    /// The integrator settings.
+    pub integrator: IntegratorSettings,
+    /// The camera.
+    pub camera: Camera,
+    /// The lights.
+    pub lights: Vec<Light>,
+    /// Index of the environment light in `lights`, if any.
+    pub environment: Option<usize>,
+    /// Whether a ray can meet an emitter (an area light or the environment; point lights are
+    /// deltas): if not, the path tracer makes no BSDF draw whose vertex could only add emission.
+    pub emitters_can_be_hit: bool,
+    /// How next-event estimation picks a light: in proportion to the lights' sampling weights.
+    pub light_choice: Distribution1D,
+    /// The geometry.
+    pub accel: Accel,
+    /// For each primitive: its material (index into `materials`), or `None` for a light's
+    /// surface; and for a rectangle light's surface, the light's index.
+    pub prim_info: Vec<PrimInfo>,
+    /// The built materials.
+    pub materials: Vec<Box<dyn SurfaceMaterial>>,
+}
+
+/// What a primitive is made of.
+#[derive(Clone, Copy, Debug)]
+pub struct PrimInfo {
+    /// Its material, `None` for an emitter's (non-reflecting) surface.
+    pub material: Option<usize>,
+    /// The light whose surface it is.
+    pub light: Option<usize>,
+}
