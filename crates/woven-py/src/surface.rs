@@ -4,7 +4,7 @@
 
 use crate::arrays::{map_batch, Dirs, Numbers};
 use crate::material::{material_arg, Material};
-use crate::table::{cached_table, Table};
+use crate::table::{cached_table, split_columns, Table};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -14,7 +14,9 @@ use std::sync::Arc;
 use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
 use woven::material::Weave;
-use woven::surface::{Lobe, SurfacePoint, SurfaceSpec, WovenSurface, FILTER_CELLS, MAX_LOBES};
+use woven::surface::{
+    Lobe, PointBsdf, SurfacePoint, SurfaceSpec, WovenSurface, FILTER_CELLS, MAX_LOBES,
+};
 
 /// A woven surface: what a woven material means at each point of a surface (the `woven`
 /// material of `woven render` scenes and of the Mitsuba plugin, with the same parameters).
@@ -100,16 +102,57 @@ fn with_weave(
     }
 }
 
-/// A point `i` of the arrays.
-fn point(uv: &Dirs, footprint: &Option<Dirs>, i: usize) -> SurfacePoint {
-    let (u, v) = uv.get2(i);
-    let footprint = footprint.as_ref().map_or([[0.0; 2]; 2], |f| {
-        let r = f.get4(i);
-        [[r[0], r[1]], [r[2], r[3]]]
-    });
-    SurfacePoint {
-        uv: [u, v],
-        footprint,
+/// The points of a call: uv (N, 2), footprints (N, 4) and dyes (N, 3), each also one row.
+struct Points {
+    uv: Dirs,
+    footprint: Option<Dirs>,
+    dyes: Dyes,
+}
+
+impl Points {
+    fn extract(
+        uv: &Bound<'_, PyAny>,
+        footprint: Option<&Bound<'_, PyAny>>,
+        weft_color: Option<&Bound<'_, PyAny>>,
+        warp_color: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Points> {
+        Ok(Points {
+            uv: Dirs::extract_width(uv, "uv", 2)?,
+            footprint: footprint
+                .filter(|o| !o.is_none())
+                .map(|o| Dirs::extract_width(o, "footprint", 4))
+                .transpose()?,
+            dyes: Dyes::extract(weft_color, warp_color)?,
+        })
+    }
+
+    /// The row count of these arrays and `others` (each N or 1).
+    fn rows(&self, others: &[(&str, usize)]) -> PyResult<usize> {
+        let n = |d: &Option<Dirs>| d.as_ref().map_or(1, |d| d.n);
+        let mut all = vec![
+            ("uv", self.uv.n),
+            ("footprint", n(&self.footprint)),
+            ("weft_color", n(&self.dyes.weft)),
+            ("warp_color", n(&self.dyes.warp)),
+        ];
+        all.extend_from_slice(others);
+        rows(&all)
+    }
+
+    /// The surface's BSDF at point `i`, dyed anew where dyes were given.
+    fn bsdf<'s>(&self, surface: &'s WovenSurface, i: usize) -> PointBsdf<'s> {
+        let (u, v) = self.uv.get2(i);
+        let footprint = self.footprint.as_ref().map_or([[0.0; 2]; 2], |f| {
+            let r = f.get4(i);
+            [[r[0], r[1]], [r[2], r[3]]]
+        });
+        let (weft, warp) = self.dyes.at(i);
+        surface
+            .at(&SurfacePoint {
+                uv: [u, v],
+                footprint,
+            })
+            .dyed(weft, warp)
     }
 }
 
@@ -164,38 +207,6 @@ fn mode_arg(mode: &str) -> PyResult<Transport> {
             "`mode` = {other:?}: expected \"radiance\" (wo known, wi drawn) or \"importance\""
         ))),
     }
-}
-
-fn footprint_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Dirs>> {
-    obj.filter(|o| !o.is_none())
-        .map(|o| Dirs::extract_width(o, "footprint", 4))
-        .transpose()
-}
-
-/// Rows of `widths.iter().sum()` columns as arrays (n, w), (n,) for w = 1.
-fn columns<'py>(
-    py: Python<'py>,
-    data: Vec<f64>,
-    n: usize,
-    widths: &[usize],
-) -> PyResult<Bound<'py, PyTuple>> {
-    let k: usize = widths.iter().sum();
-    let mut parts = Vec::new();
-    let mut start = 0;
-    for &w in widths {
-        let mut col = Vec::with_capacity(n * w);
-        for row in data.chunks_exact(k) {
-            col.extend_from_slice(&row[start..start + w]);
-        }
-        let array = PyArray1::from_vec(py, col);
-        parts.push(if w == 1 {
-            array.into_any()
-        } else {
-            array.reshape([n, w])?.into_any()
-        });
-        start += w;
-    }
-    PyTuple::new(py, parts)
 }
 
 #[pymethods]
@@ -305,29 +316,11 @@ impl Surface {
         weft_color: Option<&Bound<'py, PyAny>>,
         warp_color: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let dyes = Dyes::extract(weft_color, warp_color)?;
-        let (uv, wi, wo) = (
-            Dirs::extract_width(uv, "uv", 2)?,
-            Dirs::extract(wi, "wi")?,
-            Dirs::extract(wo, "wo")?,
-        );
-        let fp = footprint_arg(footprint)?;
-        let n = rows(&[
-            ("uv", uv.n),
-            ("wi", wi.n),
-            ("wo", wo.n),
-            ("footprint", fp.as_ref().map_or(1, |f| f.n)),
-            ("weft_color", dyes.weft.as_ref().map_or(1, |d| d.n)),
-            ("warp_color", dyes.warp.as_ref().map_or(1, |d| d.n)),
-        ])?;
+        let points = Points::extract(uv, footprint, weft_color, warp_color)?;
+        let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
+        let n = points.rows(&[("wi", wi.n), ("wo", wo.n)])?;
         let s = &*self.inner;
-        let out = map_batch::<3, _>(py, n, |i| {
-            let (weft, warp) = dyes.at(i);
-            s.at(&point(&uv, &fp, i))
-                .dyed(weft, warp)
-                .eval(wi.get(i), wo.get(i))
-                .0
-        });
+        let out = map_batch::<3, _>(py, n, |i| points.bsdf(s, i).eval(wi.get(i), wo.get(i)).0);
         Ok(PyArray1::from_vec(py, out).reshape([n, 3])?.into_any())
     }
 
@@ -344,21 +337,12 @@ impl Surface {
         mode: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = mode_arg(mode)?;
-        let (uv, wi, wo) = (
-            Dirs::extract_width(uv, "uv", 2)?,
-            Dirs::extract(wi, "wi")?,
-            Dirs::extract(wo, "wo")?,
-        );
-        let fp = footprint_arg(footprint)?;
-        let n = rows(&[
-            ("uv", uv.n),
-            ("wi", wi.n),
-            ("wo", wo.n),
-            ("footprint", fp.as_ref().map_or(1, |f| f.n)),
-        ])?;
+        let points = Points::extract(uv, footprint, None, None)?;
+        let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
+        let n = points.rows(&[("wi", wi.n), ("wo", wo.n)])?;
         let s = &*self.inner;
         let out = map_batch::<1, _>(py, n, |i| {
-            [s.at(&point(&uv, &fp, i)).pdf(wi.get(i), wo.get(i), mode)]
+            [points.bsdf(s, i).pdf(wi.get(i), wo.get(i), mode)]
         });
         Ok(PyArray1::from_vec(py, out).into_any())
     }
@@ -383,45 +367,29 @@ impl Surface {
         warp_color: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let mode = mode_arg(mode)?;
-        let dyes = Dyes::extract(weft_color, warp_color)?;
-        let (uv, known, uc, u) = (
-            Dirs::extract_width(uv, "uv", 2)?,
+        let points = Points::extract(uv, footprint, weft_color, warp_color)?;
+        let (known, uc, u) = (
             Dirs::extract(known, "known")?,
             Numbers::extract(uc, "uc")?,
             Dirs::extract_width(u, "u", 2)?,
         );
-        let fp = footprint_arg(footprint)?;
-        let n = rows(&[
-            ("uv", uv.n),
-            ("known", known.n),
-            ("uc", uc.n),
-            ("u", u.n),
-            ("footprint", fp.as_ref().map_or(1, |f| f.n)),
-            ("weft_color", dyes.weft.as_ref().map_or(1, |d| d.n)),
-            ("warp_color", dyes.warp.as_ref().map_or(1, |d| d.n)),
-        ])?;
+        let n = points.rows(&[("known", known.n), ("uc", uc.n), ("u", u.n)])?;
         let s = &*self.inner;
         let out = map_batch::<7, _>(py, n, |i| {
             let c = uc.get(if uc.n == 1 { 0 } else { i });
             let (a, b) = u.get2(i);
-            let (weft, warp) = dyes.at(i);
-            match s
-                .at(&point(&uv, &fp, i))
-                .dyed(weft, warp)
-                .sample(known.get(i), c, [a, b], mode)
-            {
+            match points.bsdf(s, i).sample(known.get(i), c, [a, b], mode) {
                 Some(smp) => {
-                    let d = if mode == Transport::Radiance {
-                        smp.wi
-                    } else {
-                        smp.wo
+                    let d = match mode {
+                        Transport::Radiance => smp.wi,
+                        Transport::Importance => smp.wo,
                     };
                     [d.x, d.y, d.z, smp.f.0[0], smp.f.0[1], smp.f.0[2], smp.pdf]
                 }
                 None => [0.0; 7],
             }
         });
-        columns(py, out, n, &[3, 3, 1])
+        split_columns(py, out, n, &[3, 3, 1])
     }
 
     /// The lobes mixed at each point, as three (N, MAX_LOBES) arrays: `warp` (1.0 for the warp,
@@ -434,21 +402,20 @@ impl Surface {
         uv: &Bound<'py, PyAny>,
         footprint: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        let uv = Dirs::extract_width(uv, "uv", 2)?;
-        let fp = footprint_arg(footprint)?;
-        let n = rows(&[("uv", uv.n), ("footprint", fp.as_ref().map_or(1, |f| f.n))])?;
+        let points = Points::extract(uv, footprint, None, None)?;
+        let n = points.rows(&[])?;
         let s = &*self.inner;
         let out = map_batch::<{ 3 * MAX_LOBES }, _>(py, n, |i| {
-            let mix = s.lobes(&point(&uv, &fp, i));
+            let bsdf = points.bsdf(s, i);
             let mut row = [0.0; 3 * MAX_LOBES];
-            for (k, l) in mix.lobes().iter().enumerate() {
+            for (k, l) in bsdf.mix().lobes().iter().enumerate() {
                 row[k] = if l.warp { 1.0 } else { 0.0 };
                 row[MAX_LOBES + k] = l.tilt;
                 row[2 * MAX_LOBES + k] = l.weight;
             }
             row
         });
-        columns(py, out, n, &[MAX_LOBES; 3])
+        split_columns(py, out, n, &[MAX_LOBES; 3])
     }
 
     /// What the surface lays on its uv, for code that re-traces it (the Mitsuba plugin's

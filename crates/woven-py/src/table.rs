@@ -430,7 +430,7 @@ fn symmetry_name(s: Symmetry) -> &'static str {
 }
 
 /// Rows of `widths.iter().sum()` columns split into arrays: (n, w) for w > 1, (n,) for w = 1.
-fn split_columns<'py>(
+pub(crate) fn split_columns<'py>(
     py: Python<'py>,
     data: Vec<f64>,
     n: usize,

@@ -1,0 +1,90 @@
+"""woven.Surface: the library's woven surface from Python — a point is its cell's yarn, draws
+have the densities `pdf` reports in both transport modes, and bad parameters are refused by
+name."""
+
+import numpy as np
+import pytest
+
+import woven
+from conftest import SMALL, random_dirs
+
+
+@pytest.fixture(scope="module")
+def yarn():
+    return woven.Table.build(
+        woven.Material.preset("polyester-sateen").yarn_family(), colour=True, progress=False, **SMALL
+    )
+
+
+def test_a_point_is_its_cells_yarn(yarn):
+    weft, warp = [0.7, 0.2, 0.1], [0.1, 0.3, 0.6]
+    s = woven.Surface(table=yarn, pattern="twill-2/1", yarns_per_unit=(6, 4),
+                      weft_color=weft, warp_color=warp)
+    rng = np.random.default_rng(2)
+    n = 500
+    uv = rng.uniform(-2, 2, (n, 2))
+    wi, wo = random_dirs(rng, n), random_dirs(rng, n)
+    f = s.eval(uv, wi, wo)
+    cells = np.asarray(s.layout()["cells"])
+    row = np.floor(uv[:, 1] * 4).astype(int) % 3
+    col = np.floor(uv[:, 0] * 6).astype(int) % 3
+    is_weft = cells[row, col] == 1
+
+    def turn(d):
+        return np.stack([d[:, 1], -d[:, 0], d[:, 2]], axis=1)
+
+    own = yarn.raw()["own"]
+
+    def dye(c):
+        return [(x, min(own[1] * x / own[0], 1.0)) for x in c]
+
+    for k in range(n):
+        if is_weft[k]:
+            want = yarn.eval_dyed(wi[k], wo[k], dye(weft))
+        else:
+            want = yarn.eval_dyed(turn(wi[k : k + 1])[0], turn(wo[k : k + 1])[0], dye(warp))
+        np.testing.assert_allclose(f[k], np.ravel(want), rtol=1e-12, atol=1e-15)
+    warp_lobe, tilt, weight = s.lobes(uv)
+    assert np.all(weight[:, 0] == 1.0) and np.all(weight[:, 1:] == 0.0)
+    assert np.array_equal(warp_lobe[:, 0] == 1.0, ~is_weft) and np.all(tilt == 0.0)
+
+
+@pytest.mark.parametrize("mode", ["radiance", "importance"])
+def test_draws_have_the_density_pdf_reports(yarn, mode):
+    s = woven.Surface(table=yarn, pattern="satin-5", yarns_per_unit=5, u_max_deg=30, gap=0.3)
+    rng = np.random.default_rng(5)
+    n = 2000
+    uv = rng.uniform(0, 1, (n, 2))
+    fp = rng.uniform(0, 0.2, (n, 4))
+    known = random_dirs(rng, n)
+    drawn, f, pdf = s.sample(uv, known, rng.random(n), rng.random((n, 2)), fp, mode=mode)
+    ok = pdf > 0
+    assert ok.mean() > 0.8
+    wi, wo = (drawn, known) if mode == "radiance" else (known, drawn)
+    np.testing.assert_allclose(s.pdf(uv, wi, wo, fp, mode=mode)[ok], pdf[ok], rtol=1e-5)
+    np.testing.assert_allclose(s.eval(uv, wi, wo, fp)[ok], f[ok], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"gap": 0.99}, "gap"),
+        ({"u_max_deg": 95.0}, "u_max"),
+        ({"yarns_per_unit": 0.0}, "yarns_per_unit"),
+        ({"weft_color": [1.5, 0.0, 0.0]}, "weft_color"),
+        ({"pattern": "twill-0/1"}, "twill"),
+    ],
+)
+def test_bad_parameters_are_refused_by_name(yarn, kwargs, name):
+    args = {"pattern": "plain", **kwargs}
+    with pytest.raises(ValueError, match=name):
+        woven.Surface(table=yarn, **args)
+
+
+def test_a_table_alone_takes_no_weave_options(yarn):
+    with pytest.raises(ValueError, match="need a weave"):
+        woven.Surface(table=yarn, gap=0.2)
+    with pytest.raises(ValueError, match="exactly one"):
+        woven.Surface()
+    whole = woven.Surface(table=yarn)
+    assert whole.layout()["kind"] in ("whole", "flat")
