@@ -194,7 +194,8 @@ fn tilt_runs_along_floats_and_gaps_show_the_yarn_below() {
 #[test]
 fn bad_parameters_are_refused_by_name() {
     let table = yarn();
-    let cases: [(&str, Box<dyn Fn(&mut SurfaceSpec)>); 5] = [
+    type Change = Box<dyn Fn(&mut SurfaceSpec)>;
+    let cases: [(&str, Change); 5] = [
         (
             "yarns_per_unit",
             Box::new(|s| s.yarns_per_unit = [0.0, 4.0]),
