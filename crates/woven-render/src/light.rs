@@ -231,8 +231,8 @@ impl Environment {
             .iter()
             .enumerate()
             .map(|(i, p)| {
-                let sin = ((i / width) as f64 + 0.5) * PI / height as f64;
-                p.luminance().max(0.0) * sin.sin()
+                let theta = ((i / width) as f64 + 0.5) * PI / height as f64;
+                p.luminance().max(0.0) * theta.sin()
             })
             .collect();
         Environment {

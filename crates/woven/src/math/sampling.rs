@@ -196,12 +196,13 @@ impl Distribution1D {
         self.probability(i) * n as f64
     }
 
-    /// Draws a bin in proportion to its weight from `u ∈ [0, 1)`, and the offset within it in
-    /// `[0, 1)` (the continuous sample is `(bin + fraction) / len()`, drawn with density
-    /// [`pdf`](Self::pdf)).
+    /// Draws a bin in proportion to its weight from `u ∈ [0, 1)` (clamped into it), and the
+    /// offset within it in `[0, 1)`: the continuous sample is `(bin + fraction) / len()`, drawn
+    /// with density [`pdf`](Self::pdf).
     #[inline]
     pub fn sample(&self, u: f64) -> BinSample {
-        debug_assert!((0.0..1.0).contains(&u), "u = {u} outside [0, 1)");
+        // A `u` rounded to 1 (or past it) draws the last non-empty bin, as one just below would.
+        let u = u.clamp(0.0, 1.0 - f64::EPSILON);
         // cdf[0] = 0 ≤ u < 1 = cdf[n]: the bin found is never empty; the fallback only guards a
         // NaN `u`.
         match invert_cdf(&self.cdf, u) {
@@ -463,9 +464,12 @@ mod tests {
         }
         let d = Distribution1D::new(&[0.0, 1.0, 1.0, 0.0]);
         assert_eq!(d.sample(0.0).bin, 1);
-        let last = d.sample(1.0 - f64::EPSILON);
-        assert_eq!(last.bin, 2);
-        assert!(last.fraction < 1.0);
+        for u in [1.0 - f64::EPSILON, 1.0, 1.5] {
+            let last = d.sample(u);
+            assert_eq!(last.bin, 2, "u = {u}");
+            assert!(last.fraction < 1.0);
+        }
+        assert_eq!(d.sample(-0.5).bin, 1);
     }
 
     /// Bisection and counting find the same bin, in f32 and f64, for every u.
