@@ -65,12 +65,16 @@
 //! ```
 
 use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
+use crate::cloth::Structure;
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::material::{Material, Weave};
 use crate::table::{Albedos, Table};
-use crate::weave::{FloatPlace, Pattern};
+use crate::weave::{CellPoint, FloatPlace, Pattern};
+use crate::yarn::point::{hash_uniform, YarnDraws};
+use crate::yarn::Yarn;
 use crate::{Model, Vec3};
+use std::f64::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
 
 /// Footprints (in pattern cells, the larger side of the pixel's footprint) from which the
@@ -81,9 +85,72 @@ pub const FILTER_CELLS: [f64; 2] = [0.5, 2.0];
 /// uniform spread of tilts along floats).
 pub const TILT_NODES: usize = 8;
 
-/// The most lobes mixed at a point: one cell's, and the macro BRDF's (each family at every tilt
-/// node on top, and flat where it shows in the other's gaps).
-pub const MAX_LOBES: usize = 2 * (TILT_NODES + 1) + 1;
+/// The most lobes mixed at a point: one cell's at fibre and at yarn level, and the macro BRDF's
+/// (each family at every tilt node on top, and flat where it shows in the other's gaps).
+pub const MAX_LOBES: usize = 2 * (TILT_NODES + 1) + 2;
+
+/// Footprints (in pattern cells) from which `detail = "auto"` starts blending from fibres to
+/// yarns, and at which it shows yarns alone (the footprint filter then takes over at
+/// [`FILTER_CELLS`]).
+pub const FIBER_CELLS: [f64; 2] = [0.1, 0.35];
+
+/// Strands of fibres across one yarn, each with its own azimuth offset (twisted and isotropic
+/// yarns).
+pub const STRANDS: u64 = 16;
+
+/// The probability with which a fibre-level draw follows the facet's microfacet lobe (the rest
+/// draws cosine-weighted about the cloth's normal, for the body colour and the interreflection).
+const SPECULAR_DRAW: f64 = 0.75;
+
+/// How finely a surface resolves its weave (the `detail` key of woven materials).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Detail {
+    /// By the pixel's footprint: fibres where it is well under a yarn's width, yarns from about
+    /// a third of a cell ([`FIBER_CELLS`]), the cloth's macro BRDF from two cells
+    /// ([`FILTER_CELLS`]), smoothly between.
+    #[default]
+    Auto,
+    /// Every point is a point on its yarn's profile ([`yarn::point`](crate::yarn::point)).
+    Fibers,
+    /// Every point shades with its cell's yarn BRDF (blending to the macro BRDF under wide
+    /// footprints).
+    Yarns,
+    /// Every point shades with the cloth's macro BRDF, the paper's γ-mix.
+    Cloth,
+}
+
+impl Detail {
+    /// The names, as scene files and the plugin write them.
+    pub const NAMES: [&'static str; 4] = ["auto", "fibers", "yarns", "cloth"];
+
+    /// The level named `name` (one of [`NAMES`](Self::NAMES)).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `detail` for any other name.
+    pub fn from_name(name: &str) -> Result<Detail> {
+        match name {
+            "auto" => Ok(Detail::Auto),
+            "fibers" => Ok(Detail::Fibers),
+            "yarns" => Ok(Detail::Yarns),
+            "cloth" => Ok(Detail::Cloth),
+            other => Err(Error::InvalidParameter {
+                name: "detail".into(),
+                value: format!("{other:?}"),
+                expected: "one of \"auto\", \"fibers\", \"yarns\", \"cloth\"".into(),
+            }),
+        }
+    }
+
+    /// The level's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Detail::Auto => "auto",
+            Detail::Fibers => "fibers",
+            Detail::Yarns => "yarns",
+            Detail::Cloth => "cloth",
+        }
+    }
+}
 
 /// The largest yarn tilt [`SurfaceSpec::u_max`], degrees.
 pub const MAX_U_MAX_DEG: f64 = 80.0;
@@ -108,6 +175,8 @@ pub struct SurfaceSpec {
     /// The fraction of each cell's width, in `[0, MAX_GAP]`, between yarns; 0 (the default):
     /// yarns fill their cells.
     pub gap: f64,
+    /// How finely the weave is resolved ([`Detail::Auto`] by default).
+    pub detail: Detail,
 }
 
 impl SurfaceSpec {
@@ -120,6 +189,7 @@ impl SurfaceSpec {
             warp_color: None,
             u_max: 0.0,
             gap: 0.0,
+            detail: Detail::Auto,
         }
     }
 
@@ -213,6 +283,20 @@ pub struct Lobe {
     pub tilt: f64,
     /// The lobe's weight in the point's BRDF.
     pub weight: f64,
+    /// Where on its yarn the point lies, at fibre level; `None`: the yarn's (or the cloth's)
+    /// averaged BRDF.
+    pub point: Option<YarnPoint>,
+}
+
+/// A point on a yarn, resolved to its fibres ([`Detail::Fibers`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct YarnPoint {
+    /// The position across the yarn, in `[0, 1]`: 0 and 1 its edges, 1/2 its crest.
+    pub across: f64,
+    /// The yarn's lateral slope `θ_a` (drawn per yarn from `P(θ_a)`), radians.
+    pub theta_a: f64,
+    /// The fibres' azimuth offset from the yarn's axis (drawn per strand), radians.
+    pub phi: f64,
 }
 
 /// The lobes a point's BRDF mixes: `f = Σ weight · f_lobe`; the weights sum to at most 1, less
@@ -240,12 +324,31 @@ impl LobeMix {
         if weight > 0.0 {
             if let Some(l) = self.lobes[..self.n]
                 .iter_mut()
-                .find(|l| l.warp == warp && l.tilt == tilt)
+                .find(|l| l.warp == warp && l.tilt == tilt && l.point.is_none())
             {
                 l.weight += weight;
                 return;
             }
-            self.lobes[self.n] = Lobe { warp, tilt, weight };
+            self.lobes[self.n] = Lobe {
+                warp,
+                tilt,
+                weight,
+                point: None,
+            };
+            self.n += 1;
+        }
+    }
+
+    /// Adds a fibre-level lobe (never merged: its geometry is its own).
+    #[inline]
+    fn push_point(&mut self, warp: bool, tilt: f64, weight: f64, point: YarnPoint) {
+        if weight > 0.0 {
+            self.lobes[self.n] = Lobe {
+                warp,
+                tilt,
+                weight,
+                point: Some(point),
+            };
             self.n += 1;
         }
     }
@@ -292,6 +395,26 @@ pub struct WovenSurface {
     yarns_per_unit: [f64; 2],
     u_max: f64,
     gap: f64,
+    detail: Detail,
+    /// The exact yarn and its draws, where fibres are resolved ([`Detail::Auto`] and
+    /// [`Detail::Fibers`] on a pattern).
+    fibers: Option<Fibers>,
+}
+
+/// What resolving fibres needs: the exact model of the yarn alone, and its draws.
+#[derive(Clone, Debug)]
+struct Fibers {
+    model: Arc<Model>,
+    draws: YarnDraws,
+}
+
+impl Fibers {
+    fn yarn(&self) -> &Yarn {
+        match self.model.structure() {
+            Structure::Woven { yarn, .. } => yarn,
+            Structure::Flat(_) => unreachable!("fibres are resolved on yarns only"),
+        }
+    }
 }
 
 impl WovenSurface {
@@ -337,6 +460,20 @@ impl WovenSurface {
             }
         };
         let own = Albedos::of(&spec.material);
+        let resolves = matches!(spec.detail, Detail::Auto | Detail::Fibers);
+        let fibers = if resolves && matches!(layout, Layout::Pattern { .. }) {
+            let model = spec.table_material().build(yarn.wavelength_nm())?;
+            let draws = match model.structure() {
+                Structure::Woven { yarn, .. } => YarnDraws::new(yarn),
+                Structure::Flat(_) => unreachable!("a pattern has yarns"),
+            };
+            Some(Fibers {
+                model: Arc::new(model),
+                draws,
+            })
+        } else {
+            None
+        };
         Ok(WovenSurface {
             yarn,
             layout,
@@ -346,6 +483,8 @@ impl WovenSurface {
             yarns_per_unit: spec.yarns_per_unit,
             u_max: spec.u_max,
             gap: spec.gap,
+            detail: spec.detail,
+            fibers,
         })
     }
 
@@ -394,6 +533,8 @@ impl WovenSurface {
             yarns_per_unit: [1.0, 1.0],
             u_max: 0.0,
             gap: 0.0,
+            detail: Detail::Yarns,
+            fibers: None,
         })
     }
 
@@ -459,6 +600,12 @@ impl WovenSurface {
     /// Whether the surface reads [`SurfacePoint::footprint`] (only patterns filter).
     pub fn uses_footprint(&self) -> bool {
         matches!(self.layout, Layout::Pattern { .. })
+            && matches!(self.detail, Detail::Auto | Detail::Yarns)
+    }
+
+    /// How finely the surface resolves its weave.
+    pub fn detail(&self) -> Detail {
+        self.detail
     }
 
     /// Whether the surface is a flat fiber surface (evaluated with the exact model).
@@ -480,14 +627,32 @@ impl WovenSurface {
     /// footprint's size is the longer side of its bounding box in uv, in cells.
     #[inline]
     pub fn macro_weight(&self, at: &SurfacePoint) -> f64 {
-        let [a, b] = at.footprint;
-        let cells = (self.yarns_per_unit[0] * (a[0].abs() + b[0].abs()))
-            .max(self.yarns_per_unit[1] * (a[1].abs() + b[1].abs()));
-        if cells > FILTER_CELLS[0] {
-            smoothstep((cells - FILTER_CELLS[0]) / (FILTER_CELLS[1] - FILTER_CELLS[0]))
-        } else {
-            0.0
+        match self.detail {
+            Detail::Cloth => 1.0,
+            Detail::Fibers => 0.0,
+            Detail::Auto | Detail::Yarns => ramp(self.footprint_cells(at), FILTER_CELLS),
         }
+    }
+
+    /// The share of the fibre level in a cell's BRDF at `at`: 1 at [`Detail::Fibers`], 0 at
+    /// yarns and cloth; under [`Detail::Auto`] 1 while the footprint spans less than
+    /// [`FIBER_CELLS`]`[0]` cells, 0 from [`FIBER_CELLS`]`[1]`, smooth between.
+    #[inline]
+    pub fn fiber_weight(&self, at: &SurfacePoint) -> f64 {
+        match (self.detail, &self.fibers) {
+            (_, None) => 0.0,
+            (Detail::Fibers, _) => 1.0,
+            (Detail::Auto, _) => 1.0 - ramp(self.footprint_cells(at), FIBER_CELLS),
+            _ => 0.0,
+        }
+    }
+
+    /// The footprint's size at `at`: the longer side of its bounding box in uv, in cells.
+    #[inline]
+    fn footprint_cells(&self, at: &SurfacePoint) -> f64 {
+        let [a, b] = at.footprint;
+        (self.yarns_per_unit[0] * (a[0].abs() + b[0].abs()))
+            .max(self.yarns_per_unit[1] * (a[1].abs() + b[1].abs()))
     }
 
     /// The lobes mixed at `at`. A flat fiber surface has one (its table, for sampling).
@@ -549,9 +714,10 @@ impl WovenSurface {
         }
     }
 
-    /// The lobe of the pattern cell at `at`, with weight `scale`: the yarn on top, tilted by
+    /// The lobes of the pattern cell at `at`, with weight `scale`: the yarn on top, tilted by
     /// its place along its float; in a gap across it, the crossing yarn below (flat); in a
-    /// gap of both, nothing. A non-finite uv shades as the weft.
+    /// gap of both, nothing. Each at fibre level (its share [`fiber_weight`](Self::fiber_weight))
+    /// and at yarn level. A non-finite uv shades as the weft.
     fn push_cell(
         &self,
         mix: &mut LobeMix,
@@ -569,44 +735,93 @@ impl WovenSurface {
             return;
         }
         let cell = pattern.cell_at(x, y);
-        let weft = cell.weft;
+        let top = !cell.weft;
+        let fibers = self.fiber_weight(at);
         if self.gap == 0.0 && self.u_max == 0.0 {
-            mix.push(!weft, 0.0, scale);
+            self.push_yarn(mix, top, 0.0, scale, fibers, (x, y, &cell));
             return;
         }
         // A yarn covers the middle (1 − gap) of the cell across its axis: the weft spans y,
         // the warp spans x.
         let half = 0.5 * (1.0 - self.gap);
         let covers = |warp: bool| ((if warp { cell.x } else { cell.y }) - 0.5).abs() < half;
-        if covers(!weft) {
+        if covers(top) {
             let tilt = match floats.get(cell.row * pattern.cols() + cell.col) {
                 Some(f) if f.len > 0 => {
-                    let along = if weft { cell.x } else { cell.y };
+                    let along = if top { cell.y } else { cell.x };
                     self.u_max * (1.0 - 2.0 * (f64::from(f.before) + along) / f64::from(f.len))
                 }
                 _ => 0.0,
             };
-            mix.push(!weft, tilt, scale);
-        } else if covers(weft) {
-            mix.push(weft, 0.0, scale);
+            self.push_yarn(mix, top, tilt, scale, fibers, (x, y, &cell));
+        } else if covers(!top) {
+            self.push_yarn(mix, !top, 0.0, scale, fibers, (x, y, &cell));
         }
+    }
+
+    /// The lobes of the yarn of family `warp` at a point of a cell (`(x, y)` in cells): at fibre
+    /// level with weight `scale · fibers`, at yarn level with the rest.
+    fn push_yarn(
+        &self,
+        mix: &mut LobeMix,
+        warp: bool,
+        tilt: f64,
+        scale: f64,
+        fibers: f64,
+        (x, y, cell): (f64, f64, &CellPoint),
+    ) {
+        if let Some(f) = self.fibers.as_ref().filter(|_| fibers > 0.0) {
+            // Across the yarn: the weft spans y, the warp x (its frame turns y to x, so its
+            // profile's e_u runs along −x); a gap's share of the cell is not yarn.
+            let g = self.gap;
+            let frac = if warp { cell.x } else { cell.y };
+            let mut across = ((frac - 0.5 * g) / (1.0 - g)).clamp(0.0, 1.0);
+            if warp {
+                across = 1.0 - across;
+            }
+            // Each yarn (a pick for the weft, an end for the warp, counted over the whole
+            // surface) draws its slope; each strand of fibres its azimuth.
+            let index = (if warp { x } else { y }).floor() as i64 as u64;
+            let family = u64::from(warp);
+            let theta_a = f.draws.slope(hash_uniform(index, family));
+            let phi = if f.draws.varies_in_azimuth() {
+                let strand = ((across * STRANDS as f64) as u64).min(STRANDS - 1);
+                f.draws
+                    .twist(hash_uniform(index, 2 * (strand + 1) + family))
+            } else {
+                0.0
+            };
+            let point = YarnPoint {
+                across,
+                theta_a,
+                phi,
+            };
+            mix.push_point(warp, tilt, scale * fibers, point);
+        }
+        mix.push(warp, tilt, scale * (1.0 - fibers));
     }
 
     /// One lobe's BRDF per channel: the weft, or the warp (turned), in its tilted frame. A
     /// tilted yarn's BRDF is taken per unit of cloth area: `f′ cos θ′i cos θ′o / (cos θi cos θo
-    /// cos ψ)`, its own cosines over the cloth's, and its area `1/cos ψ` per unit of cloth.
+    /// cos ψ)`, its own cosines over the cloth's, and its area `1/cos ψ` per unit of cloth. At
+    /// fibre level the same holds for the point's BRDF, whose profile lies in the tilted frame
+    /// (the tilt turns the yarn about its cross axis; the profile runs across it).
     #[inline]
     fn lobe_eval(&self, lobe: &Lobe, albedos: &[Albedos; 3], wi: Vec3, wo: Vec3) -> Rgb {
         let (wi, wo) = into_lobe_frame(lobe, wi, wo);
+        let value = |a: Vec3, b: Vec3| match (&lobe.point, &self.fibers) {
+            (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
+            _ => Rgb(self.yarn.eval_dyed(a, b, albedos)),
+        };
         if lobe.tilt == 0.0 {
-            return Rgb(self.yarn.eval_dyed(wi, wo, albedos));
+            return value(wi, wo);
         }
         let sc = lobe.tilt.sin_cos();
         let (ti, to) = (into_tilted(wi, sc), into_tilted(wo, sc));
         if ti.z <= 0.0 || to.z <= 0.0 {
             return Rgb::BLACK;
         }
-        Rgb(self.yarn.eval_dyed(ti, to, albedos)) * (ti.z * to.z / (wi.z * wo.z * sc.1))
+        value(ti, to) * (ti.z * to.z / (wi.z * wo.z * sc.1))
     }
 
     /// The density of drawing `drawn` for `known` from one lobe (a rotation keeps densities per
@@ -621,10 +836,13 @@ impl WovenSurface {
                 return 0.0;
             }
         }
-        self.yarn.pdf_direction(k, d)
+        match (&lobe.point, &self.fibers) {
+            (Some(p), Some(f)) => point_pdf(f, p, k, d),
+            _ => self.yarn.pdf_direction(k, d),
+        }
     }
 
-    /// Draws a direction for `known` from one lobe's table, with its density.
+    /// Draws a direction for `known` from one lobe, with its density.
     #[inline]
     fn lobe_sample(&self, lobe: &Lobe, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
         let mut k = if lobe.warp { to_warp(known) } else { known };
@@ -635,7 +853,10 @@ impl WovenSurface {
                 return None;
             }
         }
-        let (mut d, pdf) = self.yarn.sample_direction(k, u[0], u[1])?;
+        let (mut d, pdf) = match (&lobe.point, &self.fibers) {
+            (Some(p), Some(f)) => point_sample(f, p, k, u)?,
+            _ => self.yarn.sample_direction(k, u[0], u[1])?,
+        };
         if d.z <= 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
@@ -647,6 +868,94 @@ impl WovenSurface {
         }
         (d.z > 0.0).then_some((d, pdf))
     }
+}
+
+/// The BRDF per channel at a point on a yarn (in its lobe's frame: the yarn along `x`):
+/// `(1 − ħ) f_point + ħ ρ/π` ([`Yarn::point_parts`], Eq. (20')), dyed as the table is.
+#[inline]
+fn point_eval(f: &Fibers, p: &YarnPoint, albedos: &[Albedos; 3], s: Vec3, v: Vec3) -> Rgb {
+    let yarn = f.yarn();
+    let parts = yarn.point_parts(s, v, p.phi, p.theta_a, p.across);
+    let (fixed, per_diffuse) = yarn.fiber().affine_in_diffuse(parts);
+    let h = yarn.params().interreflection;
+    Rgb(albedos.map(|a| {
+        ((1.0 - h) * (fixed + a.diffuse * per_diffuse) + h * a.interreflection * FRAC_1_PI).max(0.0)
+    }))
+}
+
+/// The density of a fibre-level draw: the facet's Beckmann lobe (the fiber's roughness) about
+/// its normal with probability [`SPECULAR_DRAW`], else cosine-weighted about the cloth's normal.
+#[inline]
+fn point_pdf(f: &Fibers, p: &YarnPoint, known: Vec3, drawn: Vec3) -> f64 {
+    if known.z <= 0.0 || drawn.z <= 0.0 {
+        return 0.0;
+    }
+    let yarn = f.yarn();
+    let a = yarn.point_normal(p.phi, p.theta_a, p.across);
+    let glossy = beckmann_reflection_pdf(known, drawn, a, yarn.fiber().alpha());
+    SPECULAR_DRAW * glossy + (1.0 - SPECULAR_DRAW) * drawn.z * FRAC_1_PI
+}
+
+/// A fibre-level draw for `known` and its density ([`point_pdf`]).
+#[inline]
+fn point_sample(f: &Fibers, p: &YarnPoint, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
+    let drawn = if u[0] < SPECULAR_DRAW {
+        let yarn = f.yarn();
+        let a = yarn.point_normal(p.phi, p.theta_a, p.across);
+        let h = sample_beckmann(a, yarn.fiber().alpha(), [u[0] / SPECULAR_DRAW, u[1]]);
+        let kh = known.dot(h);
+        if kh <= 0.0 {
+            return None;
+        }
+        h * (2.0 * kh) - known
+    } else {
+        let (d, _) =
+            crate::bsdf::sample_cosine([(u[0] - SPECULAR_DRAW) / (1.0 - SPECULAR_DRAW), u[1]])?;
+        d
+    };
+    if drawn.z <= 0.0 {
+        return None;
+    }
+    let pdf = point_pdf(f, p, known, drawn);
+    (pdf > 0.0 && pdf.is_finite()).then_some((drawn, pdf))
+}
+
+/// A Beckmann microfacet normal of width `alpha` about `n`, drawn ∝ `D(h) (h·n)`.
+#[inline]
+fn sample_beckmann(n: Vec3, alpha: f64, [u1, u2]: [f64; 2]) -> Vec3 {
+    let tan2 = -alpha * alpha * (1.0 - u1).max(1e-300).ln();
+    let cos = 1.0 / (1.0 + tan2).sqrt();
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let phi = 2.0 * PI * u2;
+    let (t, b) = basis(n);
+    (t * (sin * phi.cos()) + b * (sin * phi.sin()) + n * cos).normalize()
+}
+
+/// The density of the direction `drawn` reflected from `known` about a Beckmann normal of width
+/// `alpha` about `n` (drawn by [`sample_beckmann`]): `D(h) (h·n) / (4 |drawn·h|)`.
+#[inline]
+fn beckmann_reflection_pdf(known: Vec3, drawn: Vec3, n: Vec3, alpha: f64) -> f64 {
+    let h = (known + drawn).normalize();
+    let (cos, dh) = (h.dot(n), drawn.dot(h));
+    if cos <= 0.0 || dh <= 0.0 || !cos.is_finite() {
+        return 0.0;
+    }
+    let c2 = cos * cos;
+    let tan2 = (1.0 - c2) / c2;
+    let d = (-tan2 / (alpha * alpha)).exp() / (PI * alpha * alpha * c2 * c2);
+    d * cos / (4.0 * dh)
+}
+
+/// Two unit vectors completing `n` to a right-handed orthonormal basis (Duff et al.'s).
+#[inline]
+fn basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1f64.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
 }
 
 /// A woven surface's BSDF at one point: its mixture of lobes.
@@ -814,6 +1123,16 @@ fn to_warp(d: Vec3) -> Vec3 {
 #[inline]
 fn from_warp(d: Vec3) -> Vec3 {
     Vec3::new(-d.y, d.x, d.z)
+}
+
+/// 0 up to `edges[0]`, 1 from `edges[1]`, [`smoothstep`] between.
+#[inline]
+fn ramp(x: f64, edges: [f64; 2]) -> f64 {
+    if x > edges[0] {
+        smoothstep((x - edges[0]) / (edges[1] - edges[0]))
+    } else {
+        0.0
+    }
 }
 
 /// `x ↦ 3x² − 2x³` on `[0, 1]`, clamped.

@@ -19,6 +19,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use toml::Spanned;
 use woven::material::{Material, PatternSpec, Weave};
+use woven::surface::Detail;
 use woven::weave::Pattern;
 use woven::Vec3;
 
@@ -265,6 +266,7 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
         warp_color,
         u_max_deg,
         gap,
+        detail,
     } = raw;
     let mkey = format!("{key}.material");
     let mut woven = if Material::preset_toml(&material).is_some() {
@@ -320,7 +322,18 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
         v.map(|v| c.rgb(&format!("{key}.{k}"), at, v, Some(1.0)))
             .transpose()
     };
+    let detail = match detail {
+        None => Detail::default(),
+        Some(d) => Detail::from_name(&d).map_err(|_| {
+            c.err(
+                &format!("{key}.detail"),
+                at,
+                format!("{d:?}: expected one of \"auto\", \"fibers\", \"yarns\", \"cloth\""),
+            )
+        })?,
+    };
     Ok(WovenSpec {
+        detail,
         material: woven,
         yarns_per_unit: {
             let ykey = format!("{key}.yarns_per_unit");
@@ -523,9 +536,12 @@ fn cloth(c: &Checker, key: &str, at: usize, raw: RawCloth) -> Result<(ShapeDesc,
     }
 }
 
-/// Builds [`Error::Scene`] errors for one file.
+/// One file's context for the checks: its name and text (for messages and their lines) and its
+/// folder; builds [`Error::Scene`] errors and checks the value kinds every table uses.
 struct Checker<'a> {
+    /// The file's name in messages.
     origin: &'a str,
+    /// The file's text (spans are byte offsets into it).
     text: &'a str,
     /// The folder relative paths resolve against.
     base: &'a Path,

@@ -234,6 +234,7 @@ pub(super) struct RawWoven {
     pub(super) u_max_deg: f64,
     #[serde(default)]
     pub(super) gap: f64,
+    pub(super) detail: Option<String>,
 }
 
 fn default_yarns() -> RawYarns {

@@ -78,6 +78,7 @@ fn plane(origin: [f64; 3], fov: f64, size: usize, spp: usize, filter: bool, cell
         type = "woven"
         material = "cloth.toml"
         yarns_per_unit = {cells}
+        detail = "yarns"
         "#
     )
 }
@@ -208,6 +209,7 @@ fn moire_demo_on_a_plane_receding_to_the_horizon() {
             type = "woven"
             material = "{file}"
             yarns_per_unit = 2400
+            detail = "yarns"
             "#
         )
     };

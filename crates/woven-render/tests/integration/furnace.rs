@@ -53,6 +53,9 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
         material = "sateen.toml"
         pattern = [[1]]
         yarns_per_unit = 10.0
+        # Each pixel against the yarn's directional albedo: the yarn's BRDF at every point (fibres
+        # average to it over a yarn's width, not per pixel).
+        detail = "yarns"
         "#
     );
     let desc = SceneDescription::from_str(&text, "<furnace>", dir.path()).unwrap();

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 use woven::material::{Material, Weave};
+use woven::surface::Detail;
 use woven::table::{Table, TableOptions};
 use woven::Vec3;
 use woven_render::camera::Camera;
@@ -124,6 +125,7 @@ fn pattern_cells_average_to_the_macro_brdf() {
     let mut cache = TableCache::default();
     let build = |m: Material, cache: &mut TableCache| {
         let spec = WovenSpec {
+            detail: Detail::Yarns,
             material: m,
             yarns_per_unit: [3.0, 3.0],
             weft_color: None,
@@ -169,6 +171,7 @@ fn pattern_cells_average_to_the_macro_brdf() {
 #[test]
 fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
     let spec = WovenSpec {
+        detail: Detail::Yarns,
         material: Material::preset("polyester-sateen").unwrap(),
         yarns_per_unit: [2.0, 2.0],
         weft_color: None,
@@ -318,6 +321,7 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
     });
     let (red, blue) = ([0.7, 0.1, 0.02], [0.03, 0.2, 0.6]);
     let spec = WovenSpec {
+        detail: Detail::Yarns,
         material: plain.clone(),
         yarns_per_unit: [2.0, 2.0],
         weft_color: Some(woven_render::color::Rgb(red)),
@@ -380,6 +384,7 @@ fn tables_are_kept_on_disk_between_runs() {
     let dir = std::env::temp_dir().join(format!("woven-render-cache-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let spec = WovenSpec {
+        detail: Detail::Yarns,
         material: Material::preset("polyester-sateen").unwrap(),
         yarns_per_unit: [1.0, 1.0],
         weft_color: None,

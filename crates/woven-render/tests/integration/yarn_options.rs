@@ -5,6 +5,7 @@ use crate::footprint::tiny_grid;
 use std::sync::Mutex;
 use woven::material::{Material, PatternSpec, Weave};
 use woven::math::rng::SplitMix;
+use woven::surface::Detail;
 use woven::weave::Pattern;
 use woven::Vec3;
 use woven_render::material::{ShadingPoint, SurfaceMaterial};
@@ -23,6 +24,7 @@ fn material(pattern: Result<Pattern, f64>, u_max_deg: f64, gap: f64) -> WovenMat
     let spec = WovenSpec {
         u_max: u_max_deg.to_radians(),
         gap,
+        detail: Detail::Yarns,
         ..WovenSpec::new(m)
     };
     // One table for every material here (they share the sateen's yarn).

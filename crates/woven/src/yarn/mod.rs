@@ -13,6 +13,7 @@
 
 mod cross_section;
 mod orientation;
+pub mod point;
 pub mod profile;
 pub mod raycast;
 mod slope;
