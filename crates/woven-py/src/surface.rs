@@ -15,7 +15,7 @@ use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
 use woven::material::Weave;
 use woven::surface::{
-    Lobe, PointBsdf, SurfacePoint, SurfaceSpec, WovenSurface, FILTER_CELLS, MAX_LOBES,
+    Detail, Lobe, PointBsdf, SurfacePoint, SurfaceSpec, WovenSurface, FILTER_CELLS, MAX_LOBES,
 };
 
 /// A woven surface: what a woven material means at each point of a surface (the `woven`
@@ -31,7 +31,8 @@ use woven::surface::{
 /// number or `(n_u, n_v)`, default 1), `weft_color` / `warp_color` (dyed fiber albedos ρ0 per
 /// channel, in [0, 1]), `u_max_deg` (yarn tilt at the ends of each float, degrees in [0, 80]),
 /// `gap` (fraction of each cell between yarns, in [0, 0.95]), `wavelength_nm` (of the table
-/// built, default 550). Raises ValueError naming a parameter that is out of range.
+/// built, default 550), `detail` ("auto", "fibers", "yarns" or "cloth": how finely the weave is
+/// resolved; see docs/render.md). Raises ValueError naming a parameter that is out of range.
 ///
 /// Points: `uv` (N, 2) surface parameters; `footprint` (N, 4) the pixel's footprint in uv,
 /// `(du/dx, dv/dx, du/dy, dv/dy)` (None: a point, no filtering). Directions in the surface's
@@ -214,7 +215,7 @@ impl Surface {
     #[new]
     #[pyo3(signature = (material = None, *, table = None, pattern = None, weft_fraction = None,
         yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = 0.0, gap = 0.0,
-        wavelength_nm = 550.0, progress = None))]
+        detail = "auto", wavelength_nm = 550.0, progress = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -227,9 +228,11 @@ impl Surface {
         warp_color: Option<&Bound<'_, PyAny>>,
         u_max_deg: f64,
         gap: f64,
+        detail: &str,
         wavelength_nm: f64,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Surface> {
+        let detail = Detail::from_name(detail).py_err()?;
         let (weft_color, warp_color) = (
             color_arg(weft_color, "weft_color")?,
             color_arg(warp_color, "warp_color")?,
@@ -241,6 +244,7 @@ impl Surface {
             warp_color,
             u_max: u_max_deg.to_radians(),
             gap,
+            detail,
         };
         let yarns = yarns_arg(yarns_per_unit)?;
         let (spec, yarn) = match (material, table) {
@@ -392,9 +396,10 @@ impl Surface {
         split_columns(py, out, n, &[3, 3, 1])
     }
 
-    /// The lobes mixed at each point, as three (N, MAX_LOBES) arrays: `warp` (1.0 for the warp,
-    /// the table turned 90°; 0.0 for the weft), `tilt` (radians) and `weight` (0 past the
-    /// point's last lobe). `f = Σ weight · f_lobe`.
+    /// The lobes mixed at each point, as four (N, MAX_LOBES) arrays: `warp` (1.0 for the warp,
+    /// the table turned 90°; 0.0 for the weft), `tilt` (radians), `weight` (0 past the point's
+    /// last lobe) and `across` (a fibre-level lobe's place across its yarn, in [0, 1]; −1 for
+    /// a yarn's or the cloth's averaged BRDF). `f = Σ weight · f_lobe`.
     #[pyo3(signature = (uv, footprint = None))]
     fn lobes<'py>(
         &self,
@@ -405,17 +410,18 @@ impl Surface {
         let points = Points::extract(uv, footprint, None, None)?;
         let n = points.rows(&[])?;
         let s = &*self.inner;
-        let out = map_batch::<{ 3 * MAX_LOBES }, _>(py, n, |i| {
+        let out = map_batch::<{ 4 * MAX_LOBES }, _>(py, n, |i| {
             let bsdf = points.bsdf(s, i);
-            let mut row = [0.0; 3 * MAX_LOBES];
+            let mut row = [0.0; 4 * MAX_LOBES];
             for (k, l) in bsdf.mix().lobes().iter().enumerate() {
                 row[k] = if l.warp { 1.0 } else { 0.0 };
                 row[MAX_LOBES + k] = l.tilt;
                 row[2 * MAX_LOBES + k] = l.weight;
+                row[3 * MAX_LOBES + k] = l.point.map_or(-1.0, |p| p.across);
             }
             row
         });
-        split_columns(py, out, n, &[MAX_LOBES; 3])
+        split_columns(py, out, n, &[MAX_LOBES; 4])
     }
 
     /// What the surface lays on its uv, for code that re-traces it (the Mitsuba plugin's
@@ -438,6 +444,7 @@ impl Surface {
             "macro"
         };
         d.set_item("kind", kind)?;
+        d.set_item("detail", s.detail().name())?;
         d.set_item("yarns_per_unit", s.yarns_per_unit().to_vec())?;
         d.set_item("u_max", s.u_max())?;
         d.set_item("gap", s.gap())?;

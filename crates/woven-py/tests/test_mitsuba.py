@@ -275,6 +275,7 @@ def plane_scene(tmp_path, light):
         'material = "polyester-sateen"\npattern = "twill-2/1"\n'
         "weft_color = [0.6, 0.2, 0.1]\nwarp_color = [0.1, 0.2, 0.6]\n"
         "u_max_deg = 30.0\ngap = 0.3\n"
+        'detail = "yarns"\n'
     )
     text = text.replace('material = "roughplastic-equivalent.toml"\n', woven_material)
     # The plugin looks up each pattern cell (no pixel footprints in Mitsuba's BSDF interface):
@@ -367,6 +368,7 @@ def test_jit_layout_is_the_librarys(llvm, yarn_tables, name):
     _, path = yarn_tables["polyester-sateen"]
     params = dict(LAYOUTS[name], yarns_per_unit=[7.0, 5.0])
     colors = {"weft_color": [0.7, 0.2, 0.1], "warp_color": [0.1, 0.3, 0.6]}
+    params = dict(params, detail="yarns")
     surface = woven.Surface(table=woven.Table.load(path), **params, **colors)
     d = {"type": "woven", "table": str(path), "footprint_filter": True, **params}
     d["yarns_per_unit"] = "7, 5"
@@ -637,3 +639,27 @@ def test_white_furnace_sphere_is_the_directional_albedo(llvm, tmp_path):
             f"A at θ {np.degrees(theta):.1f}°, φ {np.degrees(phi):.1f}°: {a[i]} ± {a_se[i]}, exact {exact}"
         )
         assert abs(a[i] - exact) <= 5 * a_se[i] + 0.03 * exact, (a[i], a_se[i], exact)
+
+
+def test_fibres_render_in_scalar_variants_and_are_refused_by_name_in_jit(llvm, yarn_tables):
+    """detail = "fibers": the scalar variant evaluates the library's fibre level point by point
+    (the same numbers as woven.Surface); a JIT variant refuses it, naming the key."""
+    _, path = yarn_tables["polyester-sateen"]
+    d = {"type": "woven", "table": str(path), "pattern": "satin-5", "detail": "fibers"}
+    with pytest.raises(Exception, match="detail"):
+        mi.load_dict(d)
+    mi.set_variant("scalar_rgb")
+    try:
+        woven.mitsuba.register()
+        bsdf = mi.load_dict(d)
+        surface = woven.Surface(table=woven.Table.load(path), pattern="satin-5", yarns_per_unit=40,
+                                detail="fibers")
+        si = mi.SurfaceInteraction3f()
+        si.uv = mi.Point2f(0.013, 0.027)
+        si.wi = mi.Vector3f(0.3, -0.2, np.sqrt(1 - 0.13))
+        wo = mi.Vector3f(-0.4, 0.1, np.sqrt(1 - 0.17))
+        got = np.array(bsdf.eval(mi.BSDFContext(), si, wo), dtype=np.float64).ravel() / float(wo.z)
+        want = surface.eval([0.013, 0.027], np.array(wo), np.array(si.wi))[0]
+        np.testing.assert_allclose(got, want, rtol=1e-5)
+    finally:
+        mi.set_variant("llvm_ad_rgb")

@@ -27,6 +27,10 @@ the library's ``woven.Surface`` holds that meaning, and this plugin takes it fro
 ``u_max_deg``         yarn tilt at the ends of each float, degrees in [0, 80] (default 0).
 ``gap``               fraction of each cell between yarns, in [0, 0.95] (default 0): the crossing
                       yarn shows there, and a hole where both leave one.
+``detail``            how finely the weave is resolved: ``"yarns"`` (the default here: each
+                      cell its yarn's BRDF), ``"cloth"`` (the γ-mix everywhere), ``"fibers"``
+                      (each point a point on its yarn's profile; scalar variants only) or
+                      ``"auto"`` (by footprint; scalar variants only).
 ``footprint_filter``  blend toward the macro BRDF where a pixel's footprint (``si.duv_dx``,
                       ``si.duv_dy``) spans more than half a cell (default false: Mitsuba 3's
                       stock integrators leave those partials zero, measured on 3.9.1's
@@ -434,6 +438,9 @@ def _surface(props, mi):
         "yarns_per_unit": _yarns(props["yarns_per_unit"]) if has("yarns_per_unit") else 40.0,
         "u_max_deg": float(props["u_max_deg"]) if has("u_max_deg") else 0.0,
         "gap": float(props["gap"]) if has("gap") else 0.0,
+        # Mitsuba's integrators give no pixel footprints (so "auto" would be fibres everywhere,
+        # aliasing far away): yarns unless asked.
+        "detail": str(props["detail"]) if has("detail") else "yarns",
     }
     textures = {}
     for key in ("weft_color", "warp_color"):
@@ -475,6 +482,8 @@ class JitLayout:
         self.filter = footprint_filter
         lay = surface.layout()
         self.kind = lay["kind"]
+        if lay["detail"] == "cloth" and self.kind == "pattern":
+            self.kind = "macro"  # every point the macro BRDF
         self.nu, self.nv = lay["yarns_per_unit"]
         self.u_max, self.gap = lay["u_max"], lay["gap"]
         self.filter_lo, self.filter_hi = lay["filter_cells"]
@@ -581,6 +590,13 @@ def _bsdf_class(mi):
             self.m_flags = flags
             self.m_components = [flags]
             if jit:
+                detail = self.surface.layout()["detail"]
+                if detail in ("fibers", "auto") and self.surface.layout()["kind"] == "pattern":
+                    raise ValueError(
+                        f"woven BSDF: `detail` = {detail!r} resolves fibres, which the JIT"
+                        " variants do not trace yet: use a scalar variant (scalar_rgb), or"
+                        " detail = 'yarns' or 'cloth'"
+                    )
                 self.jt = JitTable(self.table, mi)
                 self.layout = JitLayout(self.surface, mi, self.filter)
 
