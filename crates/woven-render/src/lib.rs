@@ -67,6 +67,7 @@ pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod shapes;
+pub mod sky;
 pub mod woven_material;
 
 /// Linear RGB: the library's ([`woven::color`]), which woven surfaces return.
