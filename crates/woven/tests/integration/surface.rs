@@ -392,3 +392,65 @@ fn a_fibre_level_surface_averages_to_the_yarn_brdf() {
         }
     }
 }
+
+/// χ² of the fibre-level sampling (the facet's Beckmann lobe and the cosine lobe, mixed) against
+/// its density, at three incidences for every preset's yarn, in radiance mode: a pattern point at
+/// `detail = "fibers"` on the crest, on a flank and near the edge of a yarn.
+#[test]
+fn fibre_level_sampling_passes_chi2() {
+    let mut k = 0;
+    for name in ["polyester-sateen", "belt-cloth", "silk"] {
+        let mut material = Material::preset(name).unwrap();
+        material.weave = Some(Weave::named("plain").unwrap());
+        let spec = SurfaceSpec {
+            yarns_per_unit: [1.0, 1.0],
+            detail: woven::surface::Detail::Fibers,
+            ..SurfaceSpec::new(material)
+        };
+        let m = spec.table_material();
+        let options = TableOptions {
+            n_theta: 4,
+            n_phi: 3,
+            n_h: 11,
+            colour: true,
+            ..TableOptions::default()
+        };
+        let table = Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {}).unwrap();
+        let surface = WovenSurface::new(&spec, Arc::new(table)).unwrap();
+        for (theta_deg, across) in [(10.0, 0.5), (50.0, 0.3), (80.0, 0.9)] {
+            // Cell (0, 1) of the plain weave: the weft on top, across its width along v.
+            let at = SurfacePoint {
+                uv: [1.5, across],
+                footprint: [[0.0; 2]; 2],
+            };
+            let bsdf = surface.at(&at);
+            assert!(bsdf.mix().lobes()[0].point.is_some());
+            let wo = Vec3::from_spherical(f64::to_radians(theta_deg), 0.7);
+            let (p, accepted, integral) = crate::table::chi2_of(
+                |rng| {
+                    bsdf.sample(
+                        wo,
+                        rng.uniform(),
+                        [rng.uniform(), rng.uniform()],
+                        Transport::Radiance,
+                    )
+                    .map(|s| s.wi)
+                },
+                |wi| bsdf.pdf(wi, wo, Transport::Radiance),
+                100_000,
+                91 + k,
+            );
+            k += 1;
+            // Nine tests: Bonferroni at 1 %.
+            assert!(
+                p > 0.01 / 9.0,
+                "{name} at θo {theta_deg}°, across {across}: p {p:.2e}"
+            );
+            // The density integrates to the fraction of draws that land above the horizon.
+            assert!(
+                (integral - accepted).abs() < 0.01,
+                "{name}: ∫pdf {integral} vs accepted {accepted}"
+            );
+        }
+    }
+}

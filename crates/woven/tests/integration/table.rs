@@ -48,14 +48,33 @@ fn table(name: &str) -> &'static (Model, Table) {
 /// χ² goodness of fit of `sample` against `pdf` on a (cos θ, φ) histogram, cells with expected
 /// counts below 5 pooled (pbrt's and Mitsuba's test). Returns (p-value, accepted fraction, ∫pdf).
 fn chi2(t: &Table, s: Vec3, n: usize, seed: u64) -> (f64, f64, f64) {
+    chi2_of(
+        |rng| {
+            t.sample(s, 0.5, [rng.uniform(), rng.uniform()], Importance)
+                .map(|smp| smp.wo)
+        },
+        |d| t.pdf_direction(s, d),
+        n,
+        seed,
+    )
+}
+
+/// [`chi2`] of any sampler: `sample` draws a direction (or fails) with uniforms from the given
+/// generator, `pdf` is the density it claims.
+pub fn chi2_of(
+    mut sample: impl FnMut(&mut SplitMix) -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f64,
+    n: usize,
+    seed: u64,
+) -> (f64, f64, f64) {
     let (nc, np) = (16usize, 32usize);
     let mut observed = vec![0f64; nc * np];
     let mut rng = SplitMix(seed);
     let mut accepted = 0usize;
     for _ in 0..n {
-        if let Some(smp) = t.sample(s, 0.5, [rng.uniform(), rng.uniform()], Importance) {
+        if let Some(d) = sample(&mut rng) {
             accepted += 1;
-            let (ct, phi) = (smp.wo.z, smp.wo.y.atan2(smp.wo.x).rem_euclid(2.0 * PI));
+            let (ct, phi) = (d.z, d.y.atan2(d.x).rem_euclid(2.0 * PI));
             let i = ((ct * nc as f64) as usize).min(nc - 1);
             let j = ((phi / (2.0 * PI) * np as f64) as usize).min(np - 1);
             observed[i * np + j] += 1.0;
@@ -74,7 +93,7 @@ fn chi2(t: &Table, s: Vec3, n: usize, seed: u64) -> (f64, f64, f64) {
                 e += gl.integrate(c0, c0 + 1.0 / (sub * nc) as f64, |ct| {
                     gl.integrate(p0, p0 + 2.0 * PI / (sub * np) as f64, |phi| {
                         let st = (1.0 - ct * ct).max(0.0).sqrt();
-                        t.pdf_direction(s, Vec3::new(st * phi.cos(), st * phi.sin(), ct))
+                        pdf(Vec3::new(st * phi.cos(), st * phi.sin(), ct))
                     })
                 });
             }
