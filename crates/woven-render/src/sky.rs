@@ -71,6 +71,12 @@ pub const SUN_ANGULAR_RADIUS: f64 = 0.2666 * PI / 180.0;
 /// mean Sun–Earth distance (published values range over 127.5–133.8 klx; ±3% around this).
 pub const SOLAR_ILLUMINANCE_CONSTANT: f64 = 128.0;
 
+/// The width of the map a scene's `type = "sky"` light is baked into (0.35° per pixel).
+pub const SKY_MAP_WIDTH: usize = 1024;
+
+/// The height of the map a scene's `type = "sky"` light is baked into.
+pub const SKY_MAP_HEIGHT: usize = 512;
+
 /// The sky and sun parameters; see the [module](self)'s table for ranges.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyParams {

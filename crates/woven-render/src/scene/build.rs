@@ -8,6 +8,7 @@ use crate::geometry::{Mesh, Primitive};
 use crate::light::{Emitter, Environment, Light, PointLight, RectangleLight};
 use crate::material::{Diffuse, SurfaceMaterial};
 use crate::shapes;
+use crate::sky::{sky_image, SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
 use crate::woven_material::{TableCache, TableGrid, WovenMaterial};
 use crate::Result;
 use std::collections::BTreeMap;
@@ -154,6 +155,9 @@ fn build_lights(desc: &SceneDescription, geometry: &mut Geometry) -> Result<Vec<
             LightDesc::EnvironmentMap { path, scale } => {
                 Light::Environment(Environment::from_exr(path, *scale)?)
             }
+            LightDesc::Sky { params } => Light::Environment(
+                sky_image(params, SKY_MAP_WIDTH, SKY_MAP_HEIGHT)?.into_environment(),
+            ),
             LightDesc::Rectangle {
                 corner,
                 edge_u,

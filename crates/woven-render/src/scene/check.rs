@@ -13,6 +13,7 @@ use super::{
 use crate::color::Rgb;
 use crate::rng::SamplerKind;
 use crate::shapes::{Cloth, Drape};
+use crate::sky::{Sky, SkyParams};
 use crate::woven_material::WovenSpec;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
@@ -213,6 +214,42 @@ fn lights(c: &Checker, raw: Vec<Spanned<RawLight>>) -> Result<(Vec<LightDesc>, V
                             "an environment takes exactly one of `radiance` and `file`",
                         ))
                     }
+                }
+            }
+            RawLight::Sky {
+                sun_elevation_deg,
+                sun_azimuth_deg,
+                turbidity,
+                scale,
+                sun,
+                ..
+            } => {
+                environments += 1;
+                if environments > 1 {
+                    return Err(c.err(&key, at, "a second environment: a scene has at most one"));
+                }
+                let params = SkyParams {
+                    sun_elevation_deg,
+                    sun_azimuth_deg,
+                    turbidity,
+                    scale,
+                    sun,
+                };
+                // The sky's own checks, its messages under this light's key.
+                match Sky::new(&params) {
+                    Ok(_) => LightDesc::Sky { params },
+                    Err(Error::InvalidSetting {
+                        name,
+                        value,
+                        expected,
+                    }) => {
+                        return Err(c.err(
+                            &format!("{key}.{name}"),
+                            at,
+                            format!("{value}: expected {expected}"),
+                        ))
+                    }
+                    Err(e) => return Err(e),
                 }
             }
             RawLight::Rectangle {

@@ -19,6 +19,7 @@ use crate::light::Light;
 use crate::material::SurfaceMaterial;
 use crate::rng::SamplerKind;
 use crate::shapes::{Cloth, Drape};
+use crate::sky::SkyParams;
 use crate::woven_material::WovenSpec;
 use crate::{Error, Result};
 use serde::Deserialize;
@@ -203,6 +204,12 @@ pub enum LightDesc {
         path: PathBuf,
         /// Multiplier.
         scale: f64,
+    },
+    /// A Preetham sun and sky, baked into a [`SKY_MAP_WIDTH`](crate::sky::SKY_MAP_WIDTH) ×
+    /// [`SKY_MAP_HEIGHT`](crate::sky::SKY_MAP_HEIGHT) environment map.
+    Sky {
+        /// The sky's parameters (checked).
+        params: SkyParams,
     },
     /// A rectangle emitter.
     Rectangle {

@@ -3,6 +3,7 @@
 
 use super::Strategy;
 use crate::rng::SamplerKind;
+use crate::sky::SkyParams;
 use crate::{Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -131,6 +132,28 @@ pub(super) enum RawLight {
         #[serde(default = "one")]
         sampling_weight: f64,
     },
+    /// A Preetham sun and sky ([`crate::sky`]); defaults those of [`SkyParams::default`].
+    Sky {
+        #[serde(default = "sky_elevation")]
+        sun_elevation_deg: f64,
+        #[serde(default)]
+        sun_azimuth_deg: f64,
+        #[serde(default = "sky_turbidity")]
+        turbidity: f64,
+        #[serde(default = "one")]
+        scale: f64,
+        #[serde(default = "yes")]
+        sun: bool,
+        #[serde(default = "one")]
+        sampling_weight: f64,
+    },
+}
+
+fn sky_elevation() -> f64 {
+    SkyParams::default().sun_elevation_deg
+}
+fn sky_turbidity() -> f64 {
+    SkyParams::default().turbidity
 }
 
 impl RawLight {
@@ -144,6 +167,9 @@ impl RawLight {
                 sampling_weight, ..
             }
             | RawLight::Rectangle {
+                sampling_weight, ..
+            }
+            | RawLight::Sky {
                 sampling_weight, ..
             } => *sampling_weight,
         }

@@ -209,3 +209,158 @@ fn draped_cloth_keys() {
         woven_render::scene::ShapeDesc::Drape(d) if d.radius == 0.5 && d.folds == 8.0
     ));
 }
+
+/// `type = "sky"`: its keys reach the description with [`SkyParams`]' defaults; a value out of
+/// range names the file, the key, the value and the range; a sky is the scene's one environment.
+#[test]
+fn sky_light_keys() {
+    use woven_render::scene::LightDesc;
+    use woven_render::sky::SkyParams;
+    let sky = |extra: &str| format!("{MINIMAL}[[light]]\ntype = \"sky\"\n{extra}\n");
+    let desc = SceneDescription::from_str(&sky(""), "scene.toml", Path::new(".")).unwrap();
+    assert!(
+        matches!(desc.lights[..], [LightDesc::Sky { params }] if params == SkyParams::default()),
+        "{:?}",
+        desc.lights
+    );
+    let text = sky(
+        "sun_elevation_deg = 20\nsun_azimuth_deg = -30\nturbidity = 6\nscale = 0.5\nsun = false",
+    );
+    let desc = SceneDescription::from_str(&text, "scene.toml", Path::new(".")).unwrap();
+    let expected = SkyParams {
+        sun_elevation_deg: 20.0,
+        sun_azimuth_deg: -30.0,
+        turbidity: 6.0,
+        scale: 0.5,
+        sun: false,
+    };
+    assert!(
+        matches!(desc.lights[..], [LightDesc::Sky { params }] if params == expected),
+        "{:?}",
+        desc.lights
+    );
+
+    for (extra, key, value, range) in [
+        ("turbidity = 12", "light[0].turbidity", "12", "[2, 10]"),
+        ("turbidity = 1", "light[0].turbidity", "1", "[2, 10]"),
+        (
+            "sun_elevation_deg = -10",
+            "light[0].sun_elevation_deg",
+            "-10",
+            "[0, 90]",
+        ),
+        (
+            "sun_elevation_deg = 95",
+            "light[0].sun_elevation_deg",
+            "95",
+            "[0, 90]",
+        ),
+        (
+            "sun_azimuth_deg = nan",
+            "light[0].sun_azimuth_deg",
+            "NaN",
+            "finite",
+        ),
+        ("scale = -1", "light[0].scale", "-1", ">= 0"),
+    ] {
+        let (path, k, line, message) = error_of(&sky(extra));
+        assert_eq!(
+            (path.as_str(), k.as_str(), line),
+            ("scene.toml", key, Some(6)),
+            "{message}"
+        );
+        assert!(
+            message.contains(value) && message.contains(range),
+            "{message}"
+        );
+    }
+    let (_, key, _, message) = error_of(&sky("sun = 1"));
+    assert!(
+        key.contains("sun") || message.contains("bool"),
+        "{key}: {message}"
+    );
+    let (_, key, _, message) = error_of(&sky("colour = 1"));
+    assert!(message.contains("colour"), "{key}: {message}");
+
+    let text = format!(
+        "{}[[light]]\ntype = \"environment\"\nradiance = [1, 1, 1]\n",
+        sky("")
+    );
+    let (_, key, _, message) = error_of(&text);
+    assert_eq!(key, "light[1]");
+    assert!(message.contains("at most one"), "{message}");
+}
+
+/// A diffuse plane (ρ = 0.5) under a sky, seen from above, has radiance `ρ/π · E`, `E` the
+/// horizontal irradiance of the sky's map (sun included) summed pixel by pixel: the scene builds
+/// the map the library makes, in the environment's layout, and importance samples its sun.
+#[test]
+fn sky_lights_a_diffuse_plane_as_its_map_says() {
+    use std::f64::consts::PI;
+    use woven_render::sky::{sky_image, SkyParams, SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
+    let text = r#"
+        [camera]
+        origin = [0, 0, 1]
+        target = [0, 0, 0]
+        up = [0, 1, 0]
+        fov_deg = 20
+        [film]
+        width = 4
+        height = 4
+        spp = 256
+        [integrator]
+        max_depth = 2
+        [[light]]
+        type = "sky"
+        sun_elevation_deg = 50
+        sun_azimuth_deg = 120
+        turbidity = 3
+        scale = 0.03
+        [[shape]]
+        type = "rectangle"
+        corner = [-2, -2, 0]
+        edge_u = [4, 0, 0]
+        edge_v = [0, 4, 0]
+        material = "grey"
+        [material.grey]
+        type = "diffuse"
+        reflectance = [0.5, 0.5, 0.5]
+    "#;
+    let image = crate::render_text(text);
+    let params = SkyParams {
+        sun_elevation_deg: 50.0,
+        sun_azimuth_deg: 120.0,
+        turbidity: 3.0,
+        scale: 0.03,
+        sun: true,
+    };
+    let map = sky_image(&params, SKY_MAP_WIDTH, SKY_MAP_HEIGHT).unwrap();
+    let (w, h) = (map.width, map.height);
+    let mut irradiance = [0.0; 3];
+    for y in 0..h {
+        let (t0, t1) = (y as f64 * PI / h as f64, (y + 1) as f64 * PI / h as f64);
+        // ∫ cos θ dω over a pixel of the row (below the horizon the map is black).
+        let weight = 0.5 * (t1.sin().powi(2) - t0.sin().powi(2)) * 2.0 * PI / w as f64;
+        for p in &map.pixels[y * w..(y + 1) * w] {
+            for c in 0..3 {
+                irradiance[c] += p.0[c] * weight;
+            }
+        }
+    }
+    let n = image.pixels.len() as f64;
+    for c in 0..3 {
+        let expected = 0.5 / PI * irradiance[c];
+        let mean = image.pixels.iter().map(|p| p.0[c]).sum::<f64>() / n;
+        let se = image
+            .std_error
+            .iter()
+            .map(|s| s.0[c].powi(2))
+            .sum::<f64>()
+            .sqrt()
+            / n;
+        assert!(
+            (mean - expected).abs() < 4.0 * se + 1e-3 * expected,
+            "channel {c}: {mean} ± {se} vs ρ/π E = {expected}"
+        );
+    }
+}
