@@ -71,7 +71,7 @@ use crate::error::{Error, Result};
 use crate::material::{Material, Weave};
 use crate::table::{Albedos, Table};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
-use crate::yarn::point::{hash_uniform, YarnDraws};
+use crate::yarn::point::{golden_uniform, YarnDraws};
 use crate::yarn::Yarn;
 use crate::{Model, Vec3};
 use std::f64::consts::{FRAC_1_PI, PI};
@@ -780,14 +780,15 @@ impl WovenSurface {
                 across = 1.0 - across;
             }
             // Each yarn (a pick for the weft, an end for the warp, counted over the whole
-            // surface) draws its slope; each strand of fibres its azimuth.
-            let index = (if warp { x } else { y }).floor() as i64 as u64;
+            // surface) draws its slope; each strand of fibres its azimuth: golden-ratio points
+            // by index, so neighbours differ and a few hundred yarns average to the model.
+            let index = (if warp { x } else { y }).floor() as i64;
             let family = u64::from(warp);
-            let theta_a = f.draws.slope(hash_uniform(index, family));
+            let theta_a = f.draws.slope(golden_uniform(index, family));
             let phi = if f.draws.varies_in_azimuth() {
-                let strand = ((across * STRANDS as f64) as u64).min(STRANDS - 1);
-                f.draws
-                    .twist(hash_uniform(index, 2 * (strand + 1) + family))
+                let strand = ((across * STRANDS as f64) as i64).min(STRANDS as i64 - 1);
+                let fibre = index.wrapping_mul(STRANDS as i64).wrapping_add(strand);
+                f.draws.twist(golden_uniform(fibre, 2 + family))
             } else {
                 0.0
             };
