@@ -50,7 +50,7 @@
 //! let spec = SurfaceSpec { yarns_per_unit: [20.0, 20.0], gap: 0.2, ..SurfaceSpec::new(material) };
 //! // The yarn's table (coarse here; a renderer keeps one per yarn in a cache).
 //! let yarn = spec.material.yarn_family();
-//! let options = TableOptions { n_theta: 5, n_phi: 1, n_h: 13, colour: true, ..TableOptions::default() };
+//! let options = TableOptions { n_theta: 5, n_phi: 3, n_h: 13, colour: true, ..TableOptions::default() };
 //! let table = Table::build(&yarn.build(550.0)?, &yarn, &options, &|_, _| {})?;
 //! let surface = WovenSurface::new(&spec, Arc::new(table))?;
 //!
