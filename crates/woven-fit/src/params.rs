@@ -637,7 +637,7 @@ impl ParamSet {
     /// The parameters of `model` for data with `channels` colour channels (1 or 3), starting at
     /// `init` (`cloth` and `fiber`: a material; `None` takes the belt-cloth preset; the baselines
     /// take no material). `relative`: the data is calibrated only up to a factor, so `scale` is
-    /// free. The model's table of [`Spec`]s gives every parameter.
+    /// free. The model's table of parameter specs gives every parameter.
     ///
     /// # Errors
     /// [`FitError::InvalidParameter`] for `channels` other than 1 or 3, for a material the fitter
