@@ -18,9 +18,10 @@
 //! `wi` as the `v` of `s = wo` — which is exact where the model is reciprocal and a close
 //! importance function where it is not.
 
+use crate::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use crate::math::Vec3;
 use crate::Model;
-use std::f64::consts::{FRAC_1_PI, PI};
+use std::f64::consts::FRAC_1_PI;
 use std::ops::{BitOr, Mul};
 
 /// Which direction a path knows when it samples a BSDF.
@@ -174,7 +175,11 @@ impl Bsdf for Model {
         if known.z <= 0.0 {
             return None;
         }
-        let (drawn, pdf) = sample_cosine(u)?;
+        let drawn = cosine_hemisphere(u[0], u[1]);
+        if drawn.z <= 0.0 {
+            return None;
+        }
+        let pdf = cosine_hemisphere_pdf(drawn.z);
         let (wi, wo) = pair_of(known, drawn, mode);
         Some(BsdfSample {
             wo,
@@ -184,14 +189,4 @@ impl Bsdf for Model {
             lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
         })
     }
-}
-
-/// A cosine-weighted direction on the upper hemisphere (Malley's method: a uniform point on the
-/// disc lifted to it) and its density; `None` on the horizon, where the density is 0.
-#[inline]
-pub(crate) fn sample_cosine([u1, u2]: [f64; 2]) -> Option<(Vec3, f64)> {
-    let r = u1.clamp(0.0, 1.0).sqrt();
-    let phi = 2.0 * PI * u2;
-    let z = (1.0 - r * r).max(0.0).sqrt();
-    (z > 0.0).then(|| (Vec3::new(r * phi.cos(), r * phi.sin(), z), z * FRAC_1_PI))
 }

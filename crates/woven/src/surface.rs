@@ -69,6 +69,7 @@ use crate::cloth::Structure;
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::material::{Material, Weave};
+use crate::math::sampling::cosine_hemisphere;
 use crate::table::{Albedos, Table};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
 use crate::yarn::point::{golden_uniform, YarnDraws};
@@ -910,9 +911,8 @@ fn point_sample(f: &Fibers, p: &YarnPoint, known: Vec3, u: [f64; 2]) -> Option<(
         }
         h * (2.0 * kh) - known
     } else {
-        let (d, _) =
-            crate::bsdf::sample_cosine([(u[0] - SPECULAR_DRAW) / (1.0 - SPECULAR_DRAW), u[1]])?;
-        d
+        // Horizon draws are rejected below.
+        cosine_hemisphere((u[0] - SPECULAR_DRAW) / (1.0 - SPECULAR_DRAW), u[1])
     };
     if drawn.z <= 0.0 {
         return None;
