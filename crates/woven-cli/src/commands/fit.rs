@@ -4,7 +4,7 @@
 
 use crate::args::{parse_finite, MaterialSource};
 use crate::io;
-use crate::plotting::{plot_error, render_image, tick_label, Drawing, ImageFormat, FONT};
+use crate::plotting::{plot_error, render_image, tick_label, Drawing, ImageFormat, COLORS, FONT};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
@@ -301,15 +301,6 @@ fn draw_plot(result: &FitResult, path: &Path) -> Result<Vec<u8>> {
     render_image(&Plot(result), ImageFormat::from_path(path)?, (1400, 650))
 }
 
-const COLORS: [RGBColor; 6] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(230, 159, 0),
-    RGBColor(86, 180, 233),
-];
-
 fn mean(v: &[f64; 3], channels: usize) -> f64 {
     v[..channels].iter().sum::<f64>() / channels as f64
 }
@@ -352,7 +343,8 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, result: &FitResult) -
         .axis_desc_style((FONT, 16))
         .draw()
         .map_err(plot_error)?;
-    for (k, c) in curves.iter().take(COLORS.len()).enumerate() {
+    // Six curves at most, in the palette's first six colours (black is left out).
+    for (k, c) in curves.iter().take(COLORS.len() - 1).enumerate() {
         let color = COLORS[k];
         let label = format!(
             "θi {:.0}°, φi {:.0}°",

@@ -1,7 +1,7 @@
 //! The paper's curve figures (Figs. 3–5 and 8–10; their data is [`woven::figures`]'s) drawn as
 //! SVG or PNG: the curves, a legend, the caption under the chart, a linear or logarithmic y axis.
 
-use super::{plot_error, render_image, tick_label, Drawing, ImageFormat, FONT};
+use super::{plot_error, render_image, tick_label, Drawing, ImageFormat, COLORS, FONT};
 use anyhow::Result;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
@@ -27,17 +27,6 @@ pub fn render(
     }
     render_image(&Plot(figure, scale), format, size)
 }
-
-/// Okabe–Ito colours: distinguishable with every common colour-vision deficiency.
-const COLORS: [RGBColor; 7] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-    RGBColor(230, 159, 0),
-    RGBColor(86, 180, 233),
-    RGBColor(0, 0, 0),
-];
 
 /// Font sizes and line widths, scaled with the image size (tuned at 1200 × 800).
 struct Sizes {

@@ -49,6 +49,17 @@ pub trait Drawing {
     fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>;
 }
 
+/// Okabe–Ito colours: distinguishable with every common colour-vision deficiency.
+pub const COLORS: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+];
+
 /// Draws `picture` into an in-memory SVG or PNG file of `width × height` (PNG text in the
 /// embedded font).
 pub fn render_image(
