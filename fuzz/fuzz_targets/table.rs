@@ -5,7 +5,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use woven::bsdf::Bsdf;
+use woven::bsdf::{Bsdf, Transport};
 use woven::table::Table;
 use woven::Vec3;
 
@@ -25,12 +25,16 @@ fuzz_target!(|data: &[u8]| {
         for &wo in &dirs {
             let f = table.eval(wi, wo);
             assert!(f.is_finite() && f >= 0.0, "eval {f}");
-            let pdf = table.pdf(wi, wo);
-            assert!(pdf.is_finite() && pdf >= 0.0, "pdf {pdf}");
+            for mode in [Transport::Radiance, Transport::Importance] {
+                let pdf = table.pdf(wi, wo, mode);
+                assert!(pdf.is_finite() && pdf >= 0.0, "pdf {pdf}");
+            }
         }
         for (u1, u2) in [(0.1, 0.2), (0.9, 0.999)] {
-            if let Some(s) = table.sample(wi, u1, u2) {
-                assert!(s.pdf.is_finite() && s.f.is_finite(), "{s:?}");
+            for mode in [Transport::Radiance, Transport::Importance] {
+                if let Some(s) = table.sample(wi, 0.5, [u1, u2], mode) {
+                    assert!(s.pdf.is_finite() && s.f.is_finite(), "{s:?}");
+                }
             }
         }
     }
