@@ -34,10 +34,13 @@ enum Progress {
 }
 
 /// A build's progress reports, from the worker threads: at most one per percent, to a Python
-/// callable or `sys.stderr`; the first error a callback raises is kept for `finish`.
+/// callable or `sys.stderr`, in increasing order of `done` (workers race to the GIL, so a late
+/// report of fewer tasks is dropped) and always ending with `done == total`; the first error a
+/// callback raises is kept for `finish`.
 struct Reporter {
     progress: Progress,
     last: AtomicUsize,
+    highest: AtomicUsize,
     failed: Mutex<Option<PyErr>>,
 }
 
@@ -53,6 +56,7 @@ impl Reporter {
         Ok(Reporter {
             progress,
             last: AtomicUsize::new(usize::MAX),
+            highest: AtomicUsize::new(0),
             failed: Mutex::new(None),
         })
     }
@@ -66,6 +70,10 @@ impl Reporter {
             return;
         }
         Python::attach(|py| {
+            // Under the GIL the reports are serialised: one that lost the race is stale.
+            if self.highest.fetch_max(done, Ordering::Relaxed) >= done {
+                return;
+            }
             let result = match &self.progress {
                 Progress::Callback(f) => f.call1(py, (done, total)).map(drop),
                 Progress::Stderr => py.import("sys").and_then(|sys| {
