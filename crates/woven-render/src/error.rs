@@ -49,5 +49,17 @@ pub enum Error {
     },
 }
 
+impl Error {
+    /// A file refused by `woven::fsutil` (not a regular file, too large) as this crate's error:
+    /// `refused` makes it from the message, which names the limit; I/O errors stay I/O errors.
+    pub(crate) fn from_file(e: woven::Error, refused: impl FnOnce(String) -> Error) -> Error {
+        match e {
+            woven::Error::Parse { message, .. } => refused(message),
+            woven::Error::Io { path, source } => Error::Io { path, source },
+            e => Error::Woven(e),
+        }
+    }
+}
+
 /// The crate's result type.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

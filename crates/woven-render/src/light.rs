@@ -17,6 +17,16 @@ use std::path::Path;
 use woven::math::sampling::{uniform_sphere, Distribution2D, UNIFORM_SPHERE_PDF};
 use woven::Vec3;
 
+/// The largest environment map file [`Environment::from_exr`] reads, in bytes (4 GiB): room for
+/// an uncompressed 16384 × 8192 RGBA map in 32-bit floats (2 GiB) and more.
+pub const MAX_EXR_BYTES: u64 = 4 << 30;
+
+/// The most pixels a layer of an environment map may hold: 16384 × 8192, the largest maps
+/// published. A map takes about 32 bytes a pixel once read (its radiance in `f64` and its
+/// sampling CDF), 4 GiB at the limit; the limit is checked from the header, so a small file
+/// that declares a huge image allocates nothing.
+pub const MAX_ENVIRONMENT_PIXELS: usize = 16384 * 8192;
+
 /// What the path tracer asks of a light source.
 pub trait Emitter {
     /// Draws a direction from the shading point `p` toward the light from two uniforms in
@@ -246,41 +256,81 @@ impl Environment {
         }
     }
 
-    /// Reads an equirectangular OpenEXR map (`+z` up).
+    /// Reads an equirectangular OpenEXR map (`+z` up): a regular file of at most
+    /// [`MAX_EXR_BYTES`] (checked before it is read) whose layers hold at most
+    /// [`MAX_ENVIRONMENT_PIXELS`] each (checked from its header, before pixels are allocated).
     ///
     /// # Errors
-    /// [`Error::Image`] when the file cannot be read as an RGB(A) EXR or holds a negative,
-    /// infinite or NaN pixel.
+    /// [`Error::Io`] if it cannot be opened; [`Error::Image`] when it is not a regular file, is
+    /// too large, cannot be read as an RGB(A) EXR or holds a negative, infinite or NaN pixel.
     pub fn from_exr(path: &Path, scale: f64) -> Result<Environment> {
-        use exr::prelude::read_first_rgba_layer_from_file;
-        let image = read_first_rgba_layer_from_file(
-            path,
-            |resolution, _| {
-                (
-                    resolution.width(),
-                    vec![Rgb::BLACK; resolution.width() * resolution.height()],
-                )
-            },
-            |(w, pixels): &mut (usize, Vec<Rgb>), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-                pixels[pos.y() * *w + pos.x()] = Rgb([r as f64, g as f64, b as f64]);
-            },
-        )
-        .map_err(|e| Error::Image {
+        let (file, _) = woven::fsutil::open_regular(path, MAX_EXR_BYTES, "an environment map")
+            .map_err(|e| {
+                Error::from_file(e, |message| Error::Image {
+                    path: path.to_path_buf(),
+                    message,
+                })
+            })?;
+        Self::read_exr(std::io::BufReader::new(file), path, scale)
+    }
+
+    /// [`from_exr`](Self::from_exr) from a reader (`path` names it in messages).
+    ///
+    /// # Errors
+    /// [`Error::Image`] when it cannot be read as an RGB(A) EXR, a layer holds more than
+    /// [`MAX_ENVIRONMENT_PIXELS`], or a pixel is negative, infinite or NaN.
+    pub fn read_exr(
+        mut reader: impl std::io::Read + std::io::Seek,
+        path: &Path,
+        scale: f64,
+    ) -> Result<Environment> {
+        use exr::prelude::{read, ReadChannels, ReadLayers};
+        let image_error = |message: String| Error::Image {
             path: path.to_path_buf(),
-            message: format!("cannot read the environment map: {e}"),
-        })?;
+            message,
+        };
+        // The header first: a few bytes may declare a layer of billions of pixels.
+        let meta = exr::meta::MetaData::read_from_buffered(&mut reader, false)
+            .map_err(|e| image_error(format!("cannot read the environment map: {e}")))?;
+        for h in &meta.headers {
+            let (w, ht) = (h.layer_size.0, h.layer_size.1);
+            if w.checked_mul(ht).is_none_or(|n| n > MAX_ENVIRONMENT_PIXELS) {
+                return Err(image_error(format!(
+                    "a layer of {w} × {ht} pixels, more than the {MAX_ENVIRONMENT_PIXELS} \
+                     (16384 × 8192) an environment map may hold"
+                )));
+            }
+        }
+        reader
+            .seek(std::io::SeekFrom::Start(0))
+            .map_err(|e| image_error(format!("cannot read the environment map: {e}")))?;
+        let image = read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .rgba_channels(
+                |resolution, _| {
+                    (
+                        resolution.width(),
+                        vec![Rgb::BLACK; resolution.width() * resolution.height()],
+                    )
+                },
+                |(w, pixels): &mut (usize, Vec<Rgb>), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                    pixels[pos.y() * *w + pos.x()] = Rgb([r as f64, g as f64, b as f64]);
+                },
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .from_buffered(reader)
+            .map_err(|e| image_error(format!("cannot read the environment map: {e}")))?;
         let size = image.layer_data.size;
         let (_, pixels) = image.layer_data.channel_data.pixels;
         if let Some(i) = pixels.iter().position(|p| !p.is_valid()) {
-            return Err(Error::Image {
-                path: path.to_path_buf(),
-                message: format!(
-                    "pixel ({}, {}) is {:?}: an environment's radiance must be finite and >= 0",
-                    i % size.width(),
-                    i / size.width(),
-                    pixels[i].0
-                ),
-            });
+            return Err(image_error(format!(
+                "pixel ({}, {}) is {:?}: an environment's radiance must be finite and >= 0",
+                i % size.width(),
+                i / size.width(),
+                pixels[i].0
+            )));
         }
         Ok(Environment::map(size.width(), size.height(), pixels, scale))
     }

@@ -9,32 +9,97 @@ use woven::Vec3;
 /// The most triangles one mesh may hold (a guard against a runaway file or resolution).
 pub const MAX_TRIANGLES: usize = 20_000_000;
 
+/// The largest OBJ file [`load_obj`] reads, in bytes (4 GiB): room for a mesh of
+/// [`MAX_TRIANGLES`] with uv and normals (about 115 bytes a triangle as exporters write them).
+pub const MAX_OBJ_BYTES: u64 = 4 << 30;
+
+/// The longest line of an OBJ file, in bytes (64 KiB): a face of some two thousand corners.
+/// A longer line is not a mesh (an endless one would otherwise fill memory).
+pub const MAX_OBJ_LINE_BYTES: usize = 64 << 10;
+
 /// Reads a triangle mesh from a Wavefront OBJ file (all its objects, triangulated), with its
 /// uv (`vt`) and normals (`vn`) where the file has them, scaled by `scale` then moved by
-/// `translate`.
+/// `translate`. The file must be a regular file of at most [`MAX_OBJ_BYTES`] (checked before it
+/// is read), with lines of at most [`MAX_OBJ_LINE_BYTES`]; material libraries (`mtllib`) are
+/// not read (the scene gives each shape its material).
 ///
 /// # Errors
-/// [`Error::Io`]/[`Error::Scene`] naming `key` when the file cannot be read or parsed.
+/// [`Error::Scene`] naming `key` and the file when it cannot be opened, is not a regular file,
+/// is too large, has a line too long, cannot be parsed or holds no valid mesh.
 pub fn load_obj(path: &Path, scale: f64, translate: Vec3, key: &str) -> Result<Mesh> {
+    // Every failure names the key, a missing file included.
+    let (file, _) =
+        woven::fsutil::open_regular(path, MAX_OBJ_BYTES, "an OBJ mesh").map_err(|e| {
+            Error::Scene {
+                path: path.display().to_string(),
+                key: key.to_string(),
+                line: None,
+                message: match e {
+                    woven::Error::Parse { message, .. } => message,
+                    woven::Error::Io { source, .. } => {
+                        format!("cannot read the OBJ mesh: {source}")
+                    }
+                    e => e.to_string(),
+                },
+            }
+        })?;
+    read_obj(file, &path.display().to_string(), scale, translate, key)
+}
+
+/// [`load_obj`] from a reader (`origin` names it in messages): lines of at most
+/// [`MAX_OBJ_LINE_BYTES`], at most [`MAX_OBJ_BYTES`] in all.
+///
+/// # Errors
+/// [`Error::Scene`] naming `key` and `origin` when the text breaks a limit, cannot be parsed or
+/// holds no valid mesh.
+pub fn read_obj(
+    reader: impl std::io::Read,
+    origin: &str,
+    scale: f64,
+    translate: Vec3,
+    key: &str,
+) -> Result<Mesh> {
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ..tobj::LoadOptions::default()
     };
-    let (models, _) = tobj::load_obj(path, &options).map_err(|e| Error::Scene {
-        path: path.display().to_string(),
+    let bad = |what: String| Error::Scene {
+        path: origin.to_string(),
         key: key.to_string(),
         line: None,
-        message: format!("cannot read the OBJ mesh: {e}"),
-    })?;
+        message: what,
+    };
+    let mut text = woven::fsutil::BoundedText::new(reader, MAX_OBJ_LINE_BYTES, MAX_OBJ_BYTES);
+    // Materials are the scene's: a `mtllib` line loads nothing (and opens no file).
+    let no_materials = |_: &Path| Ok((Vec::new(), Default::default()));
+    let (models, _) = match tobj::load_obj_buf(&mut text, &options, no_materials) {
+        Ok(loaded) => loaded,
+        Err(e) => {
+            return Err(bad(match text.limit_hit() {
+                Some(limit) => format!("{limit}: not an OBJ mesh"),
+                None => format!("cannot read the OBJ mesh: {e}"),
+            }))
+        }
+    };
+    mesh_of(&models, scale, translate, &|what| bad(what.to_string()))
+}
+
+/// The models tobj read as one checked mesh (`bad` makes the error).
+fn mesh_of(
+    models: &[tobj::Model],
+    scale: f64,
+    translate: Vec3,
+    bad: &dyn Fn(&str) -> Error,
+) -> Result<Mesh> {
     let mut mesh = Mesh::default();
     let mut with_normals = true;
     let mut with_uv = true;
-    for m in &models {
+    for m in models {
         with_normals &= !m.mesh.normals.is_empty();
         with_uv &= !m.mesh.texcoords.is_empty();
     }
-    for m in &models {
+    for m in models {
         let base = mesh.positions.len() as u32;
         let mm = &m.mesh;
         for p in mm.positions.chunks_exact(3) {
@@ -59,12 +124,6 @@ pub fn load_obj(path: &Path, scale: f64, translate: Vec3, key: &str) -> Result<M
         }
     }
     let n = mesh.positions.len();
-    let bad = |what: &str| Error::Scene {
-        path: path.display().to_string(),
-        key: key.to_string(),
-        line: None,
-        message: what.to_string(),
-    };
     if mesh.indices.is_empty() {
         return Err(bad("the OBJ file holds no triangles"));
     }

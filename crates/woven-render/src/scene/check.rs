@@ -19,9 +19,10 @@ use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::Path;
 use toml::Spanned;
-use woven::material::{Material, PatternSpec, Weave};
+use woven::fsutil::check_regular;
+use woven::material::{Material, PatternSpec, Weave, MAX_FILE_BYTES};
 use woven::surface::Detail;
-use woven::weave::Pattern;
+use woven::weave::{Pattern, MAX_WIF_BYTES};
 use woven::Vec3;
 
 /// Checks a parsed file (`text`, named `origin` in messages; relative paths resolve against
@@ -309,7 +310,11 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
     let mut woven = if Material::preset_toml(&material).is_some() {
         Material::preset(&material)
     } else {
-        Material::from_path(c.base.join(&material))
+        // A regular file only: the library's reader also takes a stream (a pipe), which a
+        // scene never means and which could block the render forever.
+        let path = c.base.join(&material);
+        check_regular(&path, MAX_FILE_BYTES, "a material file")
+            .and_then(|_| Material::from_path(&path))
     }
     .map_err(|e| c.err(&mkey, at, format!("`{material}`: {e}")))?;
     if let Some(p) = pattern {
@@ -321,7 +326,8 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
                 let path = c.base.join(&wif);
                 (
                     PatternSpec::Wif(path.clone()),
-                    Pattern::from_wif_path(&path),
+                    check_regular(&path, MAX_WIF_BYTES, "a WIF file")
+                        .and_then(|_| Pattern::from_wif_path(&path)),
                 )
             }
         };

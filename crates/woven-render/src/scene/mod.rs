@@ -34,7 +34,7 @@ pub const EXAMPLE_SCENE: &str = include_str!("../../scenes/example.toml");
 /// The built-in showcase (`woven render` without a file, and bare `woven`).
 pub const SHOWCASE_SCENE: &str = include_str!("../../scenes/showcase.toml");
 
-/// The longest scene file read, bytes (a guard against reading an endless stream).
+/// The longest scene file read, bytes (16 MiB: a guard against a wrong path filling memory).
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 
 /// The largest film side, pixels.
@@ -231,31 +231,29 @@ pub const MAX_U_MAX_DEG: f64 = 80.0;
 pub const MAX_GAP: f64 = 0.95;
 
 impl SceneDescription {
-    /// Reads and checks a scene file.
+    /// Reads and checks a scene file: a regular file of at most [`MAX_SCENE_BYTES`] (checked
+    /// before it is read).
     ///
     /// # Errors
-    /// [`Error::Io`] if it cannot be read; [`Error::Scene`] naming the key and line otherwise.
+    /// [`Error::Io`] if it cannot be read or is not UTF-8; [`Error::Scene`] naming the file when
+    /// it is not a regular file or is too large, and naming the key and line otherwise.
     pub fn from_path(path: &Path) -> Result<SceneDescription> {
-        use std::io::Read;
-        let file = std::fs::File::open(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let mut text = String::new();
-        file.take(MAX_SCENE_BYTES + 1)
-            .read_to_string(&mut text)
-            .map_err(|source| Error::Io {
-                path: path.to_path_buf(),
-                source,
+        let bytes =
+            woven::fsutil::read_regular(path, MAX_SCENE_BYTES, "a scene file").map_err(|e| {
+                Error::from_file(e, |message| Error::Scene {
+                    path: path.display().to_string(),
+                    key: "(file)".into(),
+                    line: None,
+                    message,
+                })
             })?;
-        if text.len() as u64 > MAX_SCENE_BYTES {
-            return Err(Error::Scene {
-                path: path.display().to_string(),
-                key: "(file)".into(),
-                line: None,
-                message: "longer than 16 MiB: not a scene file".into(),
-            });
-        }
+        let text = String::from_utf8(bytes).map_err(|_| Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                "not UTF-8 text, so not a scene file",
+            ),
+        })?;
         let base = path.parent().unwrap_or(Path::new("."));
         Self::from_str(&text, &path.display().to_string(), base)
     }

@@ -166,3 +166,193 @@ fn environment_maps_light_the_scene_consistently() {
         assert!(z < 4.5, "MIS {m0} ± {s0} vs {name} {m} ± {s}: z = {z:.2}");
     }
 }
+
+/// The error of building a one-mesh scene whose mesh is `mesh` and whose environment map is
+/// `map` (file values, relative to `dir`).
+fn build_error(dir: &std::path::Path, mesh: &str, map: Option<&str>) -> String {
+    let env = map
+        .map(|m| format!("[[light]]\ntype = \"environment\"\nfile = \"{m}\"\n"))
+        .unwrap_or_default();
+    let text = format!(
+        "{CAMERA}{env}[material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n\
+         [[shape]]\ntype = \"mesh\"\nfile = \"{mesh}\"\nmaterial = \"m\"\n"
+    );
+    let desc = SceneDescription::from_str(&text, "<test>", dir).unwrap();
+    match Scene::build(&desc, &coarse_grid(), &|_| {}, &|_, _| {}) {
+        Ok(_) => panic!("{mesh} / {map:?} built"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// A scene's files that are not regular files — a device that never ends (`/dev/zero`), a
+/// folder, a named pipe with no writer (opening it would block) — are refused before a byte is
+/// read, with the file and the key named. The issue's case: a mesh `file = "/dev/zero"` filled
+/// memory.
+#[cfg(unix)]
+#[test]
+fn scene_files_that_are_not_regular_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let quad = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(dir.path().join("tri.obj"), quad).unwrap();
+    std::fs::create_dir(dir.path().join("folder.obj")).unwrap();
+    let mut special = vec![("/dev/zero", "a character device")];
+    special.push(("folder.obj", "a folder"));
+    let fifo = dir.path().join("pipe");
+    match std::process::Command::new("mkfifo").arg(&fifo).status() {
+        Ok(s) if s.success() => special.push(("pipe", "a named pipe")),
+        _ => eprintln!("mkfifo unavailable: the pipe cases are skipped"),
+    }
+    for (file, kind) in special {
+        let not_regular = format!("{kind}, not a regular file");
+        let e = build_error(dir.path(), file, None);
+        assert!(
+            e.contains(file)
+                && e.contains("`shape[0].file`")
+                && e.contains(&format!("{not_regular}: an OBJ mesh is read only")),
+            "{e}"
+        );
+        let e = build_error(dir.path(), "tri.obj", Some(file));
+        assert!(
+            e.contains(file) && e.contains(&format!("{not_regular}: an environment map")),
+            "{e}"
+        );
+        let path = dir.path().join(file);
+        let e = SceneDescription::from_path(&path)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains(&format!("{not_regular}: a scene file")), "{e}");
+        // A woven material's file and its WIF draft.
+        let woven = |key: &str| {
+            let text = format!(
+                "{CAMERA}[material.w]\ntype = \"woven\"\n{key}\n[[shape]]\ntype = \"rectangle\"\n\
+                 corner = [-1, -1, 0]\nedge_u = [2, 0, 0]\nedge_v = [0, 2, 0]\nmaterial = \"w\"\n"
+            );
+            SceneDescription::from_str(&text, "<test>", dir.path())
+                .err()
+                .unwrap()
+                .to_string()
+        };
+        let e = woven(&format!("material = \"{file}\""));
+        assert!(
+            e.contains("material.w.material") && e.contains(&format!("{not_regular}: a material")),
+            "{e}"
+        );
+        let e = woven(&format!(
+            "material = \"silk\"\npattern = {{ wif = \"{file}\" }}"
+        ));
+        assert!(
+            e.contains("material.w.pattern") && e.contains(&format!("{not_regular}: a WIF file")),
+            "{e}"
+        );
+    }
+}
+
+/// A mesh or an environment map larger than its limit is refused from its size alone, before it
+/// is read (a sparse file: nothing is written); the message gives the size and the limit.
+#[test]
+fn files_over_their_limit_are_refused_by_size() {
+    use woven_render::light::MAX_EXR_BYTES;
+    use woven_render::shapes::MAX_OBJ_BYTES;
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    for (name, len) in [
+        ("big.obj", MAX_OBJ_BYTES + 1),
+        ("big.exr", MAX_EXR_BYTES + 1),
+    ] {
+        let file = std::fs::File::create(dir.path().join(name)).unwrap();
+        if file.set_len(len).is_err() {
+            eprintln!("no sparse files here: the size limits are checked by woven::fsutil's tests");
+            return;
+        }
+    }
+    let e = build_error(dir.path(), "big.obj", None);
+    assert!(
+        e.contains("big.obj")
+            && e.contains("`shape[0].file`")
+            && e.contains("4294967297 bytes, larger than 4096 MiB, the most an OBJ mesh may hold"),
+        "{e}"
+    );
+    let e = build_error(dir.path(), "tri.obj", Some("big.exr"));
+    assert!(
+        e.contains("big.exr")
+            && e.contains("4294967297 bytes, larger than 4096 MiB, the most an environment map"),
+        "{e}"
+    );
+}
+
+/// An OBJ line longer than `MAX_OBJ_LINE_BYTES` stops the reader at that line (an endless line
+/// would fill memory); a line at the limit is read.
+#[test]
+fn an_obj_line_over_the_limit_is_refused() {
+    use woven::Vec3;
+    use woven_render::shapes::{read_obj, MAX_OBJ_LINE_BYTES};
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let comment = |n: usize| format!("#{}\n", "x".repeat(n - 1));
+    let at_limit = format!("{tri}{}", comment(MAX_OBJ_LINE_BYTES));
+    let mesh = read_obj(
+        at_limit.as_bytes(),
+        "at.obj",
+        1.0,
+        Vec3::new(0.0, 0.0, 0.0),
+        "shape[0].file",
+    )
+    .unwrap();
+    assert_eq!(mesh.indices.len(), 1);
+    let over = format!("{tri}{}", comment(MAX_OBJ_LINE_BYTES + 1));
+    let e = read_obj(
+        over.as_bytes(),
+        "over.obj",
+        1.0,
+        Vec3::new(0.0, 0.0, 0.0),
+        "shape[0].file",
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert_eq!(
+        e,
+        "over.obj: `shape[0].file`: line 5 is longer than 64 KiB: not an OBJ mesh"
+    );
+    // An endless line: zero bytes without a newline.
+    let zeros = std::io::Read::take(std::io::repeat(0), 1 << 40);
+    let e = read_obj(zeros, "zeros", 1.0, Vec3::new(0.0, 0.0, 0.0), "k")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("line 1 is longer than 64 KiB"), "{e}");
+}
+
+/// An EXR whose header declares a layer larger than `MAX_ENVIRONMENT_PIXELS` is refused from the
+/// header, before any pixel is allocated.
+#[test]
+fn an_environment_map_declaring_too_many_pixels_is_refused() {
+    use woven_render::light::{Environment, MAX_ENVIRONMENT_PIXELS};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("small.exr");
+    write_map(&path, 4, 2, |_, _| 1.0);
+    let mut bytes = std::fs::read(&path).unwrap();
+    // The data window's box2i (xMin, yMin, xMax, yMax) follows its name, type and size.
+    let key = b"dataWindow\0box2i\0";
+    let at = bytes.windows(key.len()).position(|w| w == key).unwrap() + key.len() + 4;
+    bytes[at + 8..at + 12].copy_from_slice(&99_999i32.to_le_bytes());
+    bytes[at + 12..at + 16].copy_from_slice(&99_999i32.to_le_bytes());
+    let e = Environment::read_exr(std::io::Cursor::new(&bytes), &path, 1.0)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("small.exr: a layer of 100000 × 100000 pixels")
+            && e.contains(&format!(
+                "more than the {MAX_ENVIRONMENT_PIXELS} (16384 × 8192)"
+            )),
+        "{e}"
+    );
+    // The file as written still reads.
+    let map = Environment::from_exr(&path, 1.0).unwrap();
+    assert!((map.radiance(woven::Vec3::Z).0[0] - 1.0).abs() < 1e-6);
+}

@@ -107,8 +107,17 @@ impl Cache {
         options: &TableOptions,
     ) -> Lookup {
         let path = self.path(material, wavelength_nm, options);
-        if !path.exists() {
-            return Lookup::Miss { path, reason: None };
+        match std::fs::metadata(&path) {
+            Err(_) => return Lookup::Miss { path, reason: None },
+            // A folder, a device or a pipe in the table's place is not read (a pipe would block).
+            Ok(meta) if !meta.is_file() => {
+                let reason = format!("{}: not a regular file", path.display());
+                return Lookup::Miss {
+                    path,
+                    reason: Some(reason),
+                };
+            }
+            Ok(_) => {}
         }
         let reason = match Table::load(&path) {
             Err(e) => e.to_string(),
@@ -131,12 +140,22 @@ impl Cache {
     /// Stores `table` at `path` (from [`Lookup::Miss`]), creating the folder, atomically.
     ///
     /// # Errors
-    /// [`Error::Io`] naming the folder or the file.
+    /// [`Error::Io`] naming the folder or the file; also when something other than a regular
+    /// file is in the table's place (a pipe would block the write, a device swallow it).
     pub fn store(&self, path: &Path, table: &Table) -> Result<()> {
         std::fs::create_dir_all(&self.dir).map_err(|source| Error::Io {
             path: self.dir.clone(),
             source,
         })?;
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+            return Err(Error::Io {
+                path: path.to_path_buf(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    "not a regular file: the cache writes only its own files",
+                ),
+            });
+        }
         table.save(path)
     }
 
@@ -341,6 +360,59 @@ mod tests {
                 assert!(reason.unwrap().contains("another material"))
             }
             Lookup::Hit { .. } => panic!("a foreign table was trusted"),
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A folder or a named pipe where a table belongs is neither read nor written (a pipe
+    /// with no writer would block both): the table is built and the store refused.
+    #[test]
+    fn a_special_file_in_a_tables_place_is_not_used() {
+        let dir = scratch("special");
+        let cache = Cache::new(&dir);
+        let m = Material::from_toml_str("[fiber]\neta = 1.5\nroughness = 0.3\n", "t").unwrap();
+        let options = tiny();
+        let path = cache.path(&m, 550.0, &options);
+        std::fs::create_dir_all(&path).unwrap();
+        let mut kinds = vec![path.clone()];
+        #[cfg(unix)]
+        {
+            let fifo = dir.join(format!(
+                "pipe-{}",
+                path.file_name().unwrap().to_str().unwrap()
+            ));
+            if std::process::Command::new("mkfifo")
+                .arg(&fifo)
+                .status()
+                .is_ok_and(|s| s.success())
+            {
+                kinds.push(fifo);
+            }
+        }
+        for special in kinds {
+            if special != path {
+                std::fs::remove_dir_all(&path).unwrap();
+                std::fs::rename(&special, &path).unwrap();
+            }
+            match cache.lookup(&m, 550.0, &options) {
+                Lookup::Miss { reason, .. } => {
+                    assert!(reason.unwrap().ends_with("not a regular file"))
+                }
+                Lookup::Hit { .. } => panic!("a special file was read"),
+            }
+            let stored = std::cell::Cell::new(true);
+            let table = cache.load_or_build(
+                &m,
+                550.0,
+                &options,
+                || Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {}),
+                &|n| {
+                    if let Notice::NotStored { .. } = n {
+                        stored.set(false);
+                    }
+                },
+            );
+            assert!(table.is_ok() && !stored.get());
         }
         let _ = std::fs::remove_dir_all(&dir);
     }
