@@ -122,3 +122,33 @@ fn bad_input_is_a_clear_error() {
         .stderr(predicate::str::contains("/no/such/file.csv"));
     woven().args(["fit"]).assert().code(2);
 }
+
+/// One measurement cannot decide the cloth model's parameters: the fit is refused with the
+/// counts and the flag that helps, and nothing is written.
+#[test]
+fn a_fit_the_data_cannot_decide_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("one.csv");
+    std::fs::write(
+        &data,
+        "theta_i,phi_i,theta_r,phi_r,value\n0.3,0,0.4,3.1,0.1\n",
+    )
+    .unwrap();
+    let out = dir.path().join("fitted.toml");
+    woven()
+        .args(["fit", "--model", "cloth", "--data"])
+        .arg(&data)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("--fix name=value")
+                .and(predicate::str::contains(
+                    "1 measurement(s) × 1 channel(s) = 1 value(s) cannot determine",
+                ))
+                .and(predicate::str::contains("has rank 1"))
+                .and(predicate::str::contains("warning").not()),
+        );
+    assert!(!out.exists());
+}

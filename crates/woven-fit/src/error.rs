@@ -34,6 +34,42 @@ pub enum FitError {
         /// What is wrong.
         message: String,
     },
+    /// The data cannot determine the free parameters, so the fit is refused rather than run:
+    /// fewer measured values than free parameters, or a Jacobian at the initial values whose rank
+    /// on the measurements is below its rank on a reference geometry (some combination of the
+    /// parameters changes no prediction where the data was measured; `crate::fit`'s module docs).
+    /// Holding some parameters at a value ([`ParamSet::fix`](crate::ParamSet::fix)) or measuring
+    /// at more geometries makes a fit possible; a fit that is only ill-conditioned runs, with
+    /// warnings.
+    #[error(
+        "dataset `{name}`: {measurements} measurement(s) × {channels} channel(s) = {values} \
+         value(s) cannot determine {free} free parameter(s) (the Jacobian at the initial values \
+         has rank {rank}): {detail}; hold some at a value (fixed parameters, `ParamSet::fix`) or \
+         add measurements at other geometries"
+    )]
+    Underdetermined {
+        /// The dataset's name.
+        name: String,
+        /// The usable measurements (after the ones dropped).
+        measurements: usize,
+        /// Colour channels per measurement (1 or 3).
+        channels: usize,
+        /// Measured values: `measurements × channels`, the residuals a fit has.
+        values: usize,
+        /// The free parameters.
+        free: usize,
+        /// The rank of the Jacobian at the initial values on the measurements (columns scaled to
+        /// unit length).
+        rank: usize,
+        /// Its rank on the reference geometry: what measurements spread over the hemisphere
+        /// would determine.
+        reference_rank: usize,
+        /// The parameters the data leaves undetermined (beyond what the model itself does), the
+        /// most involved first.
+        undetermined: Vec<String>,
+        /// What is wrong, in words, naming them.
+        detail: String,
+    },
     /// The initial material is not one the fitter can use, or does not build.
     #[error(transparent)]
     Material(#[from] woven::Error),

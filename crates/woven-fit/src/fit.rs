@@ -17,6 +17,18 @@
 //! measurements of the final run: when the multi-start's result scores worse than that limit
 //! (a start that looked best on the small screening subset can lead into a poor basin), the final
 //! run is repeated from the limit and the better result kept.
+//!
+//! A fit the data cannot decide is refused before it runs ([`FitError::Underdetermined`]): with
+//! fewer measured values than free parameters, or when the Jacobian at the initial values
+//! (columns scaled to unit length) has a lower rank on the measurements than on a reference
+//! geometry ([`REFERENCE_PAIRS`] direction pairs spread over the hemisphere) — some combination
+//! of the parameters then changes no prediction at the measured geometries although other
+//! geometries would decide it, and whatever the optimizer returned for it would be arbitrary.
+//! Singular values count as zero below [`RANK_TOLERANCE`] of the largest, so only an exact
+//! degeneracy is refused. A degeneracy the reference geometry shares is the model's own (with
+//! relative data, `scale`, `ħ` and `ρ` only enter as `scale·(1 − ħ)` and `scale·ħ·ρ`): such a fit
+//! runs, as does one that is merely ill-conditioned, and its report warns of parameters the data
+//! cannot determine and of strong correlations.
 
 use crate::data::{Dataset, Value};
 use crate::error::FitError;
@@ -452,6 +464,158 @@ fn levenberg_marquardt(
     (set, cost, problem.evaluations.get(), termination)
 }
 
+/// Where a singular value of the column-scaled Jacobian counts as zero, relative to the largest:
+/// far above rounding (~1e-15, the size an exact degeneracy leaves), far below the finite
+/// differences' noise (~1e-3 relative), so that only an exact degeneracy counts.
+pub const RANK_TOLERANCE: f64 = 1e-8;
+
+/// The direction pairs of the reference geometry the data's rank is compared with: light and
+/// viewer uniform in solid angle up to [`REFERENCE_THETA_MAX_DEG`], from a fixed seed.
+pub const REFERENCE_PAIRS: usize = 64;
+
+/// The largest polar angle of the reference geometry, degrees.
+pub const REFERENCE_THETA_MAX_DEG: f64 = 80.0;
+
+/// The rank of `jac` with its columns scaled to unit length (a zero column stays zero), and how
+/// much each column takes part in its null directions (the sum of its squared components over
+/// them: 0 for a column the data determines, 1 for one it says nothing of).
+fn rank_of(jac: &DMatrix<f64>) -> (usize, Vec<f64>) {
+    let (m, n) = jac.shape();
+    // At least n rows, so that the SVD gives n singular values and a full V: the missing rows of
+    // a short matrix are zeros.
+    let mut a = DMatrix::zeros(m.max(n), n);
+    a.rows_mut(0, m).copy_from(jac);
+    for mut col in a.column_iter_mut() {
+        let norm = col.norm();
+        if norm > 0.0 && norm.is_finite() {
+            col /= norm;
+        } else {
+            col.fill(0.0);
+        }
+    }
+    let svd = a.svd(false, true);
+    let vt = svd.v_t.expect("v requested");
+    let smax = svd.singular_values.max();
+    let mut null_weight = vec![0.0; n];
+    let mut rank = 0;
+    for (i, &s) in svd.singular_values.iter().enumerate() {
+        if smax > 0.0 && s > RANK_TOLERANCE * smax {
+            rank += 1;
+        } else {
+            for (j, w) in null_weight.iter_mut().enumerate() {
+                *w += vt[(i, j)] * vt[(i, j)];
+            }
+        }
+    }
+    (rank, null_weight)
+}
+
+/// Observations at the reference geometry ([`REFERENCE_PAIRS`]) with `data`'s channels and
+/// floors; their values (the data's first) only scale the Jacobian's rows, which leaves its rank.
+fn reference_geometry(data: &Observations) -> Observations {
+    let mut rng = woven::math::rng::SplitMix(0x5eed);
+    let theta_max = REFERENCE_THETA_MAX_DEG.to_radians();
+    let obs = (0..REFERENCE_PAIRS)
+        .map(|_| Observation {
+            s: rng.direction(theta_max),
+            v: rng.direction(theta_max),
+            value: data.obs[0].value,
+            weight: 1.0,
+        })
+        .collect();
+    Observations {
+        obs,
+        dropped: 0,
+        ..data.clone()
+    }
+}
+
+/// Refuses a fit the data cannot decide (module docs): fewer measured values than free
+/// parameters, or a Jacobian at `set`'s initial values of lower rank on the data (its screening
+/// subset, confirmed on the final run's measurements) than on the reference geometry. A rank
+/// the reference geometry shares is the model's own degeneracy at this point (a combination
+/// only the parameters' bounds decide), which the report's warnings describe; predictions that
+/// are not numbers at the initial values are left to the fit.
+fn check_determined(
+    dataset: &Dataset,
+    set: &ParamSet,
+    data: &Observations,
+    options: &FitOptions,
+    cache: &FiberCache,
+) -> Result<(), FitError> {
+    let free = set.free_indices();
+    if free.is_empty() {
+        return Ok(());
+    }
+    let rank_on = |obs: &Observations| -> Option<(usize, Vec<f64>)> {
+        let noop = || {};
+        let problem = Problem::new(set.clone(), obs, options.residual, 1, &noop, cache);
+        if !problem.res.as_ref()?.iter().all(|r| r.is_finite()) {
+            return None;
+        }
+        Some(rank_of(&problem.jacobian_here()))
+    };
+    let screen = data.subset(options.subset.max(free.len()));
+    let Some(mut found) = rank_on(&screen) else {
+        return Ok(());
+    };
+    if found.0 == free.len() {
+        return Ok(());
+    }
+    let Some(reference) = rank_on(&reference_geometry(data)) else {
+        return Ok(());
+    };
+    let work = data.subset(options.final_subset.max(1));
+    if found.0 < reference.0 && work.obs.len() > screen.obs.len() {
+        match rank_on(&work) {
+            Some(f) => found = f,
+            None => return Ok(()),
+        }
+    }
+    let (rank, null_weight) = found;
+    let short = data.len() < free.len();
+    if rank >= reference.0 && !short {
+        return Ok(());
+    }
+    // The parameters the data leaves undetermined beyond what the model itself does.
+    let mut involved: Vec<usize> = (0..free.len())
+        .filter(|&j| null_weight[j] - reference.1[j] > 0.1)
+        .collect();
+    involved.sort_by(|&a, &b| {
+        let excess = |j: usize| null_weight[j] - reference.1[j];
+        excess(b).total_cmp(&excess(a))
+    });
+    let undetermined: Vec<String> = involved
+        .iter()
+        .map(|&j| set.params[free[j]].name.clone())
+        .collect();
+    let detail = if short {
+        format!(
+            "fewer values than free parameters, so some combinations of {} change no prediction",
+            undetermined.join(", ")
+        )
+    } else {
+        format!(
+            "the measurements' geometry leaves {} combination(s) of {} that change no \
+             prediction, which other geometries decide (rank {} there)",
+            reference.0 - rank,
+            undetermined.join(", "),
+            reference.0
+        )
+    };
+    Err(FitError::Underdetermined {
+        name: dataset.name.clone(),
+        measurements: data.obs.len(),
+        channels: data.channels,
+        values: data.len(),
+        free: free.len(),
+        rank,
+        reference_rank: reference.0,
+        undetermined,
+        detail,
+    })
+}
+
 /// What a fit reports while it runs: `(done, total)` steps (screened starts plus iterations).
 pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
@@ -469,7 +633,10 @@ pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
 ///
 /// # Errors
 /// [`FitError::Data`] for a dataset with nothing to fit or whose channels do not match `set`;
-/// [`FitError::Material`] if the initial parameters do not build.
+/// [`FitError::Material`] if the initial parameters do not build;
+/// [`FitError::Underdetermined`] if the data cannot determine the free parameters (fewer
+/// measured values than free parameters, or a Jacobian at the initial values of lower rank on
+/// the measurements than on a reference geometry: module docs).
 pub fn fit(
     dataset: &Dataset,
     set: &ParamSet,
@@ -488,6 +655,7 @@ pub fn fit(
     }
     let cache = FiberCache::default();
     Prepared::with_cache(set, Some(&cache))?;
+    check_determined(dataset, set, &data, options, &cache)?;
     let subset = data.subset(options.subset.max(1));
     let free = set.free_indices();
     let total = options.starts

@@ -8,7 +8,7 @@ use woven::material::Material;
 use woven::math::rng::SplitMix;
 use woven_fit::data::{Dataset, Sample, Value};
 use woven_fit::fit::{lambert_like, Observations};
-use woven_fit::{fit, FitOptions, FitResult, ModelKind, ParamSet, Residual};
+use woven_fit::{fit, FitError, FitOptions, FitResult, ModelKind, ParamSet, Residual};
 
 /// The noise of the synthetic measurements: 3 % multiplicative.
 const NOISE: f64 = 0.03;
@@ -322,6 +322,149 @@ fn unusable_data_is_an_error_that_names_the_dataset() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("channel"), "{e}");
+}
+
+/// `n` measurements of one mono value each at the geometries `geometry` (cycled), values spread
+/// by a few per cent so that no two agree.
+fn repeated(geometry: &[(f64, f64, f64, f64)], n: usize) -> Dataset {
+    let samples = (0..n)
+        .map(|k| {
+            let (theta_i, phi_i, theta_r, phi_r) = geometry[k % geometry.len()];
+            Sample {
+                theta_i,
+                phi_i,
+                theta_r,
+                phi_r,
+                value: Value::Mono(0.1 * (1.0 + 0.01 * k as f64)),
+                weight: 1.0,
+            }
+        })
+        .collect();
+    Dataset {
+        name: "repeated".into(),
+        source: "repeated.csv".into(),
+        samples,
+        dropped_below_horizon: 0,
+        relative: false,
+    }
+}
+
+/// The issue's case: one measurement and the cloth model's free parameters. The fit is refused
+/// with the counts and the parameters named, not run and written.
+#[test]
+fn a_fit_with_fewer_values_than_parameters_is_refused() {
+    let data = synthesize_flat(1);
+    for model in [ModelKind::Cloth, ModelKind::Fiber, ModelKind::Microfacet] {
+        let set = ParamSet::new(model, None, 1, false).unwrap();
+        let free = set.free_indices().len();
+        assert!(free > 1, "{model}");
+        match fit(&data, &set, &FitOptions::default(), &|_, _| {}) {
+            Err(FitError::Underdetermined {
+                measurements,
+                channels,
+                values,
+                free: f,
+                rank,
+                ref undetermined,
+                ..
+            }) => {
+                assert_eq!(
+                    (measurements, channels, values, f, rank),
+                    (1, 1, 1, free, 1)
+                );
+                assert!(!undetermined.is_empty());
+            }
+            other => panic!("{model}: {other:?}"),
+        }
+        let e = fit(&data, &set, &FitOptions::default(), &|_, _| {})
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(&format!(
+                "dataset `dummy`: 1 measurement(s) × 1 channel(s) = 1 value(s) cannot determine \
+                 {free} free parameter(s) (the Jacobian at the initial values has rank 1)"
+            )) && e.contains("fewer values than free parameters")
+                && e.contains("ParamSet::fix"),
+            "{e}"
+        );
+    }
+    // Colour: three values from one measurement, still fewer than the fiber model's five.
+    let colour = ParamSet::new(ModelKind::Fiber, None, 3, false).unwrap();
+    let e = fit(
+        &synthesize_flat(3),
+        &colour,
+        &FitOptions::default(),
+        &|_, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("1 measurement(s) × 3 channel(s) = 3 value(s)"),
+        "{e}"
+    );
+    // Holding all but one parameter fixed makes the single measurement enough.
+    let mut lambert = ParamSet::new(ModelKind::Lambert, None, 1, false).unwrap();
+    lambert.fix("diffuse", 0.5).unwrap();
+    lambert.free("diffuse").unwrap();
+    let r = fit(&data, &lambert, &FitOptions::default(), &|_, _| {}).unwrap();
+    assert!(
+        (r.estimates[0].value - 0.1 * PI).abs() < 1e-6,
+        "{:?}",
+        r.estimates
+    );
+}
+
+/// Many measurements at too few geometries: more values than parameters, but a Jacobian of
+/// lower rank than measurements spread over the hemisphere give (the microfacet's three
+/// parameters seen from two geometries: rank 2 of 3). Three geometries decide them: that fit
+/// runs (however poorly conditioned, it is left to the report's warnings).
+#[test]
+fn a_rank_deficient_fit_is_refused_and_a_decidable_one_runs() {
+    let geometries = [
+        (0.2, 0.0, 0.3, PI),
+        (0.6, 0.0, 0.5, PI),
+        (0.4, 0.5, 0.9, 2.0),
+    ];
+    let set = ParamSet::new(ModelKind::Microfacet, None, 1, false).unwrap();
+    assert_eq!(set.free_indices().len(), 3);
+    match fit(
+        &repeated(&geometries[..1], 40),
+        &set,
+        &FitOptions::default(),
+        &|_, _| {},
+    ) {
+        Err(FitError::Underdetermined {
+            values,
+            free,
+            rank,
+            reference_rank,
+            ..
+        }) => assert_eq!((values, free, rank, reference_rank), (40, 3, 1, 3)),
+        other => panic!("{other:?}"),
+    }
+    let e = fit(
+        &repeated(&geometries[..2], 40),
+        &set,
+        &FitOptions::default(),
+        &|_, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("40 value(s) cannot determine 3 free parameter(s)")
+            && e.contains("has rank 2): the measurements' geometry leaves 1 combination(s) of")
+            && e.contains("which other geometries decide (rank 3 there)")
+            && !e.contains("fewer values"),
+        "{e}"
+    );
+    let r = fit(
+        &repeated(&geometries, 40),
+        &set,
+        &FitOptions::default(),
+        &|_, _| {},
+    )
+    .unwrap();
+    assert_eq!(r.estimates.len(), 3);
 }
 
 /// Every preset, its default free parameters, at the CUReT-like geometry: the fit reaches the

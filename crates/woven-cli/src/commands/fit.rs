@@ -13,7 +13,7 @@ use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use woven_fit::report::{comparison_table, in_plane_curves, Comparison};
-use woven_fit::{fit, FitOptions, FitResult, ModelKind, ParamSet, Residual};
+use woven_fit::{fit, FitError, FitOptions, FitResult, ModelKind, ParamSet, Residual};
 
 /// Arguments of `woven fit`.
 #[derive(Args, Debug)]
@@ -241,7 +241,19 @@ fn run_fit(
         progress.set(done as u64, total as u64)
     });
     progress.finish();
-    Ok(result?)
+    result.map_err(|e| {
+        // The library names its fixed parameters; here they are the --fix flag.
+        let hint = matches!(e, FitError::Underdetermined { .. });
+        let e = anyhow::Error::from(e);
+        if hint {
+            e.context(
+                "the data cannot determine this fit: hold parameters at a value with \
+                 --fix name=value (e.g. --fix fiber.roughness=0.2), or measure more geometries",
+            )
+        } else {
+            e
+        }
+    })
 }
 
 /// `--compare`: every model on every dataset, one table.
