@@ -52,7 +52,7 @@
 //! All angles in files are radians. Unknown keys, missing required keys, out-of-range values and
 //! a key that does not belong to the chosen model are errors naming the key, the value and the
 //! valid range. [`Material::preset`] gives the built-in presets (`polyester-sateen`,
-//! `belt-cloth`, `silk`), which are files of this form.
+//! `belt-cloth`, `silk`, `filament-satin`), which are files of this form.
 
 use crate::cloth::Structure;
 use crate::error::check_range;
@@ -192,9 +192,16 @@ impl Material {
         Ok(crate::Model::new(structure))
     }
 
-    /// The names of the built-in presets (docs/spec.md §5), usable wherever a material file is.
+    /// The names of the built-in presets, usable wherever a material file is: the paper's three
+    /// fits ([`paper_preset_names`](Self::paper_preset_names)), then `filament-satin`, a smooth
+    /// filament satin beyond them (docs/model.md "Presets").
     pub fn preset_names() -> &'static [&'static str] {
-        &["polyester-sateen", "belt-cloth", "silk"]
+        &["polyester-sateen", "belt-cloth", "silk", "filament-satin"]
+    }
+
+    /// The presets that reproduce the paper's Figs. 8–10 (docs/spec.md §5).
+    pub fn paper_preset_names() -> &'static [&'static str] {
+        &Self::preset_names()[..3]
     }
 
     /// The TOML text of a built-in preset, or `None` for an unknown name.
@@ -203,6 +210,7 @@ impl Material {
             "polyester-sateen" => Some(include_str!("../presets/polyester-sateen.toml")),
             "belt-cloth" => Some(include_str!("../presets/belt-cloth.toml")),
             "silk" => Some(include_str!("../presets/silk.toml")),
+            "filament-satin" => Some(include_str!("../presets/filament-satin.toml")),
             _ => None,
         }
     }

@@ -1166,7 +1166,7 @@ fn narrow_materials() -> Vec<(String, Material)> {
     ]
 }
 
-/// The three presets and the `cloth-*` golden materials.
+/// The presets and the `cloth-*` golden materials.
 fn convergence_materials() -> Vec<(String, Material)> {
     let mut out: Vec<(String, Material)> = Material::preset_names()
         .iter()
@@ -1641,7 +1641,11 @@ fn rough_roughness(m: &Material) -> f64 {
 #[test]
 fn presets_carry_the_papers_values() {
     let names = Material::preset_names();
-    assert_eq!(names, ["polyester-sateen", "belt-cloth", "silk"]);
+    assert_eq!(
+        names,
+        ["polyester-sateen", "belt-cloth", "silk", "filament-satin"]
+    );
+    assert_eq!(Material::paper_preset_names(), &names[..3]);
     for name in names {
         let m = preset(name);
         assert_eq!(m.name.as_deref(), Some(*name));
@@ -1689,6 +1693,19 @@ fn presets_carry_the_papers_values() {
         y.isotropic && y.twist_std == 0.0 && y.slope_std > 0.0,
         "{y:?}"
     );
+    // The filament satin (not the paper's): smoother fibres and narrower slopes than the
+    // sateen, untwisted, in a warp-faced 5-end satin.
+    let satin = preset("filament-satin");
+    let y = satin.yarn.unwrap();
+    assert!(
+        rough_roughness(&satin) < rough_roughness(&sateen),
+        "{satin:?}"
+    );
+    assert!(
+        y.slope_std < 0.5 && y.twist_std == 0.0 && !y.isotropic,
+        "{y:?}"
+    );
+    assert_eq!(satin.weft_fraction(), 0.2);
 }
 
 /// docs/spec.md §5 on Fig. 8: for the warp-faced sateen, light and sensor in the warp plane (along

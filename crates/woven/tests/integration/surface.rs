@@ -276,7 +276,7 @@ fn identity_pairs() -> Vec<(Vec3, Vec3)> {
 #[test]
 fn fibre_points_average_to_the_profile_brdf() {
     let n = 40_000;
-    for name in ["polyester-sateen", "belt-cloth", "silk"] {
+    for name in Material::preset_names().iter().copied() {
         let model = exact_yarn(name);
         let yarn = yarn_of(&model);
         for (s, v) in identity_pairs() {
@@ -304,7 +304,7 @@ fn fibre_points_average_to_the_profile_brdf() {
 #[test]
 fn yarn_draws_average_to_the_models_integrals() {
     let n = 1_500;
-    for name in ["polyester-sateen", "belt-cloth", "silk"] {
+    for name in Material::preset_names().iter().copied() {
         let model = exact_yarn(name);
         let yarn = yarn_of(&model);
         let draws = woven::yarn::point::YarnDraws::new(yarn);
@@ -399,7 +399,7 @@ fn a_fibre_level_surface_averages_to_the_yarn_brdf() {
 #[test]
 fn fibre_level_sampling_passes_chi2() {
     let mut k = 0;
-    for name in ["polyester-sateen", "belt-cloth", "silk"] {
+    for name in Material::preset_names().iter().copied() {
         let mut material = Material::preset(name).unwrap();
         material.weave = Some(Weave::named("plain").unwrap());
         let spec = SurfaceSpec {
