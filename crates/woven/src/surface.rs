@@ -270,8 +270,10 @@ pub struct SurfacePoint {
     /// The surface parameters `(u, v)` at the point.
     pub uv: [f64; 2],
     /// The footprint of the pixel at the point, in uv: `[[∂u/∂x, ∂v/∂x], [∂u/∂y, ∂v/∂y]]`, the
-    /// change of `(u, v)` from one film pixel to the next along `x` and along `y`. All zero: a
-    /// point (no filtering); infinite entries: a footprint wider than any pattern.
+    /// change of `(u, v)` from one film pixel to the next along `x` and along `y`. All zero: no
+    /// footprint known (a path's later vertex, a renderer without ray differentials): no
+    /// filtering, and [`Detail::Auto`] shades the point at yarn level; infinite entries: a
+    /// footprint wider than any pattern.
     pub footprint: [[f64; 2]; 2],
 }
 
@@ -637,13 +639,23 @@ impl WovenSurface {
 
     /// The share of the fibre level in a cell's BRDF at `at`: 1 at [`Detail::Fibers`], 0 at
     /// yarns and cloth; under [`Detail::Auto`] 1 while the footprint spans less than
-    /// [`FIBER_CELLS`]`[0]` cells, 0 from [`FIBER_CELLS`]`[1]`, smooth between.
+    /// [`FIBER_CELLS`]`[0]` cells, 0 from [`FIBER_CELLS`]`[1]`, smooth between — and 0 without a
+    /// footprint (all zero): a path's later vertices average their light over many paths, and
+    /// the yarn level is that average (docs/model.md §8) at a fraction of the fibre level's
+    /// variance.
     #[inline]
     pub fn fiber_weight(&self, at: &SurfacePoint) -> f64 {
         match (self.detail, &self.fibers) {
             (_, None) => 0.0,
             (Detail::Fibers, _) => 1.0,
-            (Detail::Auto, _) => 1.0 - ramp(self.footprint_cells(at), FIBER_CELLS),
+            (Detail::Auto, _) => {
+                let cells = self.footprint_cells(at);
+                if cells > 0.0 {
+                    1.0 - ramp(cells, FIBER_CELLS)
+                } else {
+                    0.0
+                }
+            }
             _ => 0.0,
         }
     }

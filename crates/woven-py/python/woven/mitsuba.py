@@ -30,7 +30,8 @@ the library's ``woven.Surface`` holds that meaning, and this plugin takes it fro
 ``detail``            how finely the weave is resolved: ``"yarns"`` (the default here: each
                       cell its yarn's BRDF), ``"cloth"`` (the γ-mix everywhere), ``"fibers"``
                       (each point a point on its yarn's profile; scalar variants only) or
-                      ``"auto"`` (by footprint; scalar variants only).
+                      ``"auto"`` (by footprint, yarns where the partials are zero; scalar
+                      variants only).
 ``footprint_filter``  blend toward the macro BRDF where a pixel's footprint (``si.duv_dx``,
                       ``si.duv_dy``) spans more than half a cell (default false: Mitsuba 3's
                       stock integrators leave those partials zero, measured on 3.9.1's
@@ -438,8 +439,8 @@ def _surface(props, mi):
         "yarns_per_unit": _yarns(props["yarns_per_unit"]) if has("yarns_per_unit") else 40.0,
         "u_max_deg": float(props["u_max_deg"]) if has("u_max_deg") else 0.0,
         "gap": float(props["gap"]) if has("gap") else 0.0,
-        # Mitsuba's integrators give no pixel footprints (so "auto" would be fibres everywhere,
-        # aliasing far away): yarns unless asked.
+        # Mitsuba's stock integrators give no pixel footprints (so "auto" would be yarns
+        # everywhere, at the cost of its look-ups): yarns unless asked.
         "detail": str(props["detail"]) if has("detail") else "yarns",
     }
     textures = {}
