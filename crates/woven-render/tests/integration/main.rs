@@ -6,6 +6,7 @@ mod detail;
 mod files;
 mod footprint;
 mod furnace;
+mod robustness;
 mod sampling;
 mod scene_file;
 mod strategies;
