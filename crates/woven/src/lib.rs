@@ -69,7 +69,8 @@
 //! - [`math`]: vectors, special functions, quadrature and interpolation.
 //! - [`error`]: the one error type, [`Error`].
 //! - [`figures`]: the data of the paper's Figs. 3–5 and 8–10 (the command line draws them).
-//! - [`fsutil`]: files written atomically (a temporary file renamed into place).
+//! - [`fsutil`]: files written atomically (a temporary file renamed into place), and read only
+//!   when they are regular files within a stated size, text with its lines bounded.
 
 mod albedo;
 pub mod bsdf;
