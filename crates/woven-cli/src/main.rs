@@ -25,8 +25,9 @@ use std::process::ExitCode;
     about = "Evaluate, plot, tabulate and export the Yang–Ikeuchi woven-cloth reflectance model",
     long_about = "Evaluate, plot, tabulate and export the Yang–Ikeuchi woven-cloth reflectance model.
 
-Run without a command, woven renders its built-in showcase (the paper's three fabrics in \
-plain, twill and satin weaves; what `woven render` does without a scene file) to woven-out/ as \
+Run without a command, woven renders its built-in showcase (four fabrics in plain, twill and \
+satin weaves under a sun and sky, yarns resolved up close; what `woven render` does without a \
+scene file) to woven-out/ as \
 showcase.exr and showcase.png. `woven gonio` without --material runs the paper's virtual \
 goniometer on the polyester-sateen preset, written to woven-out/ as CSV \
 (gonio-polyester-sateen.csv) and as the paper's Figure 8 (fig8.svg, fig8.png), with a short \

@@ -1,7 +1,8 @@
 //! Renderer throughput: camera samples per second on small scenes (criterion reports
 //! elements/s = samples/s).
 //!
-//! `cargo bench -p woven-render --bench render`
+//! `cargo bench -p woven-render --bench render` (`-- "showcase detail"` for the levels of detail
+//! alone)
 
 // criterion_group! and criterion_main! generate undocumented items.
 #![allow(missing_docs)]
@@ -11,7 +12,7 @@ use std::path::Path;
 use woven::table::cache::Cache;
 use woven::table::TableOptions;
 use woven_render::render::{render, RenderOptions};
-use woven_render::scene::{Scene, SceneDescription};
+use woven_render::scene::{Scene, SceneDescription, SHOWCASE_SCENE};
 use woven_render::woven_material::{TableCache, TableGrid};
 
 /// The scene (ii) at 64 × 64, 16 spp: a flat woven fiber plane (Mitsuba's
@@ -108,5 +109,35 @@ fn bench(c: &mut Criterion) {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-criterion_group!(benches, bench);
+/// The built-in showcase at its own 960 × 540, one sample a pixel, on the renderer's default
+/// tables (from the user's table cache, built there on the first run): as it is (`detail =
+/// "auto"`), and with every woven material at `"fibers"` and at `"yarns"` — the cost per sample
+/// of resolving yarns in space.
+fn detail(c: &mut Criterion) {
+    let cache = || match Cache::user() {
+        Ok(c) => TableCache::with_disk(c),
+        Err(_) => TableCache::default(),
+    };
+    let mut group = c.benchmark_group("showcase detail");
+    group.sample_size(10);
+    for level in ["auto", "fibers", "yarns"] {
+        let text = SHOWCASE_SCENE.replace(
+            "type = \"woven\"",
+            &format!("type = \"woven\"\ndetail = \"{level}\""),
+        );
+        let mut desc = SceneDescription::from_str(&text, "showcase", Path::new(".")).unwrap();
+        desc.film.spp = 1;
+        let scene =
+            Scene::build_with(&desc, &TableGrid::Default, cache(), &|_| {}, &|_, _| {}).unwrap();
+        group.throughput(Throughput::Elements(
+            (desc.film.width * desc.film.height) as u64,
+        ));
+        group.bench_function(level, |b| {
+            b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, detail);
 criterion_main!(benches);

@@ -26,9 +26,9 @@ commented one; docs/render.md describes the format) with a path tracer: next-eve
 and BSDF sampling combined by MIS, woven materials tabulated from the model at 550 nm, the weave \
 pattern deciding at every point whether the weft or the warp is on top.
 
-Without a scene file it renders the built-in showcase: the paper's three fabrics (polyester \
-sateen, belt cloth, silk) in plain, twill and satin weaves on a draped cloth, a cylinder and a \
-sphere, with a close-up, under an environment and a key light (960×540, 32 spp).
+Without a scene file it renders the built-in showcase: a filament satin draped over a ball \
+close up (its yarns resolved), a belt-cloth twill cylinder, a shot-silk sphere and a \
+polyester-sateen ground to the horizon, under a sun and sky (960×540, 16 spp).
 
 Writes a linear float32 OpenEXR and an sRGB PNG: by default both, as woven-out/<scene>.exr and \
 .png; with -o, the one format its extension names (.exr or .png). Files are written atomically.",

@@ -79,7 +79,12 @@ fn cell_stats(image: &Image, cells: usize, px: usize) -> Vec<(f64, f64)> {
 /// and so a drawn slope) of the per-cell differences `a − b`.
 fn mean_difference(a: &[(f64, f64)], b: &[(f64, f64)], cells: usize) -> (f64, f64) {
     let rows: Vec<f64> = (0..cells)
-        .map(|r| (0..cells).map(|c| a[r * cells + c].0 - b[r * cells + c].0).sum::<f64>() / cells as f64)
+        .map(|r| {
+            (0..cells)
+                .map(|c| a[r * cells + c].0 - b[r * cells + c].0)
+                .sum::<f64>()
+                / cells as f64
+        })
         .collect();
     let mean = rows.iter().sum::<f64>() / cells as f64;
     let var = rows.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / (cells - 1) as f64;
@@ -96,7 +101,10 @@ fn fibre_level_cells_show_structure_and_keep_their_mean() {
     let (cells, px, spp) = (24, 16, 32);
     let fibers = render_scene(&top_down("belt-cloth", "fibers", cells, px, spp));
     let yarns = render_scene(&top_down("belt-cloth", "yarns", cells, px, spp));
-    let (f, y) = (cell_stats(&fibers, cells, px), cell_stats(&yarns, cells, px));
+    let (f, y) = (
+        cell_stats(&fibers, cells, px),
+        cell_stats(&yarns, cells, px),
+    );
     let within = |s: &[(f64, f64)]| (s.iter().map(|c| c.1).sum::<f64>() / s.len() as f64).sqrt();
     let noise = |image: &Image| {
         let n = image.std_error.len() as f64;
@@ -117,7 +125,10 @@ fn fibre_level_cells_show_structure_and_keep_their_mean() {
     );
     // The yarn level is flat inside a cell: its pixels vary by their noise and the slow change
     // of the angles across it.
-    assert!(wy < 2.0 * noise, "yarn level within-cell std {wy} vs noise {noise}");
+    assert!(
+        wy < 2.0 * noise,
+        "yarn level within-cell std {wy} vs noise {noise}"
+    );
     assert!(
         structure > 10.0 * noise,
         "fibre level structure {structure} vs noise {noise}"
@@ -133,7 +144,10 @@ fn a_distant_fibre_level_plane_averages_to_the_yarn_level() {
     for preset in ["belt-cloth", "silk"] {
         let fibers = render_scene(&top_down(preset, "fibers", cells, px, spp));
         let yarns = render_scene(&top_down(preset, "yarns", cells, px, spp));
-        let (f, y) = (cell_stats(&fibers, cells, px), cell_stats(&yarns, cells, px));
+        let (f, y) = (
+            cell_stats(&fibers, cells, px),
+            cell_stats(&yarns, cells, px),
+        );
         let mean_y = y.iter().map(|c| c.0).sum::<f64>() / y.len() as f64;
         let (d, se) = mean_difference(&f, &y, cells);
         println!("{preset}: yarns {mean_y:.4}, fibers − yarns {d:+.5} ± {se:.5}");
