@@ -163,8 +163,9 @@ fn sobol_points_render_an_area_light_without_bias_and_with_less_error() {
 
 /// The showcase's noise per sampler: the showcase (at 480 × 270) rendered with two seeds, the
 /// noise being the RMS difference of the two images' luminance over √2 — for independent samples
-/// at 16 and 32 spp and for Sobol points at 16 (the showcase as it is) and 32 spp. At equal spp
-/// the Sobol points must be less noisy, and every case must render the same image.
+/// at 16 (the showcase as it is) and 32 spp and for Sobol points at 16 and 32 spp. At 32 spp the
+/// Sobol points must be less noisy (at 16 they were not: docs/render.md, "Samplers"), and every
+/// case must render the same image.
 ///
 /// `cargo test --release -p woven-render --test integration showcase_noise_per_sampler --
 /// --ignored --nocapture` (tables from the user's cache).
