@@ -373,7 +373,9 @@ struct Bounds {
 }
 
 /// The targets of the issue "tables right to the horizon": ≤ 1 % and ≤ 3 % up to 80°, ≤ 2 % and
-/// ≤ 10 % in 80°–89°, 1 % of the peak over the test's pairs (seed 11; the true bound over 10⁶ random pairs is up to 2.05 % for the sateen: `examples/table_peak_bound`, docs/model.md §6), weights within 10× their median.
+/// ≤ 10 % in 80°–89°, 1 % of the peak over the test's pairs (seed 11; the true bound over 10⁶
+/// random pairs is up to 2.05 % for the sateen: `examples/table_peak_bound`, docs/model.md §6),
+/// weights within 10× their median.
 const TARGETS: Bounds = Bounds {
     bulk: (0.01, 0.03),
     grazing: (0.02, 0.10),
