@@ -215,7 +215,13 @@ mod tests {
             assert!(
                 value_count(Symmetry::of(&model), &r) * 4 < value_count(Symmetry::of(&model), &a)
             );
-            assert_eq!((r.n_h, r.n_h_isotropic), (41, 61), "{name}");
+            // The paper's presets share one render grid; smoother fibres (the filament satin's)
+            // get a finer half-vector grid, as at full resolution.
+            if crate::material::Material::paper_preset_names().contains(name) {
+                assert_eq!((r.n_h, r.n_h_isotropic), (41, 61), "{name}");
+            } else {
+                assert!(r.n_h >= 41 && r.n_h_isotropic >= 61, "{name}: {r:?}");
+            }
         }
     }
 
