@@ -5,6 +5,8 @@
 
 #![allow(clippy::approx_constant)] // angles copied from CUReT's table.txt
 
+#[path = "../../woven/tests/support/mutation.rs"]
+mod mutation;
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::{Path, PathBuf};
@@ -990,28 +992,11 @@ proptest! {
 /// minimal input.
 mod hostile_readers {
     use super::*;
+    use crate::mutation::{edits, mutate};
     use woven_fit::data::{curet, gonio, grid};
 
     /// Proptest cases per property.
     const READER_CASES: u32 = 1000;
-
-    /// `seed` with `edits` applied in turn: `(position, byte, kind)` replaces (0), inserts (1) or
-    /// removes (2) the byte at `position` (taken modulo the length).
-    fn mutate(seed: &[u8], edits: &[(usize, u8, u8)]) -> Vec<u8> {
-        let mut out = seed.to_vec();
-        for &(at, byte, kind) in edits {
-            let at = at % (out.len() + 1);
-            match kind % 3 {
-                _ if at == out.len() => out.push(byte),
-                0 => out[at] = byte,
-                1 => out.insert(at, byte),
-                _ => {
-                    out.remove(at);
-                }
-            }
-        }
-        out
-    }
 
     /// A dataset a reader returned is sound.
     fn check(result: Result<Vec<Dataset>, DataError>) {
@@ -1181,7 +1166,7 @@ mod hostile_readers {
         #[test]
         fn mutated_measurement_files_are_read_or_refused(
             seed in 0usize..8,
-            edits in proptest::collection::vec((any::<usize>(), any::<u8>(), any::<u8>()), 1..8),
+            edits in edits(),
         ) {
             let (format, bytes) = &seeds()[seed];
             read_seed(format, &mutate(bytes, &edits));

@@ -1,6 +1,8 @@
 //! The HTTP API end to end through the router (no socket): good requests answer what the library
 //! computes, bad ones a JSON error with the right status.
 
+#[path = "../../woven/tests/support/mutation.rs"]
+mod mutation;
 use axum::body::Body;
 use axum::http::{header, Request, StatusCode};
 use http_body_util::BodyExt;
@@ -652,6 +654,7 @@ async fn a_newer_request_on_the_channel_stops_the_older() {
 /// a regression test with its minimal input.
 mod hostile_bodies {
     use super::*;
+    use crate::mutation::{edits, mutate};
     use proptest::prelude::*;
 
     /// Proptest cases of arbitrary bytes (each posted to every endpoint).
@@ -705,24 +708,6 @@ mod hostile_bodies {
             }
             (status, None) => panic!("{uri}: {status} without a body"),
         }
-    }
-
-    /// `seed` with `edits` applied in turn: `(position, byte, kind)` replaces (0), inserts (1) or
-    /// removes (2) the byte at `position` (taken modulo the length).
-    fn mutate(seed: &[u8], edits: &[(usize, u8, u8)]) -> Vec<u8> {
-        let mut out = seed.to_vec();
-        for &(at, byte, kind) in edits {
-            let at = at % (out.len() + 1);
-            match kind % 3 {
-                _ if at == out.len() => out.push(byte),
-                0 => out[at] = byte,
-                1 => out.insert(at, byte),
-                _ => {
-                    out.remove(at);
-                }
-            }
-        }
-        out
     }
 
     /// The valid (or, for the job endpoints, last-check-failing) bodies mutated, by endpoint.
@@ -823,7 +808,7 @@ mod hostile_bodies {
         #[test]
         fn mutated_bodies_are_answered(
             seed in any::<prop::sample::Index>(),
-            edits in proptest::collection::vec((any::<usize>(), any::<u8>(), any::<u8>()), 1..8),
+            edits in edits(),
         ) {
             let (uri, body) = seed.get(seeds());
             check_answer(uri, mutate(body, &edits));

@@ -16,31 +16,12 @@ use woven_render::light::Environment;
 use woven_render::scene::{SceneDescription, EXAMPLE_SCENE, SHOWCASE_SCENE};
 use woven_render::shapes::read_obj;
 
+#[path = "../../../woven/tests/support/mutation.rs"]
+mod mutation;
+use mutation::{edits, mutate};
+
 /// Proptest cases per property.
 const CASES: u32 = 1000;
-
-/// `seed` with `edits` applied in turn: `(position, byte, kind)` replaces (0), inserts (1) or
-/// removes (2) the byte at `position` (taken modulo the length).
-fn mutate(seed: &[u8], edits: &[(usize, u8, u8)]) -> Vec<u8> {
-    let mut out = seed.to_vec();
-    for &(at, byte, kind) in edits {
-        let at = at % (out.len() + 1);
-        match kind % 3 {
-            _ if at == out.len() => out.push(byte),
-            0 => out[at] = byte,
-            1 => out.insert(at, byte),
-            _ => {
-                out.remove(at);
-            }
-        }
-    }
-    out
-}
-
-/// One to seven edits.
-fn edits() -> impl Strategy<Value = Vec<(usize, u8, u8)>> {
-    proptest::collection::vec((any::<usize>(), any::<u8>(), any::<u8>()), 1..8)
-}
 
 /// OBJ files to mutate: uv and normals, negative (relative) indices, a polygon, groups and the
 /// material lines the reader ignores.
