@@ -15,7 +15,7 @@ use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
 use woven::material::Weave;
 use woven::surface::{
-    Detail, Lobe, PointBsdf, SurfacePoint, SurfaceSpec, WovenSurface, FILTER_CELLS, MAX_LOBES,
+    Detail, Lobe, PointBsdf, SurfacePoint, SurfaceSpec, Tilt, WovenSurface, FILTER_CELLS, MAX_LOBES,
 };
 
 /// A woven surface: what a woven material means at each point of a surface (the `woven`
@@ -397,7 +397,9 @@ impl Surface {
     }
 
     /// The lobes mixed at each point, as four (N, MAX_LOBES) arrays: `warp` (1.0 for the warp,
-    /// the table turned 90°; 0.0 for the weft), `tilt` (radians), `weight` (0 past the point's
+    /// the table turned 90°; 0.0 for the weft), `float` (where a tilted yarn lies along its
+    /// float: the fraction in [0, 1] at which the viewer's ray enters it; 2 for a whole float,
+    /// averaged; −1 for a flat yarn), `weight` (0 past the point's
     /// last lobe) and `across` (a fibre-level lobe's place across its yarn, in [0, 1]; −1 for
     /// a yarn's or the cloth's averaged BRDF). `f = Σ weight · f_lobe`.
     #[pyo3(signature = (uv, footprint = None))]
@@ -415,7 +417,7 @@ impl Surface {
             let mut row = [0.0; 4 * MAX_LOBES];
             for (k, l) in bsdf.mix().lobes().iter().enumerate() {
                 row[k] = if l.warp { 1.0 } else { 0.0 };
-                row[MAX_LOBES + k] = l.tilt;
+                row[MAX_LOBES + k] = along(l.tilt);
                 row[2 * MAX_LOBES + k] = l.weight;
                 row[3 * MAX_LOBES + k] = l.point.map_or(-1.0, |p| p.across);
             }
@@ -428,7 +430,7 @@ impl Surface {
     /// Dr.Jit variants): a dict with `kind` ("flat", "whole", "macro" or "pattern"),
     /// `yarns_per_unit`, `u_max` (radians), `gap`, `weft_fraction`, `filter_cells` (the
     /// footprint filter's start and end, in cells), `macro` (the macro BRDF's lobes: a list of
-    /// `(warp, tilt, weight)`), `albedos` (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`), and for a
+    /// `(warp, float, weight)`, `float` true for a whole tilted float), `albedos` (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`), and for a
     /// pattern `cells` (rows × cols, 1 where the weft is on top) and `floats` (rows × cols × 2:
     /// cells before in the float, float length; empty without a tilt).
     fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -450,11 +452,11 @@ impl Surface {
         d.set_item("gap", s.gap())?;
         d.set_item("weft_fraction", s.weft_fraction())?;
         d.set_item("filter_cells", FILTER_CELLS.to_vec())?;
-        let lobes: Vec<(bool, f64, f64)> = s
+        let lobes: Vec<(bool, bool, f64)> = s
             .macro_lobes()
             .lobes()
             .iter()
-            .map(|l: &Lobe| (l.warp, l.tilt, l.weight))
+            .map(|l: &Lobe| (l.warp, l.tilt == Tilt::Float, l.weight))
             .collect();
         d.set_item("macro", PyList::new(py, lobes)?)?;
         let albedos = PyDict::new(py);
@@ -518,5 +520,15 @@ impl Surface {
             s.gap(),
             s.weft_fraction()
         )
+    }
+}
+
+/// A lobe's place along its float as `Surface.lobes` reports it: −1 flat, the entry fraction
+/// for a point of a tilted float, 2 for a whole float.
+fn along(tilt: Tilt) -> f64 {
+    match tilt {
+        Tilt::Flat => -1.0,
+        Tilt::Entering(t) => t,
+        Tilt::Float => 2.0,
     }
 }

@@ -69,9 +69,11 @@ use crate::cloth::Structure;
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::material::{Material, Weave};
+use crate::math::quadrature::GaussLegendre;
 use crate::math::sampling::cosine_hemisphere;
 use crate::table::{Albedos, Table};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
+use crate::yarn::float::FloatProfile;
 use crate::yarn::point::{golden_uniform, YarnDraws};
 use crate::yarn::Yarn;
 use crate::{Model, Vec3};
@@ -82,13 +84,15 @@ use std::sync::Arc;
 /// footprint filter starts blending toward the macro BRDF, and at which it is the macro BRDF.
 pub const FILTER_CELLS: [f64; 2] = [0.5, 2.0];
 
-/// Tilts at which the macro BRDF of tilted yarns is evaluated (a midpoint rule over the
-/// uniform spread of tilts along floats).
+/// Points at which the macro BRDF of a tilted float is evaluated: Gauss–Legendre nodes over the
+/// part of the float both lit and seen ([`FloatProfile::lit_and_visible`]); the tilts a draw
+/// from it uses (a midpoint rule over the float).
 pub const TILT_NODES: usize = 8;
 
 /// The most lobes mixed at a point: one cell's at fibre and at yarn level, and the macro BRDF's
-/// (each family at every tilt node on top, and flat where it shows in the other's gaps).
-pub const MAX_LOBES: usize = 2 * (TILT_NODES + 1) + 2;
+/// (each family on top, a whole float when tilted, and flat where it shows in the other's
+/// gaps).
+pub const MAX_LOBES: usize = 6;
 
 /// Footprints (in pattern cells) from which `detail = "auto"` starts blending from fibres to
 /// yarns, and at which it shows yarns alone (the footprint filter then takes over at
@@ -277,18 +281,33 @@ pub struct SurfacePoint {
     pub footprint: [[f64; 2]; 2],
 }
 
-/// One yarn family's BRDF, tilted about the cross axis, with a weight.
+/// One yarn family's BRDF, flat or on a tilted float, with a weight.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Lobe {
     /// The warp (the table turned 90°), or the weft.
     pub warp: bool,
-    /// The yarn axis's tilt out of the cloth plane toward `+z`, radians.
-    pub tilt: f64,
+    /// Where the yarn lies along its float, when floats tilt.
+    pub tilt: Tilt,
     /// The lobe's weight in the point's BRDF.
     pub weight: f64,
     /// Where on its yarn the point lies, at fibre level; `None`: the yarn's (or the cloth's)
     /// averaged BRDF.
     pub point: Option<YarnPoint>,
+}
+
+/// How a lobe's yarn tilts along its float ([`SurfaceSpec::u_max`], [`FloatProfile`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Tilt {
+    /// Flat: the cloth's own frame.
+    #[default]
+    Flat,
+    /// A point of a tilted float: the fraction along the float, in `[0, 1]`, at which the
+    /// viewer's ray crosses the cloth plane. The point shades with the facet that ray meets
+    /// ([`FloatProfile::seen_at`]), lit or in a neighbouring float's shadow.
+    Entering(f64),
+    /// A whole tilted float, its points averaged: the macro BRDF's
+    /// `(1/1) ∫ f′ cos θ′i cos θ′o / (cos θi cos θo cos ψ) dt` over the part both lit and seen.
+    Float,
 }
 
 /// A point on a yarn, resolved to its fibres ([`Detail::Fibers`]).
@@ -323,7 +342,7 @@ impl LobeMix {
     /// Adds `weight` of a lobe, to the same lobe's weight when it is already there (a cell's
     /// yarn blended into the γ-mix is one of the mix's two yarns: two look-ups, not three).
     #[inline]
-    fn push(&mut self, warp: bool, tilt: f64, weight: f64) {
+    fn push(&mut self, warp: bool, tilt: Tilt, weight: f64) {
         if weight > 0.0 {
             if let Some(l) = self.lobes[..self.n]
                 .iter_mut()
@@ -344,7 +363,7 @@ impl LobeMix {
 
     /// Adds a fibre-level lobe (never merged: its geometry is its own).
     #[inline]
-    fn push_point(&mut self, warp: bool, tilt: f64, weight: f64, point: YarnPoint) {
+    fn push_point(&mut self, warp: bool, tilt: Tilt, weight: f64, point: YarnPoint) {
         if weight > 0.0 {
             self.lobes[self.n] = Lobe {
                 warp,
@@ -571,7 +590,7 @@ impl WovenSurface {
     pub fn macro_lobes(&self) -> LobeMix {
         let mut mix = LobeMix::default();
         match &self.layout {
-            Layout::Flat { .. } | Layout::Whole => mix.push(false, 0.0, 1.0),
+            Layout::Flat { .. } | Layout::Whole => mix.push(false, Tilt::Flat, 1.0),
             Layout::Macro { weft_fraction } | Layout::Pattern { weft_fraction, .. } => {
                 self.push_macro(&mut mix, *weft_fraction, 1.0)
             }
@@ -672,7 +691,7 @@ impl WovenSurface {
     pub fn lobes(&self, at: &SurfacePoint) -> LobeMix {
         let mut mix = LobeMix::default();
         match &self.layout {
-            Layout::Flat { .. } | Layout::Whole => mix.push(false, 0.0, 1.0),
+            Layout::Flat { .. } | Layout::Whole => mix.push(false, Tilt::Flat, 1.0),
             Layout::Macro { weft_fraction } => self.push_macro(&mut mix, *weft_fraction, 1.0),
             Layout::Pattern {
                 pattern,
@@ -703,26 +722,23 @@ impl WovenSurface {
     }
 
     /// The lobes of a macro BRDF with weft fraction `g`, scaled by `scale`: each family on top
-    /// over `(1 − gap)` of its cells' width (at tilts spread uniformly over `±u_max`), and
-    /// seen flat in the other family's gaps where it is not itself in a gap.
+    /// over `(1 − gap)` of its cells' width (a whole float when floats tilt), and seen flat in
+    /// the other family's gaps where it is not itself in a gap.
     fn push_macro(&self, mix: &mut LobeMix, g: f64, scale: f64) {
         let gap = self.gap;
         if gap == 0.0 && self.u_max == 0.0 {
-            mix.push(false, 0.0, scale * g);
-            mix.push(true, 0.0, scale * (1.0 - g));
+            mix.push(false, Tilt::Flat, scale * g);
+            mix.push(true, Tilt::Flat, scale * (1.0 - g));
             return;
         }
         let top = [(1.0 - gap) * g, (1.0 - gap) * (1.0 - g)];
         let below = [gap * (1.0 - gap) * (1.0 - g), gap * (1.0 - gap) * g];
         for (k, warp) in [false, true].into_iter().enumerate() {
             if self.u_max == 0.0 {
-                mix.push(warp, 0.0, scale * (top[k] + below[k]));
+                mix.push(warp, Tilt::Flat, scale * (top[k] + below[k]));
             } else {
-                for i in 0..TILT_NODES {
-                    let t = (2 * i + 1) as f64 / TILT_NODES as f64 - 1.0;
-                    mix.push(warp, self.u_max * t, scale * top[k] / TILT_NODES as f64);
-                }
-                mix.push(warp, 0.0, scale * below[k]);
+                mix.push(warp, Tilt::Float, scale * top[k]);
+                mix.push(warp, Tilt::Flat, scale * below[k]);
             }
         }
     }
@@ -744,14 +760,14 @@ impl WovenSurface {
             at.uv[1] * self.yarns_per_unit[1],
         );
         if !(x.is_finite() && y.is_finite()) {
-            mix.push(false, 0.0, scale);
+            mix.push(false, Tilt::Flat, scale);
             return;
         }
         let cell = pattern.cell_at(x, y);
         let top = !cell.weft;
         let fibers = self.fiber_weight(at);
         if self.gap == 0.0 && self.u_max == 0.0 {
-            self.push_yarn(mix, top, 0.0, scale, fibers, (x, y, &cell));
+            self.push_yarn(mix, top, Tilt::Flat, scale, fibers, (x, y, &cell));
             return;
         }
         // A yarn covers the middle (1 − gap) of the cell across its axis: the weft spans y,
@@ -762,13 +778,13 @@ impl WovenSurface {
             let tilt = match floats.get(cell.row * pattern.cols() + cell.col) {
                 Some(f) if f.len > 0 => {
                     let along = if top { cell.y } else { cell.x };
-                    self.u_max * (1.0 - 2.0 * (f64::from(f.before) + along) / f64::from(f.len))
+                    Tilt::Entering((f64::from(f.before) + along) / f64::from(f.len))
                 }
-                _ => 0.0,
+                _ => Tilt::Flat,
             };
             self.push_yarn(mix, top, tilt, scale, fibers, (x, y, &cell));
         } else if covers(!top) {
-            self.push_yarn(mix, !top, 0.0, scale, fibers, (x, y, &cell));
+            self.push_yarn(mix, !top, Tilt::Flat, scale, fibers, (x, y, &cell));
         }
     }
 
@@ -778,7 +794,7 @@ impl WovenSurface {
         &self,
         mix: &mut LobeMix,
         warp: bool,
-        tilt: f64,
+        tilt: Tilt,
         scale: f64,
         fibers: f64,
         (x, y, cell): (f64, f64, &CellPoint),
@@ -815,9 +831,14 @@ impl WovenSurface {
         mix.push(warp, tilt, scale * (1.0 - fibers));
     }
 
-    /// One lobe's BRDF per channel: the weft, or the warp (turned), in its tilted frame. A
-    /// tilted yarn's BRDF is taken per unit of cloth area: `f′ cos θ′i cos θ′o / (cos θi cos θo
-    /// cos ψ)`, its own cosines over the cloth's, and its area `1/cos ψ` per unit of cloth. At
+    /// One lobe's BRDF per channel: the weft, or the warp (turned), flat or on its float.
+    ///
+    /// On a tilted float a point shades as the facet the viewer's ray meets
+    /// ([`FloatProfile::seen_at`]), if lit: `f′(ti, to) cos θ′i / cos θi` — the facet's radiance
+    /// for unit irradiance on the cloth, its own incident cosine over the cloth's — so no point
+    /// is brighter than its facet. The whole float ([`Tilt::Float`]) is those points' mean: the
+    /// facets both lit and seen, each over its projected area toward the viewer,
+    /// `cos θ′o / (cos θo cos ψ)` per unit of cloth ([`TILT_NODES`] Gauss–Legendre nodes). At
     /// fibre level the same holds for the point's BRDF, whose profile lies in the tilted frame
     /// (the tilt turns the yarn about its cross axis; the profile runs across it).
     #[inline]
@@ -827,61 +848,136 @@ impl WovenSurface {
             (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
             _ => Rgb(self.yarn.eval_dyed(a, b, albedos)),
         };
-        if lobe.tilt == 0.0 {
-            return value(wi, wo);
+        let float = FloatProfile::new(self.u_max.max(f64::MIN_POSITIVE));
+        match lobe.tilt {
+            Tilt::Flat => value(wi, wo),
+            Tilt::Entering(entry) => {
+                let t = float.seen_at(entry, wo);
+                match float.lit(wi) {
+                    Some((lo, hi)) if (lo..=hi).contains(&t) => {}
+                    _ => return Rgb::BLACK,
+                }
+                let sc = float.tilt(t).sin_cos();
+                let (ti, to) = (into_tilted(wi, sc), into_tilted(wo, sc));
+                if ti.z <= 0.0 || to.z <= 0.0 {
+                    return Rgb::BLACK;
+                }
+                value(ti, to) * (ti.z / wi.z)
+            }
+            Tilt::Float => {
+                let Some((lo, hi)) = float.lit_and_visible(wi, wo) else {
+                    return Rgb::BLACK;
+                };
+                let mut f = Rgb::BLACK;
+                let rule = tilt_rule();
+                for (x, w) in rule.nodes().iter().zip(rule.weights()) {
+                    let t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
+                    let sc = float.tilt(t).sin_cos();
+                    let (ti, to) = (into_tilted(wi, sc), into_tilted(wo, sc));
+                    if ti.z > 0.0 && to.z > 0.0 {
+                        let k = ti.z * to.z / (wi.z * wo.z * sc.1);
+                        f += value(ti, to) * (0.5 * (hi - lo) * w * k);
+                    }
+                }
+                f
+            }
         }
-        let sc = lobe.tilt.sin_cos();
-        let (ti, to) = (into_tilted(wi, sc), into_tilted(wo, sc));
-        if ti.z <= 0.0 || to.z <= 0.0 {
-            return Rgb::BLACK;
+    }
+
+    /// The tilt (sine, cosine) a draw for `known` (in the lobe's frame) uses, drawing a tilt
+    /// node of a whole float with `u` (returned stretched back to `[0, 1)`): the facet that
+    /// `known`'s ray meets for a point, the [`TILT_NODES`] midpoints of a whole float. `None`
+    /// for a flat lobe.
+    #[inline]
+    fn draw_tilt(&self, lobe: &Lobe, known: Vec3, u: f64) -> (Option<(f64, f64)>, f64) {
+        let float = FloatProfile::new(self.u_max.max(f64::MIN_POSITIVE));
+        match lobe.tilt {
+            Tilt::Flat => (None, u),
+            Tilt::Entering(entry) => (Some(float.tilt(float.seen_at(entry, known)).sin_cos()), u),
+            Tilt::Float => {
+                let x = u * TILT_NODES as f64;
+                let i = (x as usize).min(TILT_NODES - 1);
+                let t = (i as f64 + 0.5) / TILT_NODES as f64;
+                (
+                    Some(float.tilt(t).sin_cos()),
+                    (x - i as f64).clamp(0.0, 1.0 - f64::EPSILON),
+                )
+            }
         }
-        value(ti, to) * (ti.z * to.z / (wi.z * wo.z * sc.1))
     }
 
     /// The density of drawing `drawn` for `known` from one lobe (a rotation keeps densities per
-    /// solid angle).
+    /// solid angle); for a whole float, the mean over its tilt nodes.
     #[inline]
     fn lobe_pdf(&self, lobe: &Lobe, known: Vec3, drawn: Vec3) -> f64 {
-        let (mut k, mut d) = into_lobe_frame(lobe, known, drawn);
-        if lobe.tilt != 0.0 {
-            let sc = lobe.tilt.sin_cos();
-            (k, d) = (into_tilted(k, sc), into_tilted(d, sc));
-            if k.z <= 0.0 || d.z <= 0.0 {
-                return 0.0;
-            }
-        }
-        match (&lobe.point, &self.fibers) {
+        let (k, d) = into_lobe_frame(lobe, known, drawn);
+        let untilted = |k: Vec3, d: Vec3| match (&lobe.point, &self.fibers) {
             (Some(p), Some(f)) => point_pdf(f, p, k, d),
             _ => self.yarn.pdf_direction(k, d),
+        };
+        let tilted = |sc: (f64, f64)| {
+            let (k, d) = (into_tilted(k, sc), into_tilted(d, sc));
+            if k.z <= 0.0 || d.z <= 0.0 {
+                0.0
+            } else {
+                untilted(k, d)
+            }
+        };
+        match lobe.tilt {
+            Tilt::Flat => untilted(k, d),
+            Tilt::Entering(_) => tilted(self.draw_tilt(lobe, k, 0.0).0.unwrap_or((0.0, 1.0))),
+            Tilt::Float => {
+                let float = FloatProfile::new(self.u_max.max(f64::MIN_POSITIVE));
+                (0..TILT_NODES)
+                    .map(|i| tilted(float.tilt((i as f64 + 0.5) / TILT_NODES as f64).sin_cos()))
+                    .sum::<f64>()
+                    / TILT_NODES as f64
+            }
         }
     }
 
-    /// Draws a direction for `known` from one lobe, with its density.
+    /// Draws a direction for `known` from one lobe, with its density
+    /// ([`lobe_pdf`](Self::lobe_pdf)).
     #[inline]
     fn lobe_sample(&self, lobe: &Lobe, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
-        let mut k = if lobe.warp { to_warp(known) } else { known };
-        let sc = lobe.tilt.sin_cos();
-        if lobe.tilt != 0.0 {
-            k = into_tilted(k, sc);
-            if k.z <= 0.0 {
-                return None;
-            }
+        let k0 = if lobe.warp { to_warp(known) } else { known };
+        let (sc, u0) = self.draw_tilt(lobe, k0, u[0]);
+        let k = match sc {
+            Some(sc) => into_tilted(k0, sc),
+            None => k0,
+        };
+        if k.z <= 0.0 {
+            return None;
         }
         let (mut d, pdf) = match (&lobe.point, &self.fibers) {
-            (Some(p), Some(f)) => point_sample(f, p, k, u)?,
-            _ => self.yarn.sample_direction(k, u[0], u[1])?,
+            (Some(p), Some(f)) => point_sample(f, p, k, [u0, u[1]])?,
+            _ => self.yarn.sample_direction(k, u0, u[1])?,
         };
         if d.z <= 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        if lobe.tilt != 0.0 {
+        if let Some(sc) = sc {
             d = from_tilted(d, sc);
         }
         if lobe.warp {
             d = from_warp(d);
         }
-        (d.z > 0.0).then_some((d, pdf))
+        if d.z <= 0.0 {
+            return None;
+        }
+        let pdf = if lobe.tilt == Tilt::Float {
+            self.lobe_pdf(lobe, known, d)
+        } else {
+            pdf
+        };
+        Some((d, pdf))
     }
+}
+
+/// The Gauss–Legendre rule of a whole float's [`TILT_NODES`] points.
+fn tilt_rule() -> &'static GaussLegendre {
+    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
+    RULE.get_or_init(|| GaussLegendre::new(TILT_NODES))
 }
 
 /// The BRDF per channel at a point on a yarn (in its lobe's frame: the yarn along `x`):
@@ -905,7 +1001,7 @@ fn point_pdf(f: &Fibers, p: &YarnPoint, known: Vec3, drawn: Vec3) -> f64 {
         return 0.0;
     }
     let yarn = f.yarn();
-    let a = yarn.point_normal(p.phi, p.theta_a, p.across);
+    let a = yarn.point_normal(known, p.phi, p.theta_a, p.across);
     let glossy = beckmann_reflection_pdf(known, drawn, a, yarn.fiber().alpha());
     SPECULAR_DRAW * glossy + (1.0 - SPECULAR_DRAW) * drawn.z * FRAC_1_PI
 }
@@ -915,7 +1011,7 @@ fn point_pdf(f: &Fibers, p: &YarnPoint, known: Vec3, drawn: Vec3) -> f64 {
 fn point_sample(f: &Fibers, p: &YarnPoint, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
     let drawn = if u[0] < SPECULAR_DRAW {
         let yarn = f.yarn();
-        let a = yarn.point_normal(p.phi, p.theta_a, p.across);
+        let a = yarn.point_normal(known, p.phi, p.theta_a, p.across);
         let h = sample_beckmann(a, yarn.fiber().alpha(), [u[0] / SPECULAR_DRAW, u[1]]);
         let kh = known.dot(h);
         if kh <= 0.0 {

@@ -7,6 +7,7 @@ pub mod lanes;
 pub mod legendre;
 pub mod quadrature;
 pub mod rng;
+pub mod roots;
 pub mod sampling;
 pub mod special;
 pub mod vec3;

@@ -12,6 +12,7 @@
 //! | `isotropic` | — | fibers in all azimuths, Eq. (22) | — | false | excludes `twist_std > 0` |
 
 mod cross_section;
+pub mod float;
 mod orientation;
 pub mod point;
 pub mod profile;

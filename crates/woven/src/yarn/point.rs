@@ -2,18 +2,22 @@
 //! point by point; docs/model.md §8).
 //!
 //! The profile BRDF (17') integrates, over the lit-and-visible facets of one period, the fiber
-//! BRDF at each facet's normal weighted by both its cosines. Per unit of *projected* width
-//! (`du = cos θ dl` on every piece: `θ` the facet normal's angle from `z`, `dl` its length), the
-//! integrand at projected position `u` is
+//! BRDF at each facet's normal weighted by both its cosines:
+//! `f_p = (1/P) ∫ f_fiber(s, v; a) (s·a)(v·a) V_s V_v / (s_z v_z) dl`. A camera ray crosses the
+//! yarn's top at a position `u` (uniform over the period, as pixels are) and meets the first
+//! facet below it along `−v`: a facet element `dl` visible from `v` takes the entries of width
+//! `(v·a) dl / v_z` ([`Profile::facet_seen`]). What the viewer sees there is that facet's
+//! radiance, so the point's BRDF is
 //!
 //! ```text
-//! f_point(u) = f_fiber(s, v; a(u)) (s·a)(v·a) V(u) / (s_z v_z cos θ(u)),
+//! f_point(u) = f_fiber(s, v; a(u, v)) (s·a) V_s(u, v) / s_z,
 //! ```
 //!
-//! `V` the exact lit-and-visible indicator of §2.2 — the same intervals the profile BRDF
-//! integrates ([`Profile::lit_and_visible`]) — so `(1/P) ∫_0^P f_point du = f_p` exactly: a
-//! surface that shades each point of a yarn with `f_point` averages, over one yarn's width, to the
-//! paper's profile BRDF, and over yarns whose slopes `θ_a` follow `P(θ_a)` (and whose fibres'
+//! `a(u, v)` the facet the ray meets and `V_s` whether it is lit (the exact intervals of §2.2,
+//! [`Profile::lit`]). Its mean over `u` is `f_p` exactly, and a furnace bounds it facet by facet:
+//! `∫ f_point s_z dω_s = ∫ f_fiber (s·a) V_s dω_s`, at most the fibre's albedo at `v·a`. A
+//! surface that shades each point of a yarn with `f_point` averages, over one yarn's width, to
+//! the paper's profile BRDF, and over yarns whose slopes `θ_a` follow `P(θ_a)` (and whose fibres'
 //! azimuths follow the twist density) to Eqs. (18)–(22).
 
 use super::profile::{Piece, Profile};
@@ -36,42 +40,117 @@ pub struct Facet {
 }
 
 impl Profile {
-    /// The facet at `across ∈ [0, 1]` of one period, measured in the projection onto the cloth
-    /// plane along `e_u`: 0 and 1 are the valleys between neighbouring yarns, 1/2 the apex.
-    pub fn facet_at(&self, across: f64) -> Facet {
-        let (s, c) = self.theta_a.sin_cos();
-        let u = (across - 0.5) * self.period();
-        if u.abs() <= s {
-            // The arc point (sin θ, cos θ − 1): unit radius, so u = sin θ.
-            let theta = u.clamp(-1.0, 1.0).asin();
+    /// The facet that a ray toward a viewer at projected angle `psi_v` (as in [`Profile::lit`])
+    /// meets, having crossed the apexes' line at `across ∈ [0, 1]` of one period (0 and 1 the
+    /// valleys' abscissae, 1/2 the apex's). The hit may lie on a neighbouring prism, which
+    /// repeats this one.
+    ///
+    /// Along the visible pieces, in order (left lateral outward-in, arc, right lateral), a point's
+    /// "foot" `w = u cos ψ − w_z sin ψ` — where the ray through it crosses the apexes' line,
+    /// scaled by `cos ψ` — increases by exactly `P cos ψ`: the visible parts tile the line. This
+    /// inverts `w`, so uniform `across` falls on facets in proportion to their projected areas
+    /// toward the viewer (docs/model.md §8). The apex for a flat profile (period 0) or `|ψ| ≥
+    /// π/2`.
+    pub fn facet_seen(&self, across: f64, psi_v: f64) -> Facet {
+        let apex = Facet {
+            piece: Piece::Arc,
+            param: 0.0,
+            theta: 0.0,
+        };
+        if self.period() <= 0.0 || psi_v.is_nan() || psi_v.abs() >= FRAC_PI_2 {
+            return apex;
+        }
+        if psi_v < 0.0 {
+            // Mirror u → −u.
+            let f = self.facet_seen_from_right(1.0 - across, -psi_v);
             return Facet {
-                piece: Piece::Arc,
-                param: theta,
-                theta,
+                piece: f.piece.mirrored(),
+                param: if f.piece == Piece::Arc {
+                    -f.param
+                } else {
+                    f.param
+                },
+                theta: -f.theta,
             };
         }
-        let t = ((u.abs() - s) / c.max(1e-300)).min(self.lateral_length);
-        if u > 0.0 {
-            Facet {
-                piece: Piece::Right,
-                param: t,
-                theta: self.theta_a,
-            }
-        } else {
-            Facet {
-                piece: Piece::Left,
-                param: t,
-                theta: -self.theta_a,
+        self.facet_seen_from_right(across, psi_v)
+    }
+
+    /// [`Profile::facet_seen`] for `ψ ∈ [0, π/2)`.
+    fn facet_seen_from_right(&self, across: f64, psi: f64) -> Facet {
+        let (sp, cp) = psi.sin_cos();
+        let theta_a = self.theta_a;
+        let seen = self.lit(psi);
+        // Each visible piece as (piece, w at its first point, w per unit of parameter, its
+        // first parameter, its last), in the order of increasing w; w less the common sin ψ.
+        let (cl, cr) = ((theta_a + psi).cos(), (theta_a - psi).cos());
+        let mut segments: [(Piece, f64, f64); 3] = [(Piece::Arc, 0.0, 0.0); 3];
+        let mut n = 0;
+        if let Some((lo, hi)) = seen.left {
+            // w = −sin(θ_a + ψ) − t cos(θ_a + ψ), decreasing in t: from hi down to lo.
+            segments[n] = (Piece::Left, hi, lo);
+            n += 1;
+        }
+        if let Some((lo, hi)) = seen.arc {
+            segments[n] = (Piece::Arc, lo, hi);
+            n += 1;
+        }
+        if let Some((lo, hi)) = seen.right {
+            segments[n] = (Piece::Right, lo, hi);
+            n += 1;
+        }
+        let w_of = |piece: Piece, x: f64| match piece {
+            Piece::Arc => (x - psi).sin(),
+            Piece::Right => (theta_a - psi).sin() + x * cr,
+            Piece::Left => -(theta_a + psi).sin() - x * cl,
+        };
+        let segments = &segments[..n];
+        let Some(&(first, first_param, _)) = segments.first() else {
+            return Facet {
+                piece: Piece::Arc,
+                param: 0.0,
+                theta: 0.0,
+            };
+        };
+        let start = w_of(first, first_param);
+        let width = self.period() * cp;
+        let entry = (across - 0.5) * self.period() * cp - sp;
+        let w = entry - ((entry - start) / width).floor() * width;
+        for (k, &(piece, a, b)) in segments.iter().enumerate() {
+            if w <= w_of(piece, b) || k + 1 == n {
+                let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+                let param = match piece {
+                    Piece::Arc => psi + w.clamp(-1.0, 1.0).asin(),
+                    Piece::Right => (w - (theta_a - psi).sin()) / cr,
+                    Piece::Left => -(w + (theta_a + psi).sin()) / cl,
+                };
+                let param = if param.is_finite() {
+                    param.clamp(lo, hi)
+                } else {
+                    a
+                };
+                let theta = match piece {
+                    Piece::Arc => param,
+                    Piece::Right => theta_a,
+                    Piece::Left => -theta_a,
+                };
+                return Facet {
+                    piece,
+                    param,
+                    theta,
+                };
             }
         }
+        unreachable!("the last segment takes what the others leave")
     }
 }
 
 impl Yarn {
     /// The BRDF before interreflection at the point `across ∈ [0, 1]` of a yarn of slope
-    /// `theta_a` whose fibres lie at azimuth `phi_a`, per unit of projected area, in the two
-    /// parts the fiber BRDF is affine in ([`FiberParts`]): `f_point` of the module docs. 0 where
-    /// the point is shadowed or masked. Its mean over `across` is the profile BRDF (17').
+    /// `theta_a` whose fibres lie at azimuth `phi_a`, in the two parts the fiber BRDF is affine
+    /// in ([`FiberParts`]): `f_point` of the module docs, the BRDF of the facet that the
+    /// viewer's ray entering at `across` meets ([`Profile::facet_seen`]), 0 where that facet is
+    /// shadowed. Its mean over `across` is the profile BRDF (17').
     pub fn point_parts(
         &self,
         s: Vec3,
@@ -88,30 +167,30 @@ impl Yarn {
             lateral_length: self.params.lateral_length,
         };
         let frame = FiberFrame::new(phi_a);
-        let facet = profile.facet_at(across);
-        let lit = profile.lit_and_visible(frame.projected_angle(s), frame.projected_angle(v));
-        match lit.get(facet.piece) {
+        let facet = profile.facet_seen(across, frame.projected_angle(v));
+        match profile.lit(frame.projected_angle(s)).get(facet.piece) {
             Some((lo, hi)) if (lo..=hi).contains(&facet.param) => {}
             _ => return [0.0, 0.0],
         }
         let a = frame.facet_normal(facet.theta);
-        let (sa, va, aw) = (s.dot(a), v.dot(a), facet.theta.cos());
-        // A vertical facet (the rim of touching cylinders) has no projected width.
-        if sa <= 0.0 || va <= 0.0 || aw < 1e-12 {
+        let sa = s.dot(a);
+        if sa <= 0.0 {
             return [0.0, 0.0];
         }
         let [p0, p1] = self.fiber.eval_parts_with_normal(s, v, a);
-        let k = sa * va / (s.z * v.z * aw);
+        let k = sa / s.z;
         [p0 * k, p1 * k]
     }
 
-    /// The facet normal at the point `across` of a yarn of slope `theta_a`, fibres at `phi_a`.
-    pub fn point_normal(&self, phi_a: f64, theta_a: f64, across: f64) -> Vec3 {
+    /// The normal of the facet that a ray toward `v` entering at `across` meets, on a yarn of
+    /// slope `theta_a` whose fibres lie at `phi_a` ([`Profile::facet_seen`]).
+    pub fn point_normal(&self, v: Vec3, phi_a: f64, theta_a: f64, across: f64) -> Vec3 {
         let profile = Profile {
             theta_a,
             lateral_length: self.params.lateral_length,
         };
-        FiberFrame::new(phi_a).facet_normal(profile.facet_at(across).theta)
+        let frame = FiberFrame::new(phi_a);
+        frame.facet_normal(profile.facet_seen(across, frame.projected_angle(v)).theta)
     }
 }
 

@@ -5,6 +5,7 @@ mod cloth_files;
 mod common;
 mod export;
 mod fiber;
+mod furnace;
 mod golden;
 mod masking;
 mod material_files;

@@ -7,7 +7,7 @@ use std::sync::{Arc, OnceLock};
 use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
 use woven::material::{Material, Weave};
-use woven::surface::{SurfacePoint, SurfaceSpec, WovenSurface};
+use woven::surface::{SurfacePoint, SurfaceSpec, Tilt, WovenSurface};
 use woven::table::{Table, TableOptions};
 use woven::{Error, Vec3};
 
@@ -148,7 +148,10 @@ fn a_point_is_its_cells_yarn() {
         });
         assert_eq!(mix.lobes().len(), 1);
         assert_eq!(mix.lobes()[0].warp, !cell.weft);
-        assert_eq!((mix.lobes()[0].tilt, mix.lobes()[0].weight), (0.0, 1.0));
+        assert_eq!(
+            (mix.lobes()[0].tilt, mix.lobes()[0].weight),
+            (Tilt::Flat, 1.0)
+        );
     }
     // A wide footprint is the macro BRDF: the γ-mix of weft and warp.
     let wide = SurfacePoint {
@@ -166,8 +169,9 @@ fn a_point_is_its_cells_yarn() {
     assert!((mix.total() - 1.0).abs() < 1e-12);
 }
 
-/// With tilt, a yarn's tilt runs from +u_max to −u_max along its float; in a gap the crossing
-/// yarn shows flat, and where both leave a gap, nothing.
+/// With tilt, a point knows where along its float the viewer's ray enters it, from 0 where the
+/// float comes up to 1 where it goes under; in a gap the crossing yarn shows flat, and where
+/// both leave a gap, nothing.
 #[test]
 fn tilt_runs_along_floats_and_gaps_show_the_yarn_below() {
     let table = yarn();
@@ -179,18 +183,20 @@ fn tilt_runs_along_floats_and_gaps_show_the_yarn_below() {
         })
     };
     // satin-5: the warp floats over four picks of five. Column 0's weft cell is at row 0; its
-    // warp float runs over rows 1..=4: tilt +u_max at its start, −u_max at its end.
+    // warp float runs over rows 1..=4.
     let pattern = surface.pattern().unwrap();
     assert!(pattern.is_weft(0, 0) && !pattern.is_weft(1, 0));
-    let start = at(0.5, 1.0 + 1e-9);
-    let end = at(0.5, 5.0 - 1e-9);
-    let u_max = 40f64.to_radians();
-    assert!(start.lobes()[0].warp && (start.lobes()[0].tilt - u_max).abs() < 1e-6);
-    assert!(end.lobes()[0].warp && (end.lobes()[0].tilt + u_max).abs() < 1e-6);
+    let entering = |mix: woven::surface::LobeMix| match mix.lobes()[0].tilt {
+        Tilt::Entering(t) if mix.lobes()[0].warp => t,
+        other => panic!("{other:?}"),
+    };
+    assert!(entering(at(0.5, 1.0 + 1e-9)) < 1e-6);
+    assert!((entering(at(0.5, 3.0)) - 0.5).abs() < 1e-9);
+    assert!(entering(at(0.5, 5.0 - 1e-9)) > 1.0 - 1e-6);
     // Across the warp's gap (x near a cell's edge) the weft below shows, flat; at a cell's
     // corner both leave a gap: a hole.
     let below = at(0.05, 2.5);
-    assert!(!below.lobes()[0].warp && below.lobes()[0].tilt == 0.0);
+    assert!(!below.lobes()[0].warp && below.lobes()[0].tilt == Tilt::Flat);
     assert_eq!(at(0.05, 2.05).lobes().len(), 0);
 }
 
