@@ -44,9 +44,23 @@ def test_a_point_is_its_cells_yarn(yarn):
         else:
             want = yarn.eval_dyed(turn(wi[k : k + 1])[0], turn(wo[k : k + 1])[0], dye(warp))
         np.testing.assert_allclose(f[k], np.ravel(want), rtol=1e-12, atol=1e-15)
-    warp_lobe, tilt, weight, across = s.lobes(uv)
+    warp_lobe, along, weight, across = s.lobes(uv)
     assert np.all(weight[:, 0] == 1.0) and np.all(weight[:, 1:] == 0.0) and np.all(across[:, 0] == -1)
-    assert np.array_equal(warp_lobe[:, 0] == 1.0, ~is_weft) and np.all(tilt == 0.0)
+    # No u_max_deg: every yarn flat (−1 in the float column).
+    assert np.array_equal(warp_lobe[:, 0] == 1.0, ~is_weft) and np.all(along[:, 0] == -1.0)
+
+
+def test_tilted_floats_report_where_the_viewer_enters_them(yarn):
+    # u_max_deg > 0 without gaps: every point lies on a tilted float, at the fraction along it
+    # at which the viewer's ray enters; far away (cloth) each family is one whole float (2).
+    kw = dict(table=yarn, pattern="twill-2/1", yarns_per_unit=(6, 4), u_max_deg=30)
+    s = woven.Surface(**kw, detail="yarns")
+    uv = np.random.default_rng(3).uniform(-2, 2, (300, 2))
+    _, along, weight, _ = s.lobes(uv)
+    assert np.all(weight[:, 0] == 1.0) and np.all((along[:, 0] >= 0) & (along[:, 0] <= 1))
+    assert [f for _, f, _ in s.layout()["macro"]] == [True, True]
+    _, along, weight, _ = woven.Surface(**kw, detail="cloth").lobes(uv)
+    assert np.all(along[weight > 0] == 2.0) and np.allclose(weight.sum(axis=1), 1.0)
 
 
 @pytest.mark.parametrize("detail", ["auto", "fibers", "yarns"])
@@ -97,6 +111,6 @@ def test_a_table_alone_takes_no_weave_options(yarn):
 def test_fibre_level_points_lie_across_their_yarn(yarn):
     s = woven.Surface(table=yarn, pattern="plain", yarns_per_unit=4, detail="fibers")
     uv = np.array([[0.01, 0.0625], [0.2, 0.125 - 0.001]])
-    warp, tilt, weight, across = s.lobes(uv)
+    warp, along, weight, across = s.lobes(uv)
     assert np.all(weight[:, 0] == 1.0) and np.all(across[:, 0] >= 0)
     assert s.layout()["detail"] == "fibers"

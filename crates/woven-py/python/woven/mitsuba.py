@@ -474,7 +474,12 @@ class JitLayout:
     """The layout of a ``woven.Surface`` in Dr.Jit: the lobes mixed at each lane's point. The
     Python twin of ``WovenSurface::lobes`` (crates/woven/src/surface.rs), tested lane for lane
     against it (tests/test_mitsuba.py); every constant (pattern cells, floats, the macro
-    BRDF's lobes, the filter's range, the dyed albedos) comes from ``Surface.layout()``."""
+    BRDF's lobes, the filter's range, the dyed albedos) comes from ``Surface.layout()``.
+
+    A lobe is ``(warp, along, weight)``, ``along`` as ``Surface.lobes`` reports the library's
+    ``Tilt``: −1 flat, the entry fraction in [0, 1] for a point of a tilted float, 2 for a whole
+    float (a constant, or lanes). ``float`` is the floats' profile (``JitFloat``), None without
+    a tilt."""
 
     def __init__(self, surface, mi, footprint_filter=True):
         import drjit as dr
@@ -487,8 +492,9 @@ class JitLayout:
             self.kind = "macro"  # every point the macro BRDF
         self.nu, self.nv = lay["yarns_per_unit"]
         self.u_max, self.gap = lay["u_max"], lay["gap"]
+        self.float = JitFloat(self.u_max, mi) if self.u_max > 0 else None
         self.filter_lo, self.filter_hi = lay["filter_cells"]
-        self.macro = [(bool(w), float(t), float(g)) for w, t, g in lay["macro"]]
+        self.macro = [(bool(w), FLOAT if f else FLAT, float(g)) for w, f, g in lay["macro"]]
         self.albedos = lay["albedos"]
         if self.kind == "pattern":
             cells = np.asarray(lay["cells"])
@@ -518,7 +524,8 @@ class JitLayout:
         return dr.minimum(mi.UInt32(dr.maximum(x, 0.0)), n - 1)
 
     def cell_lobe(self, si):
-        """``WovenSurface::push_cell`` at weight 1: (warp, tilt, weight) per lane."""
+        """``WovenSurface::push_cell`` at weight 1: (warp, along, weight) per lane, ``along``
+        the entry fraction ``(before + along) / len`` on a tilted float, else −1 (flat)."""
         dr, mi = self.dr, self.mi
         x, y = si.uv.x * self.nu, si.uv.y * self.nv
         finite = dr.isfinite(x) & dr.isfinite(y)
@@ -526,34 +533,27 @@ class JitLayout:
         index = row * self.cols + col
         weft = (dr.gather(mi.UInt32, self.cells, index) != 0) | ~finite
         if self.gap == 0 and self.u_max == 0:
-            return ~weft, mi.Float(0.0), mi.Float(1.0)
+            return ~weft, FLAT, mi.Float(1.0)
         cx, cy = x - dr.floor(x), y - dr.floor(y)
         half = 0.5 * (1.0 - self.gap)
         covers_warp = dr.abs(cx - 0.5) < half  # the warp spans x
         covers_weft = dr.abs(cy - 0.5) < half
         covers_top = dr.select(weft, covers_weft, covers_warp)
         covers_below = dr.select(weft, covers_warp, covers_weft)
-        tilt = mi.Float(0.0)
+        along = FLAT
         if self.tilted:
             before = dr.gather(mi.Float, self.before, index)
             length = dr.gather(mi.Float, self.length, index)
-            along = dr.select(weft, cx, cy)
             ok = length > 0
-            tilt = dr.select(
-                ok, self.u_max * (1.0 - 2.0 * (before + along) / dr.select(ok, length, 1.0)), 0.0
-            )
+            entry = (before + dr.select(weft, cx, cy)) / dr.select(ok, length, 1.0)
+            along = dr.select(ok & covers_top & finite, entry, FLAT)
         warp = dr.select(covers_top, ~weft, weft)
-        tilt = dr.select(covers_top, tilt, 0.0)
         weight = dr.select(covers_top | covers_below, 1.0, 0.0)
         # A non-finite uv shades as the weft, flat.
-        return (
-            dr.select(finite, warp, False),
-            dr.select(finite, tilt, 0.0),
-            dr.select(finite, weight, 1.0),
-        )
+        return dr.select(finite, warp, False), along, dr.select(finite, weight, 1.0)
 
     def lobes(self, si):
-        """The lobes at each lane: a list of (warp, tilt, weight), warp and tilt constants or
+        """The lobes at each lane: a list of (warp, along, weight), warp and along constants or
         lanes; ``WovenSurface::lobes`` (the Rust mix merges equal lobes; the sum is the same)."""
         mi = self.mi
         if self.kind != "pattern":
@@ -561,10 +561,107 @@ class JitLayout:
         if not self.filter:
             return [self.cell_lobe(si)]
         w = self.macro_weight(si)
-        warp, tilt, weight = self.cell_lobe(si)
-        out = [(warp, tilt, weight * (1.0 - w))]
+        warp, along, weight = self.cell_lobe(si)
+        out = [(warp, along, weight * (1.0 - w))]
         out += [(mw, mt, w * mg) for mw, mt, mg in self.macro]
         return out
+
+
+# A lobe's ``along`` (JitLayout): a flat yarn, a whole tilted float.
+FLAT, FLOAT = -1.0, 2.0
+
+def _const(along, value):
+    """Whether a lobe's ``along`` is the constant ``value`` (not lanes)."""
+    return isinstance(along, float) and along == value
+
+
+# TILT_NODES (crates/woven/src/surface.rs): a whole float's Gauss–Legendre nodes on [−1, 1], and
+# the midpoints its density and draws use.
+TILT_NODES = 8
+_GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(TILT_NODES)
+
+# Bisection steps of the float's roots: 2⁻²⁴ of [0, 1], float32's resolution.
+_ROOT_STEPS = 24
+
+
+class JitFloat:
+    """``FloatProfile`` (crates/woven/src/yarn/float.rs) in Dr.Jit, kept to what Dr.Jit forces
+    and pinned lane for lane to the library (test_jit_layout_is_the_librarys): the tilt
+    ``ψ(t) = u_max (1 − 2t)``, the height ``h(t) = ln cos ψ / (2 u_max)``, the lit interval and
+    the point a viewer's ray meets. Directions are in the yarn's frame (the axis along x). The
+    library's roots (safeguarded Newton to 1e-12) are here a fixed number of masked bisection
+    steps (float32 resolution) on the same monotone functions."""
+
+    def __init__(self, u_max, mi):
+        import drjit as dr
+
+        self.u, self.mi, self.dr = float(u_max), mi, dr
+
+    def tilt(self, t):
+        return self.u * (1.0 - 2.0 * t)
+
+    def height(self, t):
+        return self.dr.log(self.dr.cos(self.tilt(t))) / (2.0 * self.u)
+
+    def _root(self, f, lo, hi):
+        """The root of increasing ``f`` on [lo, hi] (f(lo) ≤ 0 ≤ f(hi)), by bisection."""
+        dr = self.dr
+        for _ in range(_ROOT_STEPS):
+            mid = 0.5 * (lo + hi)
+            below = f(mid) < 0
+            lo, hi = dr.select(below, mid, lo), dr.select(below, hi, mid)
+        return 0.5 * (lo + hi)
+
+    def _lit_plus(self, m):
+        """``lit_from_plus_x``: the lit interval from +x at slope ``m > 0``."""
+        dr = self.dr
+        a = dr.atan(m)
+        t_star = 0.5 * (1.0 - a / self.u)
+        g = self.height(t_star) - m * t_star
+        # H(t) = h(t) − m t − (g − m) decreases on [t*, 1]: the root of −H.
+        t_end = self._root(lambda t: m * t + g - m - self.height(t), t_star, self.mi.Float(1.0))
+        full = a >= self.u
+        return dr.select(full, 0.0, t_star), dr.select(full, 1.0, t_end)
+
+    def lit(self, d):
+        """``FloatProfile::lit``: (t0, t1, ok), ok false at or below the horizon."""
+        dr = self.dr
+        ok = d.z > 0
+        along = d.x != 0
+        lo, hi = self._lit_plus(dr.select(along, d.z / dr.select(along, dr.abs(d.x), 1.0), 1.0))
+        minus = d.x < 0
+        lo, hi = dr.select(minus, 1.0 - hi, lo), dr.select(minus, 1.0 - lo, hi)
+        return dr.select(along, lo, 0.0), dr.select(along, hi, 1.0), ok
+
+    def lit_and_visible(self, s, v):
+        """``FloatProfile::lit_and_visible``: (lo, hi, ok)."""
+        dr = self.dr
+        a0, a1, oka = self.lit(s)
+        b0, b1, okb = self.lit(v)
+        lo, hi = dr.maximum(a0, b0), dr.minimum(a1, b1)
+        return lo, hi, oka & okb & (lo < hi)
+
+    def seen_at(self, entry, v):
+        """``FloatProfile::seen_at``: the fraction along the float of the point that the ray
+        toward ``v`` entering the crests' plane at ``entry`` meets. The foot ``t − h(t)/m``
+        increases on all of [t*, 1], so the root is bracketed by [t*, 1] (the library's
+        [t*, t_e] holds the same root), sparing the lit interval's own root."""
+        dr = self.dr
+        along = (v.z > 0) & (v.x != 0) & dr.isfinite(v.x) & dr.isfinite(v.z)
+        minus = v.x < 0
+        e = dr.select(minus, 1.0 - entry, entry)
+        m = dr.select(along, v.z / dr.select(along, dr.abs(v.x), 1.0), 1.0)
+        a = dr.atan(m)
+        lo = dr.select(a >= self.u, 0.0, 0.5 * (1.0 - a / self.u))
+
+        def foot(t):
+            return t - self.height(t) / m
+
+        start = foot(lo)
+        target = e - dr.floor(e - start)
+        t = self._root(lambda t: foot(t) - target, lo, self.mi.Float(1.0))
+        t = dr.select(minus, 1.0 - t, t)
+        return dr.select(along, t, dr.clip(entry, 0.0, 1.0))
 
 
 def _bsdf_class(mi):
@@ -628,27 +725,60 @@ def _bsdf_class(mi):
         # -- JIT: one lobe in Dr.Jit (WovenSurface::lobe_eval, lobe_pdf, lobe_sample) ----------
 
         def _lobe_eval(self, lobe, s, v, si, active):
-            """One lobe's f per channel for light from ``s`` seen from ``v``."""
-            warp, tilt, _ = lobe
+            """One lobe's f per channel for light from ``s`` seen from ``v``: flat, a point of a
+            tilted float (the facet the viewer's ray meets, if lit: f′ cos θ′i / cos θi) or a
+            whole float (its lit-and-visible part, Gauss–Legendre nodes)."""
+            warp, along, _ = lobe
             a, b = _turn(mi, dr, s, warp), _turn(mi, dr, v, warp)
             rho0, rho = self._albedos(warp, si, active)
-            if isinstance(tilt, float) and tilt == 0.0:
+            fl = self.layout.float
+            if _const(along, FLAT) or fl is None:
                 return self.jt.eval_dyed(a, b, rho0, rho, active)
-            sn, cs = dr.sincos(tilt)
+            if _const(along, FLOAT):
+                lo, hi, seen = fl.lit_and_visible(a, b)
+                mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+                f = mi.Color3f(0.0)
+                for x, w in zip(_GL_NODES, _GL_WEIGHTS):
+                    sn, cs = dr.sincos(fl.tilt(mid + half * float(x)))
+                    ta, tb = _tilt_into(mi, a, sn, cs), _tilt_into(mi, b, sn, cs)
+                    ok = active & seen & (ta.z > 0) & (tb.z > 0)
+                    k = half * float(w) * ta.z * tb.z / dr.select(ok, a.z * b.z * cs, 1.0)
+                    f += dr.select(ok, self.jt.eval_dyed(ta, tb, rho0, rho, ok) * k, 0.0)
+                return f
+            # Lanes: an entry fraction, or flat (ψ = 0: the same look-up, bit for bit).
+            flat = along < 0
+            t = fl.seen_at(dr.select(flat, 0.0, along), b)
+            lo, hi, ok = fl.lit(a)
+            lit = flat | (ok & (t >= lo) & (t <= hi))
+            sn, cs = dr.sincos(dr.select(flat, 0.0, fl.tilt(t)))
             ta, tb = _tilt_into(mi, a, sn, cs), _tilt_into(mi, b, sn, cs)
-            ok = active & (ta.z > 0) & (tb.z > 0)
+            ok = active & lit & (ta.z > 0) & (tb.z > 0)
             f = self.jt.eval_dyed(ta, tb, rho0, rho, ok)
-            scale = ta.z * tb.z / dr.select(ok, a.z * b.z * cs, 1.0)
-            return dr.select(ok, f * scale, 0.0)
+            return dr.select(ok, f * (ta.z / dr.select(ok, a.z, 1.0)), 0.0)
+
+        def _tilted_pdf(self, k, d, sn, cs, active):
+            k, d = _tilt_into(mi, k, sn, cs), _tilt_into(mi, d, sn, cs)
+            active = active & (k.z > 0) & (d.z > 0)
+            return dr.select(active, self.jt.pdf(k, d, active), 0.0)
 
         def _lobe_pdf(self, lobe, known, drawn, active):
-            warp, tilt, _ = lobe
+            """One lobe's density: a point of a float in the tilt of the facet ``known``'s ray
+            meets, a whole float the mean over its TILT_NODES midpoint tilts."""
+            warp, along, _ = lobe
             k, d = _turn(mi, dr, known, warp), _turn(mi, dr, drawn, warp)
-            if not (isinstance(tilt, float) and tilt == 0.0):
-                sn, cs = dr.sincos(tilt)
-                k, d = _tilt_into(mi, k, sn, cs), _tilt_into(mi, d, sn, cs)
-                active = active & (k.z > 0) & (d.z > 0)
-            return dr.select(active, self.jt.pdf(k, d, active), 0.0)
+            fl = self.layout.float
+            if _const(along, FLAT) or fl is None:
+                return dr.select(active, self.jt.pdf(k, d, active), 0.0)
+            if _const(along, FLOAT):
+                p = mi.Float(0.0)
+                for i in range(TILT_NODES):
+                    psi = fl.tilt((i + 0.5) / TILT_NODES)
+                    p += self._tilted_pdf(k, d, math.sin(psi), math.cos(psi), active)
+                return p / TILT_NODES
+            flat = along < 0
+            t = fl.seen_at(dr.select(flat, 0.0, along), k)
+            sn, cs = dr.sincos(dr.select(flat, 0.0, fl.tilt(t)))
+            return self._tilted_pdf(k, d, sn, cs, active)
 
         def _eval_jit(self, si, wo, active):
             s, v = wo, si.wi  # Mitsuba's wo is toward the light: woven's wi (s)
@@ -670,31 +800,47 @@ def _bsdf_class(mi):
 
         def _sample_jit(self, si, sample1, sample2, active):
             """(wo, pdf, ok): a lobe picked with ``sample1`` in proportion to its weight, a
-            direction drawn from it with ``sample2``, the mixture's density."""
+            direction drawn from it with ``sample2`` (``WovenSurface::lobe_sample``: a point of
+            a float in the tilt its facet seen from ``si.wi`` has, a whole float in one of its
+            TILT_NODES midpoint tilts, picked with ``sample2.x``), the mixture's density."""
             lobes = self.layout.lobes(si)
             total = mi.Float(0.0)
             for lobe in lobes:
                 total += lobe[2]
             x = sample1 * total
-            # The picked lobe's warp and tilt, per lane (the first whose cumulative weight
+            # The picked lobe's warp and along, per lane (the first whose cumulative weight
             # exceeds x; the last where rounding leaves none).
-            warp, tilt, found, before = mi.Bool(False), mi.Float(0.0), mi.Bool(False), mi.Float(0.0)
+            warp, along, found, before = mi.Bool(False), mi.Float(FLAT), mi.Bool(False), mi.Float(0.0)
             for i, (lw, lt, lg) in enumerate(lobes):
                 take = ~found & ((x < before + lg) | (i == len(lobes) - 1)) & (lg > 0)
                 warp = dr.select(take, lw, warp)
-                tilt = dr.select(take, lt, tilt)
+                along = dr.select(take, lt, along)
                 found |= take
                 before += lg
             active = active & found
             known = _turn(mi, dr, si.wi, warp)
-            sn, cs = dr.sincos(tilt)
-            known = _tilt_into(mi, known, sn, cs)
+            u0 = sample2.x
+            fl = self.layout.float
+            if fl is not None:
+                whole, flat = along > 1.5, along < 0
+                node = dr.minimum(dr.floor(u0 * TILT_NODES), TILT_NODES - 1)
+                t = (node + 0.5) / TILT_NODES
+                if any(not isinstance(lt, float) for _, lt, _ in lobes):
+                    seen = fl.seen_at(dr.select(whole | flat, 0.0, along), known)
+                    t = dr.select(whole, t, seen)
+                u0 = dr.select(whole, u0 * TILT_NODES - node, u0)
+                sn, cs = dr.sincos(dr.select(flat, 0.0, fl.tilt(t)))
+                known = _tilt_into(mi, known, sn, cs)
             active &= known.z > 0
-            d, pdf, ok = self.jt.sample_direction(known, sample2.x, sample2.y, active)
-            wo = _unturn(mi, dr, _tilt_from(mi, d, sn, cs), warp)
+            d, pdf, ok = self.jt.sample_direction(known, u0, sample2.y, active)
+            if fl is not None:
+                d = _tilt_from(mi, d, sn, cs)
+            wo = _unturn(mi, dr, d, warp)
             ok &= active & (wo.z > 0)
             if len(lobes) > 1:
                 pdf = self._pdf_mix(lobes, si.wi, wo, ok)
+            elif _const(lobes[0][1], FLOAT):
+                pdf = self._lobe_pdf(lobes[0], si.wi, wo, ok)
             return wo, pdf, ok
 
         # -- the BSDF interface ----------------------------------------------------------------

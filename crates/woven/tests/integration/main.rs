@@ -3,9 +3,9 @@
 mod cloth;
 mod cloth_files;
 mod common;
+mod energy;
 mod export;
 mod fiber;
-mod furnace;
 mod golden;
 mod masking;
 mod material_files;
