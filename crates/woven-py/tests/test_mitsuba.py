@@ -382,8 +382,10 @@ def test_jit_layout_is_the_librarys(llvm, yarn_tables, name):
     scale = np.repeat([0.0, 1.0 / 7.0, 1.0], [n - 2 * (n // 3), n // 3, n // 3])
     fp = rng.uniform(-1.0, 1.0, (n, 4)) * scale[:, None]
     # Up to 60° from the normal: |wi + wo| ≥ 1 in every lobe's frame (a rotation keeps it), so
-    # no pair falls in the region where the library evaluates the exact model and Dr.Jit
-    # interpolates (the module docs; test_jit_lookups_are_the_librarys covers the tables).
+    # no pair falls in the near-forward region where the library evaluates the exact model and
+    # Dr.Jit interpolates (the module docs; test_jit_lookups_are_the_librarys covers the
+    # tables). A tilt can still bring a pair's half vector within 5° of the tilted frame's
+    # horizon, the library's other exact region: a few lanes in 10⁴ of the tilted layouts.
     wi, wo = random_dirs(rng, n), random_dirs(rng, n)
     wi[:, 2], wo[:, 2] = np.maximum(wi[:, 2], 0.58), np.maximum(wo[:, 2], 0.58)
     wi /= np.linalg.norm(wi, axis=1, keepdims=True)
@@ -400,11 +402,24 @@ def test_jit_layout_is_the_librarys(llvm, yarn_tables, name):
     # Lanes on a cell's or gap's edge may fall on the other side in float32: a few in 10⁴.
     close = np.abs(got - want) <= 1e-3 * np.abs(want).max(axis=1, keepdims=True) + 1e-6
     bad = ~close.all(axis=1)
-    assert bad.mean() < 0.005, (name, bad.sum(), got[bad][:3], want[bad][:3], uv[bad][:3])
     p_got = np.array(bsdf.pdf(ctx, si, light), dtype=np.float64)
     p_want = surface.pdf(uv, wi, wo, fp)
-    bad = np.abs(p_got - p_want) > 1e-3 * p_want + 1e-6
-    assert bad.mean() < 0.005, (name, bad.sum(), p_got[bad][:3], p_want[bad][:3])
+    bad_p = np.abs(p_got - p_want) > 1e-3 * p_want + 1e-6
+    # Draws for the same uniforms where a point is one cell's lobe (no footprint) or the macro
+    # BRDF: the same direction and density (under the filter's blend the library merges equal
+    # lobes, so its pick may take another lobe for the same uniform).
+    uc, u = rng.random(n).astype(np.float32), rng.random((n, 2)).astype(np.float32)
+    bs, _ = bsdf.sample(ctx, si, mi.Float(uc), mi.Point2f(u[:, 0], u[:, 1]))
+    d_got, s_got = np3(bs.wo), np.array(bs.pdf, dtype=np.float64)
+    d_want, _, s_want = surface.sample(uv, wo, uc.astype(np.float64), u.astype(np.float64), fp)
+    point = scale == 0.0
+    both = point & (s_got > 0) & (s_want > 0)
+    same = (np.abs(d_got - d_want).max(axis=1) < 1e-3) & (np.abs(s_got - s_want) <= 1e-3 * s_want)
+    bad_s = point & ((s_got > 0) != (s_want > 0)) | both & ~same
+    print(f"{name}: bad lanes: f {bad.mean():.4%}, pdf {bad_p.mean():.4%}, draws {bad_s.mean():.4%}")
+    assert bad.mean() < 0.005, (name, bad.sum(), got[bad][:3], want[bad][:3], uv[bad][:3])
+    assert bad_p.mean() < 0.005, (name, bad_p.sum(), p_got[bad_p][:3], p_want[bad_p][:3])
+    assert bad_s.sum() < 0.005 * point.sum(), (name, bad_s.sum(), d_got[bad_s][:3], d_want[bad_s][:3])
 
 
 def test_plugin_plane_under_a_point_light_is_the_librarys_brdf(llvm, yarn_tables):

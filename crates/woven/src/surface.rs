@@ -68,6 +68,7 @@ use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transpo
 use crate::cloth::Structure;
 use crate::color::Rgb;
 use crate::error::{Error, Result};
+use crate::fiber::Normalization;
 use crate::material::{Material, Weave};
 use crate::math::quadrature::GaussLegendre;
 use crate::math::sampling::cosine_hemisphere;
@@ -102,10 +103,6 @@ pub const FIBER_CELLS: [f64; 2] = [0.1, 0.35];
 /// Strands of fibres across one yarn, each with its own azimuth offset (twisted and isotropic
 /// yarns).
 pub const STRANDS: u64 = 16;
-
-/// The probability with which a fibre-level draw follows the facet's microfacet lobe (the rest
-/// draws cosine-weighted about the cloth's normal, for the body colour and the interreflection).
-const SPECULAR_DRAW: f64 = 0.75;
 
 /// How finely a surface resolves its weave (the `detail` key of woven materials).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -319,6 +316,10 @@ pub struct YarnPoint {
     pub theta_a: f64,
     /// The fibres' azimuth offset from the yarn's axis (drawn per strand), radians.
     pub phi: f64,
+    /// The probabilities with which a draw here follows the facet's microfacet lobe and the
+    /// facet's cosine (the rest: the cloth normal's cosine), in proportion to the reflectance
+    /// of the fibre's sheen, body colour and interreflection (each at least 5 %).
+    pub draws: [f64; 2],
 }
 
 /// The lobes a point's BRDF mixes: `f = Σ weight · f_lobe`; the weights sum to at most 1, less
@@ -436,6 +437,24 @@ impl Fibers {
             Structure::Woven { yarn, .. } => yarn,
             Structure::Flat(_) => unreachable!("fibres are resolved on yarns only"),
         }
+    }
+
+    /// [`YarnPoint::draws`] for a yarn dyed `albedos`: the sheen's, the body's and the
+    /// interreflection's reflectance (channel means), each at least 5 % of the draws.
+    fn draw_shares(&self, albedos: &[Albedos; 3]) -> [f64; 2] {
+        let yarn = self.yarn();
+        let h = yarn.params().interreflection;
+        let rho0 = albedos.iter().map(|a| a.diffuse).sum::<f64>() / 3.0;
+        let rho = albedos.iter().map(|a| a.interreflection).sum::<f64>() / 3.0;
+        let sheen = match yarn.fiber().params().normalization {
+            Normalization::Paper => 1.0 - rho0,
+            Normalization::None => 1.0,
+        };
+        let raw = [(1.0 - h) * sheen, (1.0 - h) * rho0, h * rho].map(|x| x.max(0.0));
+        let total: f64 = raw.iter().sum::<f64>().max(1e-12);
+        let floored = raw.map(|x| (x / total).max(0.05));
+        let total: f64 = floored.iter().sum();
+        [floored[0] / total, floored[1] / total]
     }
 }
 
@@ -825,6 +844,7 @@ impl WovenSurface {
                 across,
                 theta_a,
                 phi,
+                draws: f.draw_shares(if warp { &self.warp } else { &self.weft }),
             };
             mix.push_point(warp, tilt, scale * fibers, point);
         }
@@ -994,7 +1014,10 @@ fn point_eval(f: &Fibers, p: &YarnPoint, albedos: &[Albedos; 3], s: Vec3, v: Vec
 }
 
 /// The density of a fibre-level draw: the facet's Beckmann lobe (the fiber's roughness) about
-/// its normal with probability [`SPECULAR_DRAW`], else cosine-weighted about the cloth's normal.
+/// its normal with probability [`YarnPoint::draws`]`[0]`, cosine-weighted about the facet's
+/// normal with [`YarnPoint::draws`]`[1]` (the facet's body colour, `∝ s·a`: a lit facet's diffuse light is
+/// then drawn with a bounded weight), else cosine-weighted about the cloth's normal (the
+/// interreflection). The facet is the one `known`'s ray meets.
 #[inline]
 fn point_pdf(f: &Fibers, p: &YarnPoint, known: Vec3, drawn: Vec3) -> f64 {
     if known.z <= 0.0 || drawn.z <= 0.0 {
@@ -1003,24 +1026,30 @@ fn point_pdf(f: &Fibers, p: &YarnPoint, known: Vec3, drawn: Vec3) -> f64 {
     let yarn = f.yarn();
     let a = yarn.point_normal(known, p.phi, p.theta_a, p.across);
     let glossy = beckmann_reflection_pdf(known, drawn, a, yarn.fiber().alpha());
-    SPECULAR_DRAW * glossy + (1.0 - SPECULAR_DRAW) * drawn.z * FRAC_1_PI
+    let [g, c] = p.draws;
+    g * glossy + c * drawn.dot(a).max(0.0) * FRAC_1_PI + (1.0 - g - c) * drawn.z * FRAC_1_PI
 }
 
 /// A fibre-level draw for `known` and its density ([`point_pdf`]).
 #[inline]
 fn point_sample(f: &Fibers, p: &YarnPoint, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
-    let drawn = if u[0] < SPECULAR_DRAW {
-        let yarn = f.yarn();
-        let a = yarn.point_normal(known, p.phi, p.theta_a, p.across);
-        let h = sample_beckmann(a, yarn.fiber().alpha(), [u[0] / SPECULAR_DRAW, u[1]]);
+    let [g, c] = p.draws;
+    let yarn = f.yarn();
+    let a = yarn.point_normal(known, p.phi, p.theta_a, p.across);
+    let drawn = if u[0] < g {
+        let h = sample_beckmann(a, yarn.fiber().alpha(), [u[0] / g, u[1]]);
         let kh = known.dot(h);
         if kh <= 0.0 {
             return None;
         }
         h * (2.0 * kh) - known
+    } else if u[0] < g + c {
+        let d = cosine_hemisphere(((u[0] - g) / c).min(1.0), u[1]);
+        let (t, b) = basis(a);
+        (t * d.x + b * d.y + a * d.z).normalize()
     } else {
         // Horizon draws are rejected below.
-        cosine_hemisphere((u[0] - SPECULAR_DRAW) / (1.0 - SPECULAR_DRAW), u[1])
+        cosine_hemisphere(((u[0] - g - c) / (1.0 - g - c)).min(1.0), u[1])
     };
     if drawn.z <= 0.0 {
         return None;
