@@ -48,9 +48,12 @@ In JIT variants (``llvm_*``, ``cuda_*``) ``eval``, ``pdf`` and ``sample`` are Dr
 table's arrays (``Table.raw()``) and the surface's layout (``Surface.layout()``) are handed over
 once, and every look-up is a gather, traced into Mitsuba's kernels. ``JitTable`` repeats the
 library's interpolation and sampling operation by operation (crates/woven/src/table/), and
-``JitLayout`` the surface's lobes at a point (crates/woven/src/surface.rs); both are tested lane
-for lane against the library. They interpolate everywhere: tables of single-orientation yarns
-that the library evaluates exactly for near-forward pairs (|wi + wo| < 0.5) give
+``JitLayout`` the surface's lobes at a point (crates/woven/src/surface.rs), with ``JitFloat``
+the tilted floats' geometry (crates/woven/src/yarn/float.rs: a point of a float shades as the
+facet the viewer's ray meets, a whole float as its lit and seen facets' mean); all are tested
+lane for lane against the library. They interpolate everywhere: tables of single-orientation
+yarns that the library evaluates exactly for near-forward pairs (|wi + wo| < 0.5) or half
+vectors within 5° of the horizon (which a tilted frame can bring about) give
 ``Table.eval_interpolated`` there, and flat fiber surfaces their table, not the exact model. In
 scalar variants each call goes to the library's ``woven.Surface``.
 """
@@ -63,7 +66,7 @@ import numpy as np
 
 import woven
 
-__all__ = ["register", "JitTable", "JitLayout"]
+__all__ = ["register", "JitTable", "JitLayout", "JitFloat"]
 
 _REGISTERED = set()
 
@@ -570,11 +573,6 @@ class JitLayout:
 # A lobe's ``along`` (JitLayout): a flat yarn, a whole tilted float.
 FLAT, FLOAT = -1.0, 2.0
 
-def _const(along, value):
-    """Whether a lobe's ``along`` is the constant ``value`` (not lanes)."""
-    return isinstance(along, float) and along == value
-
-
 # TILT_NODES (crates/woven/src/surface.rs): a whole float's Gauss–Legendre nodes on [−1, 1], and
 # the midpoints its density and draws use.
 TILT_NODES = 8
@@ -584,13 +582,32 @@ _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(TILT_NODES)
 _ROOT_STEPS = 24
 
 
+def _const(along, value):
+    """Whether a lobe's ``along`` is the constant ``value`` (not lanes)."""
+    return isinstance(along, float) and along == value
+
+
+def _sum_over_nodes(mi, term, zero):
+    """``zero`` + Σ ``term(k)`` over the tilt nodes k = 0 … TILT_NODES − 1, in a symbolic loop:
+    one copy of a node's table look-up in the kernel (eight unrolled made kernels that LLVM took
+    half a minute to compile)."""
+    import drjit as dr
+
+    _, total = dr.while_loop(
+        state=(mi.UInt32(0), zero),
+        cond=lambda k, _: k < TILT_NODES,
+        body=lambda k, acc: (k + 1, acc + term(k)),
+    )
+    return total
+
+
 class JitFloat:
     """``FloatProfile`` (crates/woven/src/yarn/float.rs) in Dr.Jit, kept to what Dr.Jit forces
     and pinned lane for lane to the library (test_jit_layout_is_the_librarys): the tilt
     ``ψ(t) = u_max (1 − 2t)``, the height ``h(t) = ln cos ψ / (2 u_max)``, the lit interval and
     the point a viewer's ray meets. Directions are in the yarn's frame (the axis along x). The
-    library's roots (safeguarded Newton to 1e-12) are here a fixed number of masked bisection
-    steps (float32 resolution) on the same monotone functions."""
+    library's roots (safeguarded Newton to 1e-12) are here a fixed number of bisection steps
+    (float32's resolution) on the same monotone functions, every lane stepping alike."""
 
     def __init__(self, u_max, mi):
         import drjit as dr
@@ -603,13 +620,22 @@ class JitFloat:
     def height(self, t):
         return self.dr.log(self.dr.cos(self.tilt(t))) / (2.0 * self.u)
 
-    def _root(self, f, lo, hi):
-        """The root of increasing ``f`` on [lo, hi] (f(lo) ≤ 0 ≤ f(hi)), by bisection."""
+    def _root(self, f, lo):
+        """The root of increasing ``f`` on [lo, 1] (f(lo) ≤ 0 ≤ f(1)), by bisection: a symbolic
+        loop, so that its steps are compiled once (unrolled, they made kernels that LLVM took
+        half a minute to compile)."""
         dr = self.dr
-        for _ in range(_ROOT_STEPS):
+
+        def step(lo, hi, i):
             mid = 0.5 * (lo + hi)
             below = f(mid) < 0
-            lo, hi = dr.select(below, mid, lo), dr.select(below, hi, mid)
+            return dr.select(below, mid, lo), dr.select(below, hi, mid), i + 1
+
+        lo, hi, _ = dr.while_loop(
+            state=(lo, dr.maximum(lo, 1.0), self.mi.UInt32(0)),
+            cond=lambda lo, hi, i: i < _ROOT_STEPS,
+            body=step,
+        )
         return 0.5 * (lo + hi)
 
     def _lit_plus(self, m):
@@ -619,7 +645,7 @@ class JitFloat:
         t_star = 0.5 * (1.0 - a / self.u)
         g = self.height(t_star) - m * t_star
         # H(t) = h(t) − m t − (g − m) decreases on [t*, 1]: the root of −H.
-        t_end = self._root(lambda t: m * t + g - m - self.height(t), t_star, self.mi.Float(1.0))
+        t_end = self._root(lambda t: m * t + g - m - self.height(t), t_star)
         full = a >= self.u
         return dr.select(full, 0.0, t_star), dr.select(full, 1.0, t_end)
 
@@ -659,7 +685,7 @@ class JitFloat:
 
         start = foot(lo)
         target = e - dr.floor(e - start)
-        t = self._root(lambda t: foot(t) - target, lo, self.mi.Float(1.0))
+        t = self._root(lambda t: foot(t) - target, lo)
         t = dr.select(minus, 1.0 - t, t)
         return dr.select(along, t, dr.clip(entry, 0.0, 1.0))
 
@@ -697,6 +723,7 @@ def _bsdf_class(mi):
                     )
                 self.jt = JitTable(self.table, mi)
                 self.layout = JitLayout(self.surface, mi, self.filter)
+                self.gl_nodes, self.gl_weights = mi.Float(_GL_NODES), mi.Float(_GL_WEIGHTS)
 
         # -- colour ---------------------------------------------------------------------------
 
@@ -737,14 +764,17 @@ def _bsdf_class(mi):
             if _const(along, FLOAT):
                 lo, hi, seen = fl.lit_and_visible(a, b)
                 mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
-                f = mi.Color3f(0.0)
-                for x, w in zip(_GL_NODES, _GL_WEIGHTS):
-                    sn, cs = dr.sincos(fl.tilt(mid + half * float(x)))
+
+                def node(k):
+                    x = dr.gather(mi.Float, self.gl_nodes, k)
+                    sn, cs = dr.sincos(fl.tilt(mid + half * x))
                     ta, tb = _tilt_into(mi, a, sn, cs), _tilt_into(mi, b, sn, cs)
                     ok = active & seen & (ta.z > 0) & (tb.z > 0)
-                    k = half * float(w) * ta.z * tb.z / dr.select(ok, a.z * b.z * cs, 1.0)
-                    f += dr.select(ok, self.jt.eval_dyed(ta, tb, rho0, rho, ok) * k, 0.0)
-                return f
+                    w = half * dr.gather(mi.Float, self.gl_weights, k)
+                    scale = w * ta.z * tb.z / dr.select(ok, a.z * b.z * cs, 1.0)
+                    return dr.select(ok, self.jt.eval_dyed(ta, tb, rho0, rho, ok) * scale, 0.0)
+
+                return _sum_over_nodes(mi, node, dr.zeros(mi.Color3f, dr.width(a)))
             # Lanes: an entry fraction, or flat (ψ = 0: the same look-up, bit for bit).
             flat = along < 0
             t = fl.seen_at(dr.select(flat, 0.0, along), b)
@@ -770,11 +800,12 @@ def _bsdf_class(mi):
             if _const(along, FLAT) or fl is None:
                 return dr.select(active, self.jt.pdf(k, d, active), 0.0)
             if _const(along, FLOAT):
-                p = mi.Float(0.0)
-                for i in range(TILT_NODES):
-                    psi = fl.tilt((i + 0.5) / TILT_NODES)
-                    p += self._tilted_pdf(k, d, math.sin(psi), math.cos(psi), active)
-                return p / TILT_NODES
+
+                def node(i):
+                    sn, cs = dr.sincos(fl.tilt((mi.Float(i) + 0.5) / TILT_NODES))
+                    return self._tilted_pdf(k, d, sn, cs, active)
+
+                return _sum_over_nodes(mi, node, dr.zeros(mi.Float, dr.width(k))) / TILT_NODES
             flat = along < 0
             t = fl.seen_at(dr.select(flat, 0.0, along), k)
             sn, cs = dr.sincos(dr.select(flat, 0.0, fl.tilt(t)))
@@ -810,7 +841,8 @@ def _bsdf_class(mi):
             x = sample1 * total
             # The picked lobe's warp and along, per lane (the first whose cumulative weight
             # exceeds x; the last where rounding leaves none).
-            warp, along, found, before = mi.Bool(False), mi.Float(FLAT), mi.Bool(False), mi.Float(0.0)
+            warp, along = mi.Bool(False), mi.Float(FLAT)
+            found, before = mi.Bool(False), mi.Float(0.0)
             for i, (lw, lt, lg) in enumerate(lobes):
                 take = ~found & ((x < before + lg) | (i == len(lobes) - 1)) & (lg > 0)
                 warp = dr.select(take, lw, warp)
