@@ -58,6 +58,7 @@
 pub mod accel;
 pub mod camera;
 pub mod error;
+pub mod fireflies;
 pub mod geometry;
 pub mod integrator;
 pub mod light;

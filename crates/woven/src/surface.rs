@@ -75,7 +75,7 @@ use crate::math::sampling::cosine_hemisphere;
 use crate::table::{Albedos, Table};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
 use crate::yarn::float::FloatProfile;
-use crate::yarn::point::{golden_uniform, YarnDraws};
+use crate::yarn::point::{golden_uniform, hash_uniform, YarnDraws};
 use crate::yarn::Yarn;
 use crate::{Model, Vec3};
 use std::f64::consts::{FRAC_1_PI, PI};
@@ -429,6 +429,10 @@ pub struct WovenSurface {
 struct Fibers {
     model: Arc<Model>,
     draws: YarnDraws,
+    /// [`Pattern::floats`] and the pattern's columns: where each float starts, for the slope
+    /// drawn per float.
+    floats: Vec<FloatPlace>,
+    cols: usize,
 }
 
 impl Fibers {
@@ -437,6 +441,21 @@ impl Fibers {
             Structure::Woven { yarn, .. } => yarn,
             Structure::Flat(_) => unreachable!("fibres are resolved on yarns only"),
         }
+    }
+
+    /// The uniform number of the slope of the float of yarn `index` (of family `warp`) over the
+    /// cell at `(x, y)` (in cells): the yarn's golden-ratio point, rotated by a hash of where
+    /// along the yarn the float starts (the cell itself where the yarn is not on top).
+    fn slope_uniform(&self, index: i64, warp: bool, (x, y, cell): (f64, f64, &CellPoint)) -> f64 {
+        let along = (if warp { y } else { x }).floor() as i64;
+        let place = self.floats.get(cell.row * self.cols + cell.col);
+        let start = match place {
+            Some(f) if cell.weft != warp && f.len > 0 => along - i64::from(f.before),
+            _ => along,
+        };
+        let family = u64::from(warp);
+        let rotation = hash_uniform(start as u64, 0xF10A7 + family);
+        (golden_uniform(index, family) + rotation).fract()
     }
 
     /// [`YarnPoint::draws`] for a yarn dyed `albedos`: the sheen's, the body's and the
@@ -508,9 +527,15 @@ impl WovenSurface {
                 Structure::Woven { yarn, .. } => YarnDraws::new(yarn),
                 Structure::Flat(_) => unreachable!("a pattern has yarns"),
             };
+            let (floats, cols) = match &layout {
+                Layout::Pattern { pattern, .. } => (pattern.floats(), pattern.cols()),
+                _ => unreachable!("fibres are resolved on patterns only"),
+            };
             Some(Fibers {
                 model: Arc::new(model),
                 draws,
+                floats,
+                cols,
             })
         } else {
             None
@@ -827,12 +852,14 @@ impl WovenSurface {
             if warp {
                 across = 1.0 - across;
             }
-            // Each yarn (a pick for the weft, an end for the warp, counted over the whole
-            // surface) draws its slope; each strand of fibres its azimuth: golden-ratio points
-            // by index, so neighbours differ and a few hundred yarns average to the model.
+            // Each float of each yarn (a pick for the weft, an end for the warp, counted over
+            // the whole surface; a float from where it comes up) draws its slope, each strand
+            // of fibres its azimuth: golden-ratio points by the yarn's index, rotated per float
+            // by a hash, so neighbours differ, a yarn's cross-section varies along it, and a
+            // patch of a few dozen yarns averages to the model.
             let index = (if warp { x } else { y }).floor() as i64;
             let family = u64::from(warp);
-            let theta_a = f.draws.slope(golden_uniform(index, family));
+            let theta_a = f.draws.slope(f.slope_uniform(index, warp, (x, y, cell)));
             let phi = if f.draws.varies_in_azimuth() {
                 let strand = ((across * STRANDS as f64) as i64).min(STRANDS as i64 - 1);
                 let fibre = index.wrapping_mul(STRANDS as i64).wrapping_add(strand);

@@ -118,8 +118,9 @@ const CONFIGS: [(Detail, f64, f64); 5] = [
 ];
 
 /// `cases` random points and views (up to 89°) per preset and configuration: the worst
-/// furnace value by quadrature (48 × 48) and by sampling (400 draws, less three standard
-/// errors).
+/// furnace value by quadrature (48 × 48) and by sampling (1 000 draws, less 4.5 standard
+/// errors: over 10⁴ cases a skewed estimate passes 3 now and then — one did, at 1.021 ± 0.006
+/// where 4 · 10⁵ draws and a 400 × 400 quadrature agree on 0.9991).
 fn worst_point_furnace(cases: usize, seed: u64) -> Vec<(String, f64, f64)> {
     let mut out = Vec::new();
     let mut rng = Rng(seed);
@@ -135,8 +136,8 @@ fn worst_point_furnace(cases: usize, seed: u64) -> Vec<(String, f64, f64)> {
                 let bsdf = surface.at(&at);
                 let wo = view(&mut rng, 89.0);
                 worst_q = worst_q.max(furnace_by_quadrature(&bsdf, wo, 48));
-                let (m, se) = furnace_by_sampling(&bsdf, wo, 400, &mut rng);
-                worst_s = worst_s.max(m - 3.0 * se);
+                let (m, se) = furnace_by_sampling(&bsdf, wo, 1000, &mut rng);
+                worst_s = worst_s.max(m - 4.5 * se);
             }
             let what = format!("{name} {detail:?} u_max {u_max}° gap {gap}");
             eprintln!("furnace: {what}: worst quadrature {worst_q:.4}, sampling {worst_s:.4}");
