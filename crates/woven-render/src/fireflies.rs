@@ -26,7 +26,8 @@ pub fn fireflies(width: usize, height: usize, values: &[f64]) -> Vec<(usize, usi
     for y in 0..height {
         for x in 0..width {
             let v = values[y * width + x];
-            if !(v > p99) {
+            // NaN and values at or below the percentile are no fireflies.
+            if v.partial_cmp(&p99) != Some(std::cmp::Ordering::Greater) {
                 continue;
             }
             window.clear();
