@@ -984,7 +984,8 @@ impl WovenSurface {
     }
 
     /// Draws a direction for `known` from one lobe, with its density
-    /// ([`lobe_pdf`](Self::lobe_pdf)).
+    /// ([`lobe_pdf`](Self::lobe_pdf)); for a whole float, the density of the tilt node it was
+    /// drawn from (the lobe's is the nodes' mean, which [`PointBsdf`]'s `sample` takes).
     #[inline]
     fn lobe_sample(&self, lobe: &Lobe, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
         let k0 = if lobe.warp { to_warp(known) } else { known };
@@ -1012,11 +1013,6 @@ impl WovenSurface {
         if d.z <= 0.0 {
             return None;
         }
-        let pdf = if lobe.tilt == Tilt::Float {
-            self.lobe_pdf(lobe, known, d)
-        } else {
-            pdf
-        };
         Some((d, pdf))
     }
 }
@@ -1050,9 +1046,14 @@ fn point_pdf(f: &Fibers, p: &YarnPoint, known: Vec3, drawn: Vec3) -> f64 {
     if known.z <= 0.0 || drawn.z <= 0.0 {
         return 0.0;
     }
-    let yarn = f.yarn();
-    let a = yarn.point_normal(known, p.phi, p.theta_a, p.across);
-    let glossy = beckmann_reflection_pdf(known, drawn, a, yarn.fiber().alpha());
+    let a = f.yarn().point_normal(known, p.phi, p.theta_a, p.across);
+    point_pdf_about(f, p, a, known, drawn)
+}
+
+/// [`point_pdf`] about the facet normal `a` that `known`'s ray meets (found once by the caller).
+#[inline]
+fn point_pdf_about(f: &Fibers, p: &YarnPoint, a: Vec3, known: Vec3, drawn: Vec3) -> f64 {
+    let glossy = beckmann_reflection_pdf(known, drawn, a, f.yarn().fiber().alpha());
     let [g, c] = p.draws;
     g * glossy + c * drawn.dot(a).max(0.0) * FRAC_1_PI + (1.0 - g - c) * drawn.z * FRAC_1_PI
 }
@@ -1081,7 +1082,7 @@ fn point_sample(f: &Fibers, p: &YarnPoint, known: Vec3, u: [f64; 2]) -> Option<(
     if drawn.z <= 0.0 {
         return None;
     }
-    let pdf = point_pdf(f, p, known, drawn);
+    let pdf = point_pdf_about(f, p, a, known, drawn);
     (pdf > 0.0 && pdf.is_finite()).then_some((drawn, pdf))
 }
 
@@ -1224,7 +1225,9 @@ impl Bsdf for PointBsdf<'_> {
             pick += 1;
         }
         let (drawn, pdf) = self.surface.lobe_sample(&lobes[pick], known, u)?;
-        let pdf = if lobes.len() == 1 {
+        // A whole float's draw came from one of its tilt nodes: its density is the nodes'
+        // mean, as is that of a mixture of lobes.
+        let pdf = if lobes.len() == 1 && lobes[pick].tilt != Tilt::Float {
             pdf
         } else {
             self.pdf_mix(known, drawn)

@@ -39,6 +39,15 @@ pub struct Facet {
     pub theta: f64,
 }
 
+impl Facet {
+    /// The apex of the arc.
+    pub const APEX: Facet = Facet {
+        piece: Piece::Arc,
+        param: 0.0,
+        theta: 0.0,
+    };
+}
+
 impl Profile {
     /// The facet that a ray toward a viewer at projected angle `psi_v` (as in [`Profile::lit`])
     /// meets, having crossed the apexes' line at `across ∈ [0, 1]` of one period (0 and 1 the
@@ -52,13 +61,8 @@ impl Profile {
     /// toward the viewer (docs/model.md §8). The apex for a flat profile (period 0) or `|ψ| ≥
     /// π/2`.
     pub fn facet_seen(&self, across: f64, psi_v: f64) -> Facet {
-        let apex = Facet {
-            piece: Piece::Arc,
-            param: 0.0,
-            theta: 0.0,
-        };
         if self.period() <= 0.0 || psi_v.is_nan() || psi_v.abs() >= FRAC_PI_2 {
-            return apex;
+            return Facet::APEX;
         }
         if psi_v < 0.0 {
             // Mirror u → −u.
@@ -106,11 +110,7 @@ impl Profile {
         };
         let segments = &segments[..n];
         let Some(&(first, first_param, _)) = segments.first() else {
-            return Facet {
-                piece: Piece::Arc,
-                param: 0.0,
-                theta: 0.0,
-            };
+            return Facet::APEX;
         };
         let start = w_of(first, first_param);
         let width = self.period() * cp;

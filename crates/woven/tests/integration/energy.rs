@@ -167,15 +167,6 @@ fn no_point_reflects_more_than_it_receives_exhaustive() {
     }
 }
 
-/// The exact yarn of a preset (its yarn alone).
-fn exact_yarn(name: &str) -> woven::Model {
-    Material::preset(name)
-        .unwrap()
-        .yarn_family()
-        .build(550.0)
-        .unwrap()
-}
-
 /// A weft-only weave (every cell the weft) of a preset at one cell a unit, at `detail`, in the
 /// material's own colour, on the shared table.
 fn weft_only(name: &str, detail: Detail) -> WovenSurface {
@@ -192,14 +183,16 @@ fn weft_only(name: &str, detail: Detail) -> WovenSurface {
 }
 
 /// The fibre level's mean over `yarns` picks × `across` points across each (green channel),
-/// with its standard error over the picks.
-fn fibre_mean(surface: &WovenSurface, s: Vec3, v: Vec3, yarns: usize, across: usize) -> (f64, f64) {
+/// with its standard error over the picks; pick `y`'s points at `(k + offset(y)) / across`.
+pub fn fibre_mean(
+    surface: &WovenSurface,
+    (s, v): (Vec3, Vec3),
+    (yarns, across): (usize, usize),
+    offset: impl Fn(usize) -> f64,
+) -> (f64, f64) {
     let means: Vec<f64> = (0..yarns)
         .map(|y| {
-            // Each pick's points shifted by its own random offset: stratified, and unbiased over
-            // picks where a fixed midpoint rule would miss narrow lit bands (a hash, not the
-            // golden-ratio steps the picks' slopes are drawn with, which it would follow).
-            let offset = woven::yarn::point::hash_uniform(y as u64, 0xA11CE);
+            let offset = offset(y);
             (0..across)
                 .map(|k| {
                     let at = SurfacePoint {
@@ -225,11 +218,15 @@ fn fibre_identity(pairs: usize, max_deg: f64, seed: u64) -> Vec<(String, f64, f6
     let mut out = Vec::new();
     for name in Material::preset_names().iter().copied() {
         let surface = weft_only(name, Detail::Fibers);
-        let exact = exact_yarn(name);
+        let exact = crate::surface::exact_yarn(name);
         let (mut worst_z, mut worst_rel) = (0.0f64, 0.0f64);
         for _ in 0..pairs {
             let (s, v) = (view(&mut rng, max_deg), view(&mut rng, max_deg));
-            let (mean, se) = fibre_mean(&surface, s, v, 1000, 32);
+            // Each pick's points shifted by its own random offset: stratified, and unbiased over
+            // picks where a fixed midpoint rule would miss narrow lit bands (a hash, not the
+            // golden-ratio steps the picks' slopes are drawn with, which it would follow).
+            let offset = |y: usize| woven::yarn::point::hash_uniform(y as u64, 0xA11CE);
+            let (mean, se) = fibre_mean(&surface, (s, v), (1000, 32), offset);
             let want = exact.eval(s, v);
             let z = (mean - want).abs() / (se + 2e-3 * want + 1e-9);
             assert!(

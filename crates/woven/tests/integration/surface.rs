@@ -248,7 +248,7 @@ fn bad_parameters_are_refused_by_name() {
 }
 
 /// The exact yarn of a preset's material (its yarn alone).
-fn exact_yarn(name: &str) -> woven::Model {
+pub fn exact_yarn(name: &str) -> woven::Model {
     Material::preset(name)
         .unwrap()
         .yarn_family()
@@ -369,24 +369,7 @@ fn a_fibre_level_surface_averages_to_the_yarn_brdf() {
         let surface = WovenSurface::new(&spec, Arc::new(table)).unwrap();
         let exact = exact_yarn(name);
         for (s, v) in identity_pairs().into_iter().take(2) {
-            let (yarns, across) = (1200, 64);
-            let means: Vec<f64> = (0..yarns)
-                .map(|y| {
-                    (0..across)
-                        .map(|k| {
-                            let at = SurfacePoint {
-                                uv: [0.37, y as f64 + (k as f64 + 0.5) / across as f64],
-                                footprint: [[0.0; 2]; 2],
-                            };
-                            surface.at(&at).eval(s, v).0[1]
-                        })
-                        .sum::<f64>()
-                        / across as f64
-                })
-                .collect();
-            let mean = means.iter().sum::<f64>() / yarns as f64;
-            let var = means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (yarns - 1) as f64;
-            let se = (var / yarns as f64).sqrt();
+            let (mean, se) = crate::energy::fibre_mean(&surface, (s, v), (1200, 64), |_| 0.5);
             // 64 points across a yarn: the midpoint rule's error, well under the spread.
             let want = exact.eval(s, v);
             // Yarns differ (each draws its slope): the level is the fibres', not the table's.
