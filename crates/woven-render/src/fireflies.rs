@@ -1,5 +1,5 @@
 //! Fireflies: isolated pixels far brighter than their neighbourhood, the mark of a
-//! high-variance estimator (issue 24's count, measured on the showcase).
+//! high-variance estimator (counted on the showcase: docs/render.md).
 //!
 //! A pixel is a firefly when its value is above [`NEIGHBOURHOOD_FACTOR`] times the median of
 //! the 5 × 5 pixels around it (itself included, clipped at the image's edges) and above the

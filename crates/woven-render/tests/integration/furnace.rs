@@ -158,7 +158,7 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
 }
 
 /// The white furnace of a woven plane: a white-dyed plain weave of `preset`, `cells` cells
-/// across (issue 24's: 16, 4 a unit of length), 4 × 4 units, seen from `(0, −1, 1)` at 30° in a
+/// across (16: 4 a unit of length, the close-up of the furnace table in docs/render.md), 4 × 4 units, seen from `(0, −1, 1)` at 30° in a
 /// uniform sky of radiance 1 (hidden), one bounce, `px` × `px` pixels at `spp` independent
 /// samples.
 pub fn white_plane(
@@ -224,7 +224,7 @@ pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f
 }
 
 /// Renders the white plane of every preset at fibre, auto and yarn level, flat and tilted with
-/// gaps, at issue 24's 16 cells and at 128 (many yarns, whose drawn slopes average out);
+/// gaps, at 16 cells and at 128 (many yarns, whose drawn slopes average out);
 /// asserts no pixel above 1 by more than its noise and, at 128 cells, the fibre level's mean
 /// within 2 % of the yarn level's; prints the figures.
 fn white_planes(presets: &[&str], px: usize, spp: usize) {
@@ -264,14 +264,14 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
 }
 
 /// A white woven plane in a furnace is nowhere brighter than the sky, at every level of detail,
-/// with and without tilt and gaps (issue 24's sateen; every preset in the `#[ignore]`d run
+/// with and without tilt and gaps (the sateen; every preset in the `#[ignore]`d run
 /// below); the fibre level keeps the yarn level's mean.
 #[test]
 fn a_white_woven_plane_is_nowhere_brighter_than_the_furnace() {
     white_planes(&["polyester-sateen"], 24, 64);
 }
 
-/// Issue 24's table: the sateen's white plane at 128 × 128 pixels, 256 samples a pixel, 16
+/// The furnace table: the sateen's white plane at 128 × 128 pixels, 256 samples a pixel, 16
 /// cells across, at each level and with tilt and gaps; the brightest pixel, the share above
 /// 1.05 and the mean (`cargo test --release -p woven-render --test integration
 /// white_woven_plane_table -- --ignored --nocapture`).
