@@ -238,4 +238,27 @@ mod tests {
         // Straight down the axis' normal plane, the point below the entry.
         assert_eq!(f.seen_at(0.3, Vec3::new(0.0, 0.6, 0.8)), 0.3);
     }
+
+    #[test]
+    fn tiny_and_steep_tilts_and_grazing_directions_stay_finite() {
+        for u in [1e-9, 1e-4, f64::to_radians(80.0)] {
+            let f = FloatProfile::new(u);
+            for d in [
+                dir(1.0, 1e-9),
+                dir(-1.0, 1e-6),
+                dir(1e-12, 1.0),
+                dir(3.0, 0.02),
+            ] {
+                let (lo, hi) = f.lit(d).unwrap();
+                assert!(
+                    (0.0..=hi).contains(&lo) && hi <= 1.0,
+                    "u {u} d {d:?}: ({lo}, {hi})"
+                );
+                for entry in [0.0, 0.3, 0.999_999] {
+                    let t = f.seen_at(entry, d);
+                    assert!((0.0..=1.0).contains(&t), "u {u} d {d:?} entry {entry}: {t}");
+                }
+            }
+        }
+    }
 }
