@@ -64,16 +64,25 @@
 //! - [`surface`]: a woven surface — the weave pattern on a surface's uv, dyes, yarn tilt, gaps,
 //!   the footprint filter — as the renderer, the Python package and the Mitsuba plugin share it.
 //! - [`color`]: linear RGB.
+//! - [`baseline`]: the baselines a cloth renderer reaches for beside the woven model — the
+//!   Charlie sheen over a Lambertian base, and Mitsuba's rough plastic.
+//! - [`catalog`]: every reflectance model a front end takes by name or file (woven materials and
+//!   the microcylinder fabrics), in colour.
 //! - [`table`]: tabulated BRDFs for renderers, their `.wtab` file format and accuracy reports.
 //! - [`export`]: export to other programs' formats (MERL).
 //! - [`math`]: vectors, special functions, quadrature and interpolation.
+//! - [`microcylinder`]: the microcylinder cloth model of Sadeghi et al. 2013, its six fabrics
+//!   and a [`Bsdf`](bsdf::Bsdf) for it.
 //! - [`error`]: the one error type, [`Error`].
 //! - [`figures`]: the data of the paper's Figs. 3–5 and 8–10 (the command line draws them).
 //! - [`fsutil`]: files written atomically (a temporary file renamed into place), and read only
 //!   when they are regular files within a stated size, text with its lines bounded.
 
 mod albedo;
+pub mod baseline;
 pub mod bsdf;
+#[cfg(feature = "serde")]
+pub mod catalog;
 pub mod cloth;
 pub mod color;
 pub mod directions;
@@ -86,6 +95,7 @@ pub mod fsutil;
 pub mod gonio;
 pub mod material;
 pub mod math;
+pub mod microcylinder;
 mod model;
 #[cfg(feature = "serde")]
 pub mod surface;

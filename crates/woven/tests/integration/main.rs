@@ -1,14 +1,17 @@
 //! Integration tests of the `woven` library (one binary, per STYLE.md).
 
+mod baseline;
 mod cloth;
 mod cloth_files;
 mod common;
+mod dye_and_tilt;
 mod energy;
 mod export;
 mod fiber;
 mod golden;
 mod masking;
 mod material_files;
+mod microcylinder;
 mod robustness;
 mod surface;
 mod table;
