@@ -3,6 +3,9 @@
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::Path;
+use woven::bsdf::Bsdf;
+use woven::catalog::AnyMaterial;
+use woven::color::Rgb;
 use woven::material::Material;
 use woven::table::Table;
 use woven::Model;
@@ -46,6 +49,37 @@ impl MaterialSource {
     /// A short name for the material: its `name`, else the `--material` value.
     pub fn display_name(&self, material: &Material) -> String {
         material.name.clone().unwrap_or_else(|| self.0.clone())
+    }
+
+    /// Reads the material of either kind: a woven material or a microcylinder fabric.
+    ///
+    /// # Errors
+    /// When the value is neither a preset nor a readable, valid material file of either kind.
+    pub fn load_any(&self) -> Result<AnyMaterial> {
+        let arg = &self.0;
+        AnyMaterial::from_preset_or_path(arg).with_context(|| {
+            if AnyMaterial::is_preset(arg) {
+                format!("cannot load the preset `{arg}`")
+            } else if Path::new(arg).exists() {
+                format!("cannot load material file `{arg}`")
+            } else {
+                format!(
+                    "cannot load --material `{arg}`: neither a preset (see `woven materials`) \
+                     nor a readable material file"
+                )
+            }
+        })
+    }
+
+    /// `material` (read by [`load_any`](Self::load_any)) as a colour BSDF at `wavelength_nm`.
+    pub fn build_rgb(
+        &self,
+        material: &AnyMaterial,
+        wavelength_nm: f64,
+    ) -> Result<Box<dyn Bsdf<Value = Rgb>>> {
+        material.build_rgb(wavelength_nm).with_context(|| {
+            format!("cannot prepare material `{self}` at --wavelength-nm {wavelength_nm}")
+        })
     }
 
     /// Reads and validates the material.

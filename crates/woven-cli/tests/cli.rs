@@ -1594,3 +1594,48 @@ fn bare_woven_renders_the_showcase() {
     let png = std::fs::read(dir.path().join("woven-out/showcase.png")).unwrap();
     assert_eq!(png_size(&png), (960, 540));
 }
+
+/// `--rgb` writes three columns: a microcylinder fabric its colours (the library's values), an
+/// undyed woven material its one value three times; without `--rgb` a coloured material writes
+/// its luminance.
+#[test]
+fn eval_rgb_writes_three_columns_for_every_kind_of_material() {
+    let rows = "0.5,1.5707963267948966,0.5,-1.5707963267948966\n0.3,0,0.5,3.1\n";
+    let run = |material: &str, rgb: bool| -> Vec<Vec<f64>> {
+        let mut cmd = woven();
+        cmd.args(["eval", "--material", material, "--input", "-"]);
+        if rgb {
+            cmd.arg("--rgb");
+        }
+        let assert = cmd
+            .write_stdin(format!("{HEADER}\n{rows}"))
+            .assert()
+            .success();
+        let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+        let mut lines = out.lines();
+        let header = lines.next().unwrap();
+        let want = if rgb { "brdf_r,brdf_g,brdf_b" } else { "brdf" };
+        assert_eq!(header, format!("{HEADER},{want}"));
+        lines
+            .map(|l| l.split(',').skip(4).map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let satin =
+        woven::microcylinder::Microcylinder::preset("microcylinder-satin-charmeuse").unwrap();
+    let colour = run("microcylinder-satin-charmeuse", true);
+    let grey = run("microcylinder-satin-charmeuse", false);
+    for ((row, c), g) in rows.lines().zip(&colour).zip(&grey) {
+        let a: Vec<f64> = row.split(',').map(|x| x.parse().unwrap()).collect();
+        let want = woven::bsdf::Bsdf::eval(
+            &satin,
+            Vec3::from_spherical(a[0], a[1]),
+            Vec3::from_spherical(a[2], a[3]),
+        );
+        assert_eq!(c.as_slice(), want.0.as_slice());
+        assert!(c[0] > c[2], "the charmeuse is red: {c:?}");
+        assert_eq!(g[0], want.luminance());
+    }
+    for c in run("silk", true) {
+        assert!(c[0] > 0.0 && c[0] == c[1] && c[1] == c[2], "{c:?}");
+    }
+}

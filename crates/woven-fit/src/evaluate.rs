@@ -5,6 +5,7 @@ use crate::params::{ModelKind, ParamSet, Quantity};
 use rayon::prelude::*;
 use std::f64::consts::FRAC_1_PI;
 use std::sync::Mutex;
+use woven::baseline::SheenLobe;
 use woven::cloth::Structure;
 use woven::fiber::{beckmann_d, fresnel_dielectric, smith_lambda, Fiber, FiberParams};
 use woven::yarn::Yarn;
@@ -13,6 +14,12 @@ use woven::{AffineBrdf, Model, Vec3};
 /// The BRDF's parts at one pair of directions: `f = scale·(specular·fixed + ρ0·per_diffuse +
 /// ρ·per_interreflection)` per channel ([`AffineBrdf`]; `specular` is 1 except for the
 /// microfacet baseline).
+///
+/// The sheen baseline is bilinear in its albedos (`diffuse`, and the `sheen` colour `c` that
+/// dims the base), and fills the three slots as `fixed` = the white lobe `D V / N`,
+/// `per_diffuse` = `1/π`, `per_interreflection` = the base's loss per unit `c`,
+/// `max(Ê(θi), Ê(θr))/π`: `f = c·fixed + diffuse·(per_diffuse − c·per_interreflection)`
+/// ([`Linear::predict`]).
 pub type Parts = AffineBrdf;
 
 /// One measurement as the fitter uses it: directions in the measurement's frame, values per
@@ -47,6 +54,11 @@ pub enum Prepared {
         alpha: f64,
         /// Refractive index of the Fresnel term.
         eta: f64,
+    },
+    /// The Charlie sheen's lobe (white) and its albedo, plus Lambert.
+    Sheen {
+        /// The library's lobe at the set's roughness.
+        lobe: Box<SheenLobe>,
     },
 }
 
@@ -90,6 +102,11 @@ impl Prepared {
                 alpha: set.get(Quantity::Alpha, 0).unwrap_or(0.3),
                 eta: set.get(Quantity::Eta, 0).unwrap_or(1.5),
             },
+            ModelKind::Sheen => Prepared::Sheen {
+                lobe: Box::new(SheenLobe::new(
+                    set.get(Quantity::SheenRoughness, 0).unwrap_or(0.5),
+                )?),
+            },
         })
     }
 
@@ -115,6 +132,11 @@ impl Prepared {
                 fixed: microfacet_specular(s, v, *alpha, *eta),
                 per_diffuse: FRAC_1_PI,
                 per_interreflection: 0.0,
+            },
+            Prepared::Sheen { lobe } => Parts {
+                fixed: lobe.eval(s, v),
+                per_diffuse: FRAC_1_PI,
+                per_interreflection: lobe.base_attenuation(s.z, v.z) * FRAC_1_PI,
             },
         }
     }
@@ -200,6 +222,9 @@ pub struct Linear {
     pub interreflection_albedo: [f64; 3],
     /// The microfacet baseline's specular weight (1 otherwise).
     pub specular: f64,
+    /// The sheen baseline's colour per channel (`None` for the other models, whose parts are
+    /// read the affine way; [`Parts`] for the sheen's).
+    pub sheen: Option<[f64; 3]>,
     /// The overall factor.
     pub scale: f64,
 }
@@ -211,6 +236,7 @@ impl Linear {
             diffuse: set.channels_of(Quantity::Diffuse),
             interreflection_albedo: set.channels_of(Quantity::InterreflectionAlbedo),
             specular: set.get(Quantity::Specular, 0).unwrap_or(1.0),
+            sheen: (set.model == ModelKind::Sheen).then(|| set.channels_of(Quantity::SheenColor)),
             scale: set.get(Quantity::Scale, 0).unwrap_or(1.0),
         }
     }
@@ -218,10 +244,58 @@ impl Linear {
     /// The BRDF in channel `c`.
     #[inline]
     pub fn predict(&self, p: &Parts, c: usize) -> f64 {
-        self.scale
-            * (self.specular * p.fixed
-                + self.diffuse[c] * p.per_diffuse
-                + self.interreflection_albedo[c] * p.per_interreflection)
+        match self.sheen {
+            None => {
+                self.scale
+                    * (self.specular * p.fixed
+                        + self.diffuse[c] * p.per_diffuse
+                        + self.interreflection_albedo[c] * p.per_interreflection)
+            }
+            Some(sheen) => {
+                self.scale
+                    * (sheen[c] * p.fixed
+                        + self.diffuse[c] * (p.per_diffuse - sheen[c] * p.per_interreflection))
+            }
+        }
+    }
+
+    /// `∂f/∂x` in channel `c` for a parameter the BRDF is affine in ([`Quantity::is_linear`]):
+    /// `quantity` in colour channel `channel` (0 for shared ones); 0 for the others. `hbar` is
+    /// the set's `ħ` (0 where it has none).
+    pub fn derivative(
+        &self,
+        quantity: Quantity,
+        channel: usize,
+        p: &Parts,
+        c: usize,
+        hbar: f64,
+    ) -> f64 {
+        if let Some(sheen) = self.sheen {
+            return match quantity {
+                Quantity::Diffuse if channel == c => {
+                    self.scale * (p.per_diffuse - sheen[c] * p.per_interreflection)
+                }
+                Quantity::SheenColor if channel == c => {
+                    self.scale * (p.fixed - self.diffuse[c] * p.per_interreflection)
+                }
+                Quantity::Scale => self.predict(p, c) / self.scale,
+                _ => 0.0,
+            };
+        }
+        match quantity {
+            Quantity::Diffuse if channel == c => self.scale * p.per_diffuse,
+            Quantity::InterreflectionAlbedo if channel == c => self.scale * p.per_interreflection,
+            Quantity::Specular => self.scale * p.fixed,
+            Quantity::Scale => self.predict(p, c) / self.scale,
+            Quantity::Interreflection => {
+                // fixed and per_diffuse carry (1 − ħ); per_interreflection is ħ/π.
+                let body = self.specular * p.fixed + self.diffuse[c] * p.per_diffuse;
+                self.scale
+                    * (-body / (1.0 - hbar)
+                        + self.interreflection_albedo[c] * p.per_interreflection / hbar.max(1e-300))
+            }
+            _ => 0.0,
+        }
     }
 }
 
@@ -257,6 +331,73 @@ mod tests {
         let g = Linear::of(&turned).predict(&p.parts(s2, v2), 0);
         assert!((g - f).abs() <= 1e-9 * f, "{g} vs {f}");
         let _ = Material::preset("silk").unwrap();
+    }
+
+    #[test]
+    fn sheen_parts_are_the_library_sheen_and_their_derivatives_exact() {
+        use woven::baseline::{Sheen, SheenParams};
+        use woven::bsdf::Bsdf;
+        use woven::color::Rgb;
+        let mut set = ParamSet::new(ModelKind::Sheen, None, 3, false).unwrap();
+        for (name, value) in [
+            ("diffuse.r", 0.6),
+            ("diffuse.g", 0.3),
+            ("diffuse.b", 0.1),
+            ("sheen.r", 0.2),
+            ("sheen.g", 0.5),
+            ("sheen.b", 0.9),
+            ("roughness", 0.35),
+        ] {
+            set.fix(name, value).unwrap();
+        }
+        let sheen = Sheen::new(&SheenParams {
+            diffuse: Rgb([0.6, 0.3, 0.1]),
+            sheen_color: Rgb([0.2, 0.5, 0.9]),
+            roughness: 0.35,
+        })
+        .unwrap();
+        let prepared = Prepared::new(&set).unwrap();
+        let lin = Linear::of(&set);
+        for (s, v) in [
+            (
+                Vec3::from_spherical(0.3, 0.0),
+                Vec3::from_spherical(1.4, 2.0),
+            ),
+            (
+                Vec3::from_spherical(1.5, 0.5),
+                Vec3::from_spherical(1.3, 3.5),
+            ),
+        ] {
+            let parts = prepared.parts(s, v);
+            let f = sheen.eval(s, v);
+            for c in 0..3 {
+                let p = lin.predict(&parts, c);
+                assert!((p - f.0[c]).abs() <= 1e-14 * f.0[c], "{p} vs {}", f.0[c]);
+                // The analytic derivatives against central differences of the prediction.
+                for (q, name) in [
+                    (Quantity::Diffuse, "diffuse"),
+                    (Quantity::SheenColor, "sheen"),
+                ] {
+                    let h = 1e-6;
+                    let mut up = set.clone();
+                    let mut down = set.clone();
+                    let full = format!("{name}.{}", ["r", "g", "b"][c]);
+                    let x = set.get(q, c).unwrap();
+                    up.fix(&full, x + h).unwrap();
+                    down.fix(&full, x - h).unwrap();
+                    let fd = (Linear::of(&up).predict(&parts, c)
+                        - Linear::of(&down).predict(&parts, c))
+                        / (2.0 * h);
+                    let d = lin.derivative(q, c, &parts, c, 0.0);
+                    assert!(
+                        (d - fd).abs() <= 1e-7 * fd.abs().max(1e-3),
+                        "{name}: {d} vs {fd}"
+                    );
+                    // Another channel's parameter does not move this channel.
+                    assert_eq!(lin.derivative(q, (c + 1) % 3, &parts, c, 0.0), 0.0);
+                }
+            }
+        }
     }
 
     #[test]

@@ -8,8 +8,9 @@
 //! values drowned in noise neither dominate nor break the logarithm.
 //!
 //! The Jacobian is exact for the parameters the BRDF is affine in (albedos, `ħ`, the scale, the
-//! baseline's specular weight; one evaluation gives them all, [`woven::Model::eval_affine`]) and
-//! a forward difference for the others, all columns evaluated together over every core.
+//! microfacet baseline's specular weight, the sheen baseline's colour; one evaluation gives them
+//! all, [`woven::Model::eval_affine`], [`Linear::derivative`]) and a forward difference for the
+//! others, all columns evaluated together over every core.
 //! Everything is deterministic for a seed: the starts are a scrambled Sobol sequence and parallel
 //! results are collected in order.
 //!
@@ -336,24 +337,7 @@ impl<'a> Problem<'a> {
             for (k, (o, parts)) in data.obs.iter().zip(&self.parts).enumerate() {
                 for c in 0..data.channels {
                     let pred = lin.predict(parts, c);
-                    let dpred = match p.quantity {
-                        Quantity::Diffuse if p.channel == c => lin.scale * parts.per_diffuse,
-                        Quantity::InterreflectionAlbedo if p.channel == c => {
-                            lin.scale * parts.per_interreflection
-                        }
-                        Quantity::Specular => lin.scale * parts.fixed,
-                        Quantity::Scale => pred / lin.scale,
-                        Quantity::Interreflection => {
-                            // fixed and per_diffuse carry (1 − ħ); per_interreflection is ħ/π.
-                            let body =
-                                lin.specular * parts.fixed + lin.diffuse[c] * parts.per_diffuse;
-                            lin.scale
-                                * (-body / (1.0 - hbar)
-                                    + lin.interreflection_albedo[c] * parts.per_interreflection
-                                        / hbar.max(1e-300))
-                        }
-                        _ => 0.0,
-                    };
+                    let dpred = lin.derivative(p.quantity, p.channel, parts, c, hbar);
                     let d = dresidual(self.kind, o.value[c], pred, data.eps[c], o.weight.sqrt());
                     jac[(k * data.channels + c, j)] = d * dpred * dx;
                 }
@@ -820,10 +804,10 @@ pub const LAMBERT_LIKE_INTERREFLECTION: f64 = 0.99;
 /// `interreflection_albedo`, per channel) at the Lambert fit's albedo of its channel (the
 /// optimum of the residual `kind` for `f = ρ/π`, in closed form), a free `ħ` at
 /// [`LAMBERT_LIKE_INTERREFLECTION`] (the cloth's BRDF tends to `ρ/π` as `ħ → 1`), a free
-/// roughness (the fiber's, the microfacet's `α`) at the top of its start range (a broad lobe), a
-/// free specular weight at the bottom of its; the other parameters keep their values. Its error
-/// is the Lambert fit's for `lambert`, and close to it for `cloth` (1 % of the yarn's body is
-/// left) and `microfacet`; the `fiber` model, which has no `ħ`, keeps its specular lobe. A free
+/// roughness (the fiber's, the microfacet's `α`, the sheen's) at the top of its start range (a
+/// broad lobe), a free specular weight or sheen colour at the bottom of its; the other parameters
+/// keep their values. Its error is the Lambert fit's for `lambert`, and close to it for `cloth`
+/// (1 % of the yarn's body is left), `microfacet` and `sheen`; the `fiber` model, which has no `ħ`, keeps its specular lobe. A free
 /// `scale` is matched to the data when the limit is scored.
 pub fn lambert_like(set: &ParamSet, data: &Observations, kind: Residual) -> ParamSet {
     let mut albedo = [0.0; 3];
@@ -869,8 +853,8 @@ pub fn lambert_like(set: &ParamSet, data: &Observations, kind: Residual) -> Para
             Quantity::Interreflection => {
                 p.value = LAMBERT_LIKE_INTERREFLECTION.clamp(p.lo, p.hi);
             }
-            Quantity::Roughness | Quantity::Alpha => p.value = p.start.1,
-            Quantity::Specular => p.value = p.start.0,
+            Quantity::Roughness | Quantity::Alpha | Quantity::SheenRoughness => p.value = p.start.1,
+            Quantity::Specular | Quantity::SheenColor => p.value = p.start.0,
             _ => {}
         }
     }

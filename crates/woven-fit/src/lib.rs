@@ -37,6 +37,8 @@
 //!   the Lambert and microfacet baselines).
 //! - [`fit`](mod@fit): the objective (log or relative residuals) and the optimizer (quasi-random
 //!   multi-start, then bounded Levenberg–Marquardt).
+//! - [`reference`](mod@reference): fitting to a reference model sampled over the hemisphere (the microcylinder
+//!   fabrics): the samples, dyes per yarn family, the scaled log error, the satin ridge ratio.
 //! - [`report`]: standard errors, warnings, statistics, the Markdown report, plot data and the
 //!   comparison table.
 
@@ -45,6 +47,7 @@ pub mod error;
 pub mod evaluate;
 pub mod fit;
 pub mod params;
+pub mod reference;
 pub mod report;
 
 pub use error::FitError;

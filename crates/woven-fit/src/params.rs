@@ -3,13 +3,14 @@
 //!
 //! | model | parameters (free by default in bold) |
 //! |---|---|
-//! | `cloth` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, **`yarn.lateral_length`**, **`yarn.slope_mean`**, **`yarn.slope_std`**, **`yarn.interreflection`**, **`yarn.interreflection_albedo`**, `yarn.twist_std` (free when the initial yarn is twisted), `weave.weft_fraction` and `rotation` (free unless the yarn is isotropic), `scale` (free for relative data) |
+//! | `cloth` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, **`yarn.lateral_length`**, **`yarn.slope_mean`**, **`yarn.slope_std`**, **`yarn.interreflection`**, **`yarn.interreflection_albedo`**, `yarn.twist_std` (free when the initial yarn is twisted), `yarn.u_max` (radians; free when the initial yarn's floats are tilted), `weave.weft_fraction` and `rotation` (free unless the yarn is isotropic), `scale` (free for relative data) |
 //! | `fiber` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, `scale` (free for relative data) |
 //! | `lambert` | **`diffuse`** (`f = diffuse/π`) |
 //! | `microfacet` | **`diffuse`**, **`specular`**, **`alpha`**, `eta` (`f = diffuse/π + specular·F·D·G/(4 cos θi cos θr)`) |
+//! | `sheen` | **`diffuse`**, **`sheen`**, **`roughness`** (`f = diffuse/π·(1 − sheen·max(Ê(θi), Ê(θr))) + sheen·D·V/N`, [`woven::baseline::Sheen`]) |
 //!
 //! With colour data the albedos (`fiber.diffuse`, `yarn.interreflection_albedo`, the baselines'
-//! `diffuse`) are one parameter per channel, named with `.r`, `.g`, `.b`; the geometry is shared.
+//! `diffuse`, the sheen's `sheen` colour) are one parameter per channel, named with `.r`, `.g`, `.b`; the geometry is shared.
 //! `rotation` (radians) turns the weave in the sample's plane: the weft lies at azimuth
 //! `rotation` in the measurement's frame. `scale` multiplies the whole BRDF (for data calibrated
 //! only up to a factor; absent from the baselines, whose amplitudes are free anyway).
@@ -33,13 +34,16 @@ pub enum ModelKind {
     Lambert,
     /// Beckmann microfacet specular (Smith masking, dielectric Fresnel) plus Lambert.
     Microfacet,
+    /// The Charlie sheen over a Lambertian base ([`woven::baseline::Sheen`]).
+    Sheen,
 }
 
 impl ModelKind {
     /// Every model, in the order reports list them (baselines first).
-    pub const ALL: [ModelKind; 4] = [
+    pub const ALL: [ModelKind; 5] = [
         ModelKind::Lambert,
         ModelKind::Microfacet,
+        ModelKind::Sheen,
         ModelKind::Fiber,
         ModelKind::Cloth,
     ];
@@ -51,6 +55,7 @@ impl ModelKind {
             ModelKind::Fiber => "fiber",
             ModelKind::Lambert => "lambert",
             ModelKind::Microfacet => "microfacet",
+            ModelKind::Sheen => "sheen",
         }
     }
 
@@ -63,7 +68,11 @@ impl ModelKind {
             .into_iter()
             .find(|m| m.name() == name)
             .ok_or_else(|| {
-                FitError::invalid("model", name, "one of cloth, fiber, lambert, microfacet")
+                FitError::invalid(
+                    "model",
+                    name,
+                    "one of cloth, fiber, lambert, microfacet, sheen",
+                )
             })
     }
 
@@ -100,6 +109,8 @@ pub enum Quantity {
     InterreflectionAlbedo,
     /// `σ_t`, radians.
     TwistStd,
+    /// The floats' tilt `u_max`, radians (an extension beyond the paper; 0 = flat).
+    UMax,
     /// `γ`.
     WeftFraction,
     /// In-plane rotation of the weave, radians.
@@ -110,6 +121,10 @@ pub enum Quantity {
     Specular,
     /// The microfacet baseline's Beckmann `α`.
     Alpha,
+    /// The sheen baseline's colour (per channel), in `[0, 1]`.
+    SheenColor,
+    /// The sheen baseline's roughness (glTF's `sheenRoughness`; `α = roughness²`).
+    SheenRoughness,
 }
 
 impl Quantity {
@@ -123,6 +138,7 @@ impl Quantity {
                 | Quantity::Interreflection
                 | Quantity::Scale
                 | Quantity::Specular
+                | Quantity::SheenColor
         )
     }
 }
@@ -318,6 +334,8 @@ enum FreeBy {
     Twisted,
     /// Free unless the initial yarn is isotropic (whose BRDF turns with nothing).
     Anisotropic,
+    /// Free when the initial yarn's floats are tilted (`u_max > 0`).
+    Tilted,
 }
 
 /// The fiber's `η`: its value at the default wavelength; a fixed Cauchy index stays
@@ -463,6 +481,42 @@ const MICROFACET: &[Spec] = &[
     },
 ];
 
+/// `sheen`: `f = diffuse/π·(1 − sheen·max(Ê(θi), Ê(θr))) + sheen·D·V/N`, the Charlie sheen of
+/// [`woven::baseline::Sheen`]. `sheen` stays in `[0, 1]`, where the base's factor stays
+/// non-negative; `roughness` in the library's `[0.1, 1]`.
+const SHEEN: &[Spec] = &[
+    Spec {
+        name: "diffuse",
+        quantity: Quantity::Diffuse,
+        per_channel: true,
+        bounds: (0.0, f64::INFINITY),
+        transform: Transform::Log,
+        start: (0.01, 1.0),
+        home: Home::Own(0.3),
+        free: FreeBy::Always,
+    },
+    Spec {
+        name: "sheen",
+        quantity: Quantity::SheenColor,
+        per_channel: true,
+        bounds: (0.0, 1.0),
+        transform: Transform::Logit,
+        start: (0.02, 0.98),
+        home: Home::Own(0.5),
+        free: FreeBy::Always,
+    },
+    Spec {
+        name: "roughness",
+        quantity: Quantity::SheenRoughness,
+        per_channel: false,
+        bounds: (woven::baseline::MIN_SHEEN_ROUGHNESS, 1.0),
+        transform: Transform::Logit,
+        start: (0.15, 0.95),
+        home: Home::Own(0.5),
+        free: FreeBy::Always,
+    },
+];
+
 /// `fiber`: the flat fiber surface.
 const FIBER: &[Spec] = &[FIBER_ETA, FIBER_ROUGHNESS, FIBER_DIFFUSE, SCALE];
 
@@ -535,6 +589,24 @@ const CLOTH: &[Spec] = &[
         free: FreeBy::Twisted,
     },
     Spec {
+        name: "yarn.u_max",
+        quantity: Quantity::UMax,
+        per_channel: false,
+        bounds: (0.0, 1.3962634015954636), // 80°, the surface's MAX_U_MAX_DEG
+        transform: Transform::Logit,
+        start: (0.05, 0.7),
+        home: Home::Material {
+            // Only a material whose floats are tilted has the extension to fit.
+            read: |m| m.yarn.filter(|y| y.u_max > 0.0).map(|y| y.u_max),
+            write: |m, u_max, _| {
+                if let Some(y) = m.yarn.as_mut() {
+                    y.u_max = u_max;
+                }
+            },
+        },
+        free: FreeBy::Tilted,
+    },
+    Spec {
         name: "weave.weft_fraction",
         quantity: Quantity::WeftFraction,
         per_channel: false,
@@ -573,6 +645,7 @@ fn specs(model: ModelKind) -> &'static [Spec] {
     match model {
         ModelKind::Lambert => LAMBERT,
         ModelKind::Microfacet => MICROFACET,
+        ModelKind::Sheen => SHEEN,
         ModelKind::Fiber => FIBER,
         ModelKind::Cloth => CLOTH,
     }
@@ -673,6 +746,7 @@ impl ParamSet {
                 FreeBy::Relative => relative,
                 FreeBy::Twisted => yarn.is_some_and(|y| y.twist_std > 0.0),
                 FreeBy::Anisotropic => yarn.is_some_and(|y| !y.isotropic),
+                FreeBy::Tilted => yarn.is_some_and(|y| y.u_max > 0.0),
             };
             let param = Param {
                 name: spec.name.to_string(),

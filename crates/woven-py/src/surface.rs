@@ -29,7 +29,8 @@ use woven::surface::{
 /// Parameters: `pattern` (a weave name replacing the material's weave), `weft_fraction` (γ in
 /// place of the weave: the macro BRDF), `yarns_per_unit` (pattern cells per unit of uv: a
 /// number or `(n_u, n_v)`, default 1), `weft_color` / `warp_color` (dyed fiber albedos ρ0 per
-/// channel, in [0, 1]), `u_max_deg` (yarn tilt at the ends of each float, degrees in [0, 80]),
+/// channel, in [0, 1]; default the material's `[dye]`), `u_max_deg` (yarn tilt at the ends of
+/// each float, degrees in [0, 80]; default the material's `[yarn] u_max_deg`, 0 for the paper's),
 /// `gap` (fraction of each cell between yarns, in [0, 0.95]), `wavelength_nm` (of the table
 /// built, default 550), `detail` ("auto", "fibers", "yarns" or "cloth": how finely the weave is
 /// resolved; see docs/render.md). Raises ValueError naming a parameter that is out of range.
@@ -214,7 +215,7 @@ fn mode_arg(mode: &str) -> PyResult<Transport> {
 impl Surface {
     #[new]
     #[pyo3(signature = (material = None, *, table = None, pattern = None, weft_fraction = None,
-        yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = 0.0, gap = 0.0,
+        yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = None, gap = 0.0,
         detail = "auto", wavelength_nm = 550.0, progress = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -226,7 +227,7 @@ impl Surface {
         yarns_per_unit: Option<&Bound<'_, PyAny>>,
         weft_color: Option<&Bound<'_, PyAny>>,
         warp_color: Option<&Bound<'_, PyAny>>,
-        u_max_deg: f64,
+        u_max_deg: Option<f64>,
         gap: f64,
         detail: &str,
         wavelength_nm: f64,
@@ -237,14 +238,17 @@ impl Surface {
             color_arg(weft_color, "weft_color")?,
             color_arg(warp_color, "warp_color")?,
         );
-        let layout = |material| SurfaceSpec {
-            material,
-            yarns_per_unit: [1.0, 1.0],
-            weft_color,
-            warp_color,
-            u_max: u_max_deg.to_radians(),
-            gap,
-            detail,
+        // What is not given is the material's own: its `[dye]` and its `[yarn] u_max_deg`.
+        let layout = |material| {
+            let own = SurfaceSpec::new(material);
+            SurfaceSpec {
+                weft_color: weft_color.or(own.weft_color),
+                warp_color: warp_color.or(own.warp_color),
+                u_max: u_max_deg.map_or(own.u_max, f64::to_radians),
+                gap,
+                detail,
+                ..own
+            }
         };
         let yarns = yarns_arg(yarns_per_unit)?;
         let (spec, yarn) = match (material, table) {
@@ -267,7 +271,7 @@ impl Surface {
             (None, Some(t)) => {
                 let t = Arc::clone(&t.get().inner);
                 if pattern.is_none() && weft_fraction.is_none() {
-                    if warp_color.is_some() || u_max_deg != 0.0 || gap != 0.0 {
+                    if warp_color.is_some() || u_max_deg.is_some_and(|u| u != 0.0) || gap != 0.0 {
                         return Err(PyValueError::new_err(
                             "`warp_color`, `u_max_deg` and `gap` need a weave: give `pattern` or `weft_fraction` with `table`",
                         ));

@@ -9,7 +9,7 @@
 
 use crate::color::Rgb;
 use std::f64::consts::FRAC_1_PI;
-use woven::bsdf::{BsdfSample, LobeFlags};
+use woven::bsdf::{Bsdf, BsdfSample, LobeFlags, Transport};
 use woven::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use woven::Vec3;
 
@@ -30,7 +30,7 @@ pub trait SurfaceMaterial: Send + Sync {
     fn eval(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> Rgb;
 
     /// Draws `wi` for the viewer direction `wo` (a camera path:
-    /// [`Transport::Radiance`](woven::bsdf::Transport::Radiance)): `uc` in `[0, 1)` picks a lobe,
+    /// [`Transport::Radiance`]): `uc` in `[0, 1)` picks a lobe,
     /// `u` in `[0, 1)²` draws within it. `None` when no direction results (`wo` below the
     /// surface, or a rejected draw).
     fn sample(&self, wo: Vec3, at: &ShadingPoint, uc: f64, u: [f64; 2]) -> Option<MaterialSample>;
@@ -83,5 +83,26 @@ impl SurfaceMaterial for Diffuse {
         } else {
             wi.z * FRAC_1_PI
         }
+    }
+}
+
+/// Any of the library's colour BSDFs that is the same at every point (a microcylinder fabric, a
+/// rough plastic, a sheen), as the path tracer uses it: a camera path draws `wi` for `wo`
+/// ([`Transport::Radiance`]).
+pub struct Uniform<B>(pub B);
+
+impl<B: Bsdf<Value = Rgb>> SurfaceMaterial for Uniform<B> {
+    fn eval(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> Rgb {
+        self.0.eval(wi, wo)
+    }
+
+    fn sample(&self, wo: Vec3, _: &ShadingPoint, uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
+        self.0
+            .sample(wo, uc, u, Transport::Radiance)
+            .filter(|s| s.pdf > 0.0)
+    }
+
+    fn pdf(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> f64 {
+        self.0.pdf(wi, wo, Transport::Radiance)
     }
 }

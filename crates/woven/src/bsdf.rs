@@ -190,3 +190,36 @@ impl Bsdf for Model {
         })
     }
 }
+
+/// A boxed BSDF is a BSDF (front ends choose the material at run time).
+impl<B: Bsdf + ?Sized> Bsdf for Box<B> {
+    type Value = B::Value;
+
+    fn lobes(&self) -> LobeFlags {
+        (**self).lobes()
+    }
+
+    #[inline]
+    fn eval(&self, wi: Vec3, wo: Vec3) -> B::Value {
+        (**self).eval(wi, wo)
+    }
+
+    #[inline]
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+        (**self).pdf(wi, wo, mode)
+    }
+
+    fn eval_pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> (B::Value, f64) {
+        (**self).eval_pdf(wi, wo, mode)
+    }
+
+    fn sample(
+        &self,
+        known: Vec3,
+        uc: f64,
+        u: [f64; 2],
+        mode: Transport,
+    ) -> Option<BsdfSample<B::Value>> {
+        (**self).sample(known, uc, u, mode)
+    }
+}

@@ -2,14 +2,40 @@
 
 use crate::fiber::Fiber;
 use crate::math::Vec3;
+use crate::yarn::float::FloatProfile;
 use crate::yarn::Yarn;
 use std::f64::consts::FRAC_PI_2;
+use std::ops::{AddAssign, Mul};
 
 /// The yarn axes of a weave and their weights, `[(φ_y, w)]`: the weft along `x` with weight `γ`
 /// and the warp along `y` with weight `1 − γ` (Eq. (23)).
 #[inline]
 pub fn weave_axes(weft_fraction: f64) -> [(f64, f64); 2] {
     [(0.0, weft_fraction), (FRAC_PI_2, 1.0 - weft_fraction)]
+}
+
+/// Each family's BRDF on its tilted floats, `[weft, warp]` (the yarn's `u_max > 0`): `f(yarn,
+/// s′, v′, weight)` evaluates the yarn along `x` with the family's weight (`γ` or `1 − γ`) at
+/// directions in a facet's frame, and [`FloatProfile::average`] takes the whole float's mean
+/// over them, the warp's directions first turned so that its axis lies along `x`.
+pub fn tilted_families<V>(
+    yarn: &Yarn,
+    weft_fraction: f64,
+    s: Vec3,
+    v: Vec3,
+    mut f: impl FnMut(&Yarn, Vec3, Vec3, f64) -> V,
+) -> [V; 2]
+where
+    V: Default + AddAssign + Mul<f64, Output = V>,
+{
+    let float = FloatProfile::new(yarn.params().u_max);
+    let to_warp = |d: Vec3| Vec3::new(d.y, -d.x, d.z);
+    [
+        float.average(s, v, |a, b| f(yarn, a, b, weft_fraction)),
+        float.average(to_warp(s), to_warp(v), |a, b| {
+            f(yarn, a, b, 1.0 - weft_fraction)
+        }),
+    ]
 }
 
 /// The structure a material's fiber surface is arranged in.
@@ -37,6 +63,15 @@ impl Structure {
         }
         match self {
             Structure::Flat(fiber) => fiber.eval(s, v),
+            Structure::Woven {
+                yarn,
+                weft_fraction,
+            } if yarn.params().u_max > 0.0 => {
+                let [weft, warp] = tilted_families(yarn, *weft_fraction, s, v, |y, a, b, w| {
+                    y.eval_mix(a, b, &[(0.0, w)])
+                });
+                weft + warp
+            }
             Structure::Woven {
                 yarn,
                 weft_fraction,

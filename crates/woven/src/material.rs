@@ -55,6 +55,7 @@
 //! `belt-cloth`, `silk`, `filament-satin`), which are files of this form.
 
 use crate::cloth::Structure;
+use crate::color::Rgb;
 use crate::error::check_range;
 use crate::error::{Error, Result};
 use crate::fiber::{Fiber, FiberModel, FiberParams, Ior, Normalization};
@@ -78,6 +79,46 @@ pub struct Material {
     pub yarn: Option<YarnParams>,
     /// The `[weave]` table; `None` means `γ = 1` (one yarn orientation, along `x`).
     pub weave: Option<Weave>,
+    /// The `[dye]` table: the colours the weft and warp are dyed (none: the material's own grey).
+    pub dye: Dye,
+}
+
+/// The colours a material's yarns are dyed: each replaces the fibres' diffuse albedo `ρ0` per
+/// channel and scales the interreflection albedo `ρ` with it ([`Albedos::dyed`](crate::table::Albedos::dyed));
+/// the Fresnel sheen stays white. A surface laid in a scene may override either.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Dye {
+    /// `dye.weft`: the weft's colour (a flat fiber surface's only colour), each channel in
+    /// `[0, 1]`.
+    pub weft: Option<Rgb>,
+    /// `dye.warp`: the warp's colour, each channel in `[0, 1]`.
+    pub warp: Option<Rgb>,
+}
+
+impl Dye {
+    /// Whether neither family is dyed.
+    pub fn is_none(&self) -> bool {
+        self.weft.is_none() && self.warp.is_none()
+    }
+
+    /// Validates each colour.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `dye.weft` or `dye.warp`.
+    pub fn validate(&self) -> Result<()> {
+        for (name, c) in [("dye.weft", self.weft), ("dye.warp", self.warp)] {
+            if let Some(c) = c {
+                if !c.0.iter().all(|x| x.is_finite() && (0.0..=1.0).contains(x)) {
+                    return Err(Error::invalid(
+                        name,
+                        format!("{:?}", c.0),
+                        "three numbers, each in [0, 1]",
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The `[weave]` table: the weft fraction `γ`, given directly or by a pattern.
@@ -135,6 +176,7 @@ impl Material {
             fiber,
             yarn: None,
             weave: None,
+            dye: Dye::default(),
         }
     }
 
@@ -150,6 +192,10 @@ impl Material {
     pub fn yarn_family(&self) -> Material {
         let mut m = self.clone();
         m.weave = None;
+        // A surface tilts the yarn itself (SurfaceSpec::u_max, which takes the material's).
+        if let Some(y) = &mut m.yarn {
+            y.u_max = 0.0;
+        }
         m
     }
 
@@ -164,6 +210,14 @@ impl Material {
         }
         if let Some(Weave::WeftFraction(g)) = &self.weave {
             check_range("weave.weft_fraction", *g, 0.0, 1.0)?;
+        }
+        self.dye.validate()?;
+        if self.dye.warp.is_some() && self.yarn.is_none() {
+            return Err(Error::invalid(
+                "dye.warp",
+                "(a warp colour)",
+                "no warp colour on a flat fiber surface: it has one family of fibres; give `dye.weft`",
+            ));
         }
         if self.weave.is_some() && self.yarn.is_none() {
             return Err(Error::invalid(
@@ -231,6 +285,17 @@ mod file {
         yarn: Option<RawYarn>,
         #[serde(skip_serializing_if = "Option::is_none")]
         weave: Option<RawWeave>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        dye: Option<RawDye>,
+    }
+
+    #[derive(Deserialize, Serialize)]
+    #[serde(deny_unknown_fields)]
+    struct RawDye {
+        #[serde(skip_serializing_if = "Option::is_none")]
+        weft: Option<[f64; 3]>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        warp: Option<[f64; 3]>,
     }
 
     #[derive(Deserialize, Serialize)]
@@ -248,6 +313,12 @@ mod file {
         twist_std: f64,
         #[serde(default)]
         isotropic: bool,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        u_max_deg: f64,
+    }
+
+    fn is_zero(x: &f64) -> bool {
+        *x == 0.0
     }
 
     #[derive(Deserialize, Serialize)]
@@ -279,6 +350,7 @@ mod file {
                 interreflection_albedo: self.interreflection_albedo,
                 twist_std: self.twist_std,
                 isotropic: self.isotropic,
+                u_max: self.u_max_deg.to_radians(),
             };
             p.validate()?;
             Ok(p)
@@ -293,6 +365,7 @@ mod file {
                 interreflection_albedo: p.interreflection_albedo,
                 twist_std: p.twist_std,
                 isotropic: p.isotropic,
+                u_max_deg: p.u_max.to_degrees(),
             }
         }
     }
@@ -654,6 +727,10 @@ mod file {
                 fiber: raw.fiber.into_params()?,
                 yarn: raw.yarn.map(RawYarn::into_params).transpose()?,
                 weave: raw.weave.map(|w| w.into_weave(base)).transpose()?,
+                dye: raw.dye.map_or_else(Dye::default, |d| Dye {
+                    weft: d.weft.map(Rgb),
+                    warp: d.warp.map(Rgb),
+                }),
             };
             material.validate()?;
             Ok(material)
@@ -721,6 +798,10 @@ mod file {
                 fiber: RawFiber::from_params(&self.fiber),
                 yarn: self.yarn.as_ref().map(RawYarn::from_params),
                 weave: self.weave.as_ref().map(|w| RawWeave::from_weave(w, inline)),
+                dye: (!self.dye.is_none()).then(|| RawDye {
+                    weft: self.dye.weft.map(|c| c.0),
+                    warp: self.dye.warp.map(|c| c.0),
+                }),
             };
             toml::to_string_pretty(&raw).expect("a material always serializes")
         }

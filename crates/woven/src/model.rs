@@ -1,8 +1,11 @@
 //! A material prepared for evaluation at one wavelength.
 
-use crate::cloth::{weave_axes, Structure};
+use crate::cloth::{tilted_families, weave_axes, Structure};
+use crate::color::Rgb;
 use crate::fiber::Fiber;
+use crate::material::Dye;
 use crate::math::Vec3;
+use crate::table::Albedos;
 use crate::yarn::Masking;
 
 /// A material ready to evaluate: the result of [`Material::build`](crate::material::Material::build).
@@ -59,10 +62,81 @@ impl Model {
                     per_interreflection: 0.0,
                 }
             }
+            Structure::Woven { yarn, .. } if yarn.params().u_max > 0.0 => {
+                let [weft, warp] = self.eval_affine_families(s, v);
+                weft + warp
+            }
             Structure::Woven {
                 yarn,
                 weft_fraction,
             } => yarn.eval_mix_affine(s, v, &weave_axes(*weft_fraction), Masking::Exact),
+        }
+    }
+
+    /// The BRDF per channel of this material dyed `dye` (sr⁻¹, no cosine): each yarn family's
+    /// albedos dyed by its colour ([`Albedos::dyed`]), its affine parts
+    /// ([`eval_affine`](Self::eval_affine)) taken at them, and the families weighted as in
+    /// Eq. (23). Undyed families keep the material's own albedos, so with no dye every channel
+    /// equals [`eval`](Self::eval).
+    ///
+    /// ```
+    /// use woven::material::{Dye, Material};
+    /// use woven::{color::Rgb, Vec3};
+    /// let model = Material::preset("silk")?.build(550.0)?;
+    /// let (s, v) = (Vec3::from_spherical(0.5, 0.0), Vec3::from_spherical(0.6, 3.0));
+    /// let red = Dye { weft: Some(Rgb([0.6, 0.05, 0.05])), warp: Some(Rgb([0.6, 0.05, 0.05])) };
+    /// let f = model.eval_rgb(s, v, &red);
+    /// assert!(f.0[0] > f.0[1] && f.0[1] > 0.0); // the sheen stays white
+    /// # Ok::<(), woven::Error>(())
+    /// ```
+    pub fn eval_rgb(&self, s: Vec3, v: Vec3, dye: &Dye) -> Rgb {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return Rgb::BLACK;
+        }
+        let own = self.own_albedos();
+        let [weft, warp] = self.eval_affine_families(s, v);
+        let channels = |parts: AffineBrdf, colour: Option<Rgb>| {
+            own.dyed(colour)
+                .map(|a| parts.at(a.diffuse, a.interreflection))
+        };
+        let (a, b) = (channels(weft, dye.weft), channels(warp, dye.warp));
+        let sum = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+        Rgb(sum.map(|f| f.max(0.0)))
+    }
+
+    /// [`eval_affine`](Self::eval_affine) split by yarn family: the weft's share (weight `γ`)
+    /// and the warp's (`1 − γ`), which sum to it. A flat fiber surface is all weft.
+    pub fn eval_affine_families(&self, s: Vec3, v: Vec3) -> [AffineBrdf; 2] {
+        if s.z <= 0.0 || v.z <= 0.0 {
+            return [AffineBrdf::default(); 2];
+        }
+        match &self.structure {
+            Structure::Flat(_) => [self.eval_affine(s, v), AffineBrdf::default()],
+            Structure::Woven {
+                yarn,
+                weft_fraction,
+            } if yarn.params().u_max > 0.0 => {
+                tilted_families(yarn, *weft_fraction, s, v, |y, a, b, w| {
+                    y.eval_mix_affine(a, b, &[(0.0, w)], Masking::Exact)
+                })
+            }
+            Structure::Woven {
+                yarn,
+                weft_fraction,
+            } => weave_axes(*weft_fraction)
+                .map(|axis| yarn.eval_mix_affine(s, v, &[axis], Masking::Exact)),
+        }
+    }
+
+    /// The albedos the material was built with: the fiber's `ρ0` and the yarn's `ρ` (0 for a
+    /// flat fiber surface).
+    pub fn own_albedos(&self) -> Albedos {
+        Albedos {
+            diffuse: self.fiber().params().diffuse,
+            interreflection: match &self.structure {
+                Structure::Flat(_) => 0.0,
+                Structure::Woven { yarn, .. } => yarn.params().interreflection_albedo,
+            },
         }
     }
 
@@ -99,6 +173,34 @@ pub struct AffineBrdf {
     pub per_interreflection: f64,
 }
 
+impl std::ops::Add for AffineBrdf {
+    type Output = AffineBrdf;
+    fn add(self, o: AffineBrdf) -> AffineBrdf {
+        AffineBrdf {
+            fixed: self.fixed + o.fixed,
+            per_diffuse: self.per_diffuse + o.per_diffuse,
+            per_interreflection: self.per_interreflection + o.per_interreflection,
+        }
+    }
+}
+
+impl std::ops::AddAssign for AffineBrdf {
+    fn add_assign(&mut self, o: AffineBrdf) {
+        *self = *self + o;
+    }
+}
+
+impl std::ops::Mul<f64> for AffineBrdf {
+    type Output = AffineBrdf;
+    fn mul(self, k: f64) -> AffineBrdf {
+        AffineBrdf {
+            fixed: self.fixed * k,
+            per_diffuse: self.per_diffuse * k,
+            per_interreflection: self.per_interreflection * k,
+        }
+    }
+}
+
 impl AffineBrdf {
     /// The BRDF at diffuse albedo `diffuse` (`ρ0`) and interreflection albedo
     /// `interreflection_albedo` (`ρ`).
@@ -129,6 +231,10 @@ mod tests {
             ..narrow.yarn.unwrap()
         });
         out.push(narrow);
+        // Floats tilted along their length (the `[yarn] u_max_deg` extension).
+        let mut tilted = Material::preset("filament-satin").unwrap();
+        tilted.yarn.as_mut().unwrap().u_max = 0.4;
+        out.push(tilted);
         let silk = Material::preset("silk").unwrap();
         out.push(Material::flat(silk.fiber));
         out.push(Material::flat(

@@ -70,11 +70,10 @@ use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::fiber::Normalization;
 use crate::material::{Material, Weave};
-use crate::math::quadrature::GaussLegendre;
 use crate::math::sampling::cosine_hemisphere;
 use crate::table::{Albedos, Table};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
-use crate::yarn::float::FloatProfile;
+use crate::yarn::float::{from_tilted, into_tilted, FloatProfile};
 use crate::yarn::point::{golden_uniform, hash_uniform, YarnDraws};
 use crate::yarn::Yarn;
 use crate::{Model, Vec3};
@@ -85,10 +84,9 @@ use std::sync::Arc;
 /// footprint filter starts blending toward the macro BRDF, and at which it is the macro BRDF.
 pub const FILTER_CELLS: [f64; 2] = [0.5, 2.0];
 
-/// Points at which the macro BRDF of a tilted float is evaluated: Gauss–Legendre nodes over the
-/// part of the float both lit and seen ([`FloatProfile::lit_and_visible`]); the tilts a draw
-/// from it uses (a midpoint rule over the float).
-pub const TILT_NODES: usize = 8;
+/// Gauss–Legendre nodes over a whole float's lit and seen part (the surface's whole-float lobe
+/// and its draws' midpoint tilts).
+pub use crate::yarn::float::TILT_NODES;
 
 /// The most lobes mixed at a point: one cell's at fibre and at yarn level, and the macro BRDF's
 /// (each family on top, a whole float when tilted, and flat where it shows in the other's
@@ -182,14 +180,17 @@ pub struct SurfaceSpec {
 }
 
 impl SurfaceSpec {
-    /// `material` with one pattern cell per unit of uv, its own colours, flat yarns, no gaps.
+    /// `material` with one pattern cell per unit of uv, its own colours (its `[dye]`, if any),
+    /// its own float tilt (`[yarn] u_max_deg`, 0 for the paper's flat yarns), no gaps.
     pub fn new(material: Material) -> SurfaceSpec {
+        let dye = material.dye;
+        let u_max = material.yarn.map_or(0.0, |y| y.u_max);
         SurfaceSpec {
             material,
             yarns_per_unit: [1.0, 1.0],
-            weft_color: None,
-            warp_color: None,
-            u_max: 0.0,
+            weft_color: dye.weft,
+            warp_color: dye.warp,
+            u_max,
             gap: 0.0,
             detail: Detail::Auto,
         }
@@ -544,8 +545,8 @@ impl WovenSurface {
             yarn,
             layout,
             own,
-            weft: dyed(own, spec.weft_color),
-            warp: dyed(own, spec.warp_color),
+            weft: own.dyed(spec.weft_color),
+            warp: own.dyed(spec.warp_color),
             yarns_per_unit: spec.yarns_per_unit,
             u_max: spec.u_max,
             gap: spec.gap,
@@ -594,8 +595,8 @@ impl WovenSurface {
             yarn: table,
             layout: Layout::Whole,
             own,
-            weft: dyed(own, color),
-            warp: dyed(own, color),
+            weft: own.dyed(color),
+            warp: own.dyed(color),
             yarns_per_unit: [1.0, 1.0],
             u_max: 0.0,
             gap: 0.0,
@@ -911,23 +912,7 @@ impl WovenSurface {
                 }
                 value(ti, to) * (ti.z / wi.z)
             }
-            Tilt::Float => {
-                let Some((lo, hi)) = float.lit_and_visible(wi, wo) else {
-                    return Rgb::BLACK;
-                };
-                let mut f = Rgb::BLACK;
-                let rule = tilt_rule();
-                for (x, w) in rule.nodes().iter().zip(rule.weights()) {
-                    let t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
-                    let sc = float.tilt(t).sin_cos();
-                    let (ti, to) = (into_tilted(wi, sc), into_tilted(wo, sc));
-                    if ti.z > 0.0 && to.z > 0.0 {
-                        let k = ti.z * to.z / (wi.z * wo.z * sc.1);
-                        f += value(ti, to) * (0.5 * (hi - lo) * w * k);
-                    }
-                }
-                f
-            }
+            Tilt::Float => float.average(wi, wo, value),
         }
     }
 
@@ -1015,12 +1000,6 @@ impl WovenSurface {
         }
         Some((d, pdf))
     }
-}
-
-/// The Gauss–Legendre rule of a whole float's [`TILT_NODES`] points.
-fn tilt_rule() -> &'static GaussLegendre {
-    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
-    RULE.get_or_init(|| GaussLegendre::new(TILT_NODES))
 }
 
 /// The BRDF per channel at a point on a yarn (in its lobe's frame: the yarn along `x`):
@@ -1143,10 +1122,10 @@ impl PointBsdf<'_> {
     /// channel clamped to `[0, 1]`.
     pub fn dyed(mut self, weft_color: Option<Rgb>, warp_color: Option<Rgb>) -> Self {
         if weft_color.is_some() {
-            self.weft = dyed(self.surface.own, weft_color);
+            self.weft = self.surface.own.dyed(weft_color);
         }
         if warp_color.is_some() {
-            self.warp = dyed(self.surface.own, warp_color);
+            self.warp = self.surface.own.dyed(warp_color);
         }
         self
     }
@@ -1243,21 +1222,6 @@ impl Bsdf for PointBsdf<'_> {
     }
 }
 
-/// The albedos per channel for a dye `colour` of a material whose own albedos are `own`.
-fn dyed(own: Albedos, colour: Option<Rgb>) -> [Albedos; 3] {
-    let Some(c) = colour else {
-        return [own; 3];
-    };
-    c.0.map(|c| Albedos {
-        diffuse: c.clamp(0.0, 0.999),
-        interreflection: if own.diffuse > 0.0 {
-            (own.interreflection * c / own.diffuse).clamp(0.0, 1.0)
-        } else {
-            own.interreflection
-        },
-    })
-}
-
 /// A pair of directions in the frame of a lobe's family (turned for the warp; not yet tilted).
 #[inline]
 fn into_lobe_frame(lobe: &Lobe, a: Vec3, b: Vec3) -> (Vec3, Vec3) {
@@ -1266,19 +1230,6 @@ fn into_lobe_frame(lobe: &Lobe, a: Vec3, b: Vec3) -> (Vec3, Vec3) {
     } else {
         (a, b)
     }
-}
-
-/// A direction in the frame of a yarn tilted by `(sin, cos)` of its tilt: the axis `x` turned
-/// toward `+z`.
-#[inline]
-fn into_tilted(d: Vec3, (s, c): (f64, f64)) -> Vec3 {
-    Vec3::new(c * d.x + s * d.z, d.y, c * d.z - s * d.x)
-}
-
-/// Back from a tilted yarn's frame.
-#[inline]
-fn from_tilted(d: Vec3, (s, c): (f64, f64)) -> Vec3 {
-    Vec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
 }
 
 /// Into the frame of a warp yarn: a 90° turn about `z` taking `y` (the warp) to `x`.

@@ -10,6 +10,8 @@ use std::f64::consts::FRAC_PI_2;
 use std::io::{IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 use woven::bsdf::Bsdf;
+use woven::catalog::{AnyMaterial, Grey, Luminance};
+use woven::color::Rgb;
 use woven::directions::{DirectionReader, DirectionRecord, RowError, COLUMNS};
 use woven::Vec3;
 
@@ -66,18 +68,69 @@ pub struct EvalArgs {
     /// Output CSV (written atomically); standard output when absent.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
+
+    /// Write the BRDF in colour, as `brdf_r,brdf_g,brdf_b` (linear sRGB): a dyed woven material
+    /// or a microcylinder fabric in its colours; an undyed woven material (and a table) writes its
+    /// one value three times. Without it, a coloured material writes its Rec. 709 luminance.
+    #[arg(long)]
+    pub rgb: bool,
+}
+
+/// What `woven eval` evaluates: one value per row, or three.
+#[derive(Clone, Copy)]
+pub enum Brdf<'a> {
+    /// One value per row (`brdf`).
+    Mono(&'a dyn Bsdf<Value = f64>),
+    /// Linear RGB per row (`brdf_r,brdf_g,brdf_b`).
+    Rgb(&'a dyn Bsdf<Value = Rgb>),
+}
+
+/// What [`Brdf`] borrows.
+enum Owned {
+    Mono(Box<dyn Bsdf<Value = f64>>),
+    Rgb(Box<dyn Bsdf<Value = Rgb>>),
+}
+
+impl Brdf<'_> {
+    /// The output's value columns.
+    fn columns(self) -> &'static str {
+        match self {
+            Brdf::Mono(_) => "brdf",
+            Brdf::Rgb(_) => "brdf_r,brdf_g,brdf_b",
+        }
+    }
 }
 
 /// Runs `woven eval`.
 pub fn run(args: &EvalArgs) -> Result<()> {
-    let brdf: Box<dyn Bsdf<Value = f64>> = match (&args.material, &args.table) {
-        (None, Some(path)) => Box::new(args::load_table(path, args.wavelength_nm)?),
+    let owned = match (&args.material, &args.table) {
+        (None, Some(path)) => {
+            let table = args::load_table(path, args.wavelength_nm)?;
+            if args.rgb {
+                Owned::Rgb(Box::new(Grey(table)))
+            } else {
+                Owned::Mono(Box::new(table))
+            }
+        }
         (Some(material), None) => {
             let nm = args.wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM);
-            Box::new(material.load_and_build(nm)?.1)
+            let any = material.load_any()?;
+            match (&any, args.rgb) {
+                (AnyMaterial::Woven(m), false) if m.dye.is_none() => {
+                    Owned::Mono(Box::new(m.build(nm).with_context(|| {
+                        format!("cannot prepare material `{material}` at --wavelength-nm {nm}")
+                    })?))
+                }
+                (_, false) => Owned::Mono(Box::new(Luminance(material.build_rgb(&any, nm)?))),
+                (_, true) => Owned::Rgb(material.build_rgb(&any, nm)?),
+            }
         }
         // clap's group "brdf" admits exactly one of the two.
         _ => anyhow::bail!("give exactly one of --material and --table"),
+    };
+    let brdf = match &owned {
+        Owned::Mono(b) => Brdf::Mono(&**b),
+        Owned::Rgb(b) => Brdf::Rgb(&**b),
     };
     let input = args.input.open()?;
     // A bar only when the data does not go to the same terminal; it appears once the run has
@@ -89,7 +142,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     };
     let bar = Progress::new(total, "rows", show);
     let rows = io::write_output(args.output.as_deref(), |out| {
-        eval_csv(&*brdf, input, &args.input.to_string(), out, |n| bar.inc(n))
+        eval_csv(brdf, input, &args.input.to_string(), out, |n| bar.inc(n))
     })
     .with_context(|| format!("evaluating `{}`", args.input))?;
     bar.finish();
@@ -130,14 +183,14 @@ const CHUNK_ROWS: usize = 1 << 16;
 /// `brdf` gives to `output`. `progress` is told, from the worker threads, the number of rows of
 /// each block evaluated. Returns the number of rows.
 pub fn eval_csv(
-    brdf: &dyn Bsdf<Value = f64>,
+    brdf: Brdf<'_>,
     input: impl Read + Send,
     origin: &str,
     output: &mut dyn Write,
     progress: impl Fn(u64) + Sync,
 ) -> Result<u64> {
     let mut reader = DirectionReader::new(input, origin)?;
-    writeln!(output, "{},brdf", COLUMNS.join(","))?;
+    writeln!(output, "{},{}", COLUMNS.join(","), brdf.columns())?;
 
     // Two buffers of records: one is evaluated while the other is read, so reading (one thread)
     // overlaps the parallel evaluation.
@@ -218,7 +271,7 @@ fn block_rows(rows: usize) -> usize {
 /// too (validated numbers need no CSV quoting): one buffer of lines per block, in input order, or
 /// the first bad row of the block. `progress` is told each block's row count when it is done.
 fn evaluate_chunk(
-    brdf: &dyn Bsdf<Value = f64>,
+    brdf: Brdf<'_>,
     chunk: &[DirectionRecord],
     progress: &(impl Fn(u64) + Sync),
 ) -> Vec<Result<Vec<u8>, RowError>> {
@@ -235,7 +288,13 @@ fn evaluate_chunk(
                     out.push(b',');
                 }
                 number.clear();
-                io::push_f64(&mut number, eval_row(brdf, theta_i, phi_i, theta_r, phi_r));
+                let (values, n) = eval_row(brdf, theta_i, phi_i, theta_r, phi_r);
+                for (k, v) in values[..n].iter().enumerate() {
+                    if k > 0 {
+                        number.push(',');
+                    }
+                    io::push_f64(&mut number, *v);
+                }
                 out.extend_from_slice(number.as_bytes());
                 out.push(b'\n');
             }
@@ -245,22 +304,30 @@ fn evaluate_chunk(
         .collect()
 }
 
-/// The BRDF for one direction pair (validated angles). Exactly 0 at grazing `θ = π/2`, where
-/// `cos θ` is not exactly 0 in floating point.
+/// The BRDF for one direction pair (validated angles): its values and how many there are (1 or
+/// 3). Exactly 0 at grazing `θ = π/2`, where `cos θ` is not exactly 0 in floating point.
 fn eval_row(
-    brdf: &dyn Bsdf<Value = f64>,
+    brdf: Brdf<'_>,
     theta_i: f64,
     phi_i: f64,
     theta_r: f64,
     phi_r: f64,
-) -> f64 {
+) -> ([f64; 3], usize) {
+    let n = match brdf {
+        Brdf::Mono(_) => 1,
+        Brdf::Rgb(_) => 3,
+    };
     if theta_i >= FRAC_PI_2 || theta_r >= FRAC_PI_2 {
-        return 0.0;
+        return ([0.0; 3], n);
     }
-    brdf.eval(
+    let (wi, wo) = (
         Vec3::from_spherical(theta_i, phi_i),
         Vec3::from_spherical(theta_r, phi_r),
-    )
+    );
+    match brdf {
+        Brdf::Mono(b) => ([b.eval(wi, wo), 0.0, 0.0], 1),
+        Brdf::Rgb(b) => (b.eval(wi, wo).0, 3),
+    }
 }
 
 #[cfg(test)]
@@ -278,7 +345,13 @@ mod tests {
 
     fn run(input: &str) -> Result<String> {
         let mut out = Vec::new();
-        eval_csv(&model(), input.as_bytes(), "<test>", &mut out, |_| {})?;
+        eval_csv(
+            Brdf::Mono(&model()),
+            input.as_bytes(),
+            "<test>",
+            &mut out,
+            |_| {},
+        )?;
         Ok(String::from_utf8(out).unwrap())
     }
 
@@ -311,9 +384,15 @@ mod tests {
         assert_eq!(out.lines().count(), n + 1);
         // Progress is reported for every row, block by block, whatever the order of the blocks.
         let done = std::sync::atomic::AtomicU64::new(0);
-        eval_csv(&model(), input.as_bytes(), "<test>", &mut Vec::new(), |k| {
-            done.fetch_add(k, std::sync::atomic::Ordering::Relaxed);
-        })
+        eval_csv(
+            Brdf::Mono(&model()),
+            input.as_bytes(),
+            "<test>",
+            &mut Vec::new(),
+            |k| {
+                done.fetch_add(k, std::sync::atomic::Ordering::Relaxed);
+            },
+        )
         .unwrap();
         assert_eq!(done.into_inner(), n as u64);
         for (k, line) in out.lines().skip(1).enumerate().step_by(9973) {

@@ -20,9 +20,10 @@ use woven_fit::{fit, FitError, FitOptions, FitResult, ModelKind, ParamSet, Resid
 #[command(
     about = "Fit the woven-cloth model, or a baseline, to measured reflectance",
     long_about = "Fit the woven-cloth model (--model cloth), the fiber BRDF alone (fiber), a \
-Lambertian surface (lambert) or a Beckmann microfacet + Lambert baseline (microfacet) to \
-measurements, by a quasi-random multi-start and bounded Levenberg–Marquardt on log residuals. \
-Deterministic for a --seed.
+Lambertian surface (lambert), a Beckmann microfacet + Lambert baseline (microfacet) or the \
+Charlie sheen over a Lambertian base (sheen, glTF's KHR_materials_sheen) to measurements, by a \
+quasi-random multi-start and bounded Levenberg–Marquardt on log residuals. Deterministic for a \
+--seed.
 
 --data takes a measurement CSV (theta_i,phi_i,theta_r,phi_r,value, radians, BRDF in 1/sr; \
 optional weight and value_r,value_g,value_b), the CSV `woven gonio` writes, or a CUReT, RGL or \
@@ -32,8 +33,9 @@ Parameters (`--fix`, `--free`; short names such as `roughness` work): fiber.eta,
 fiber.roughness, fiber.diffuse, yarn.lateral_length, yarn.slope_mean, yarn.slope_std, \
 yarn.interreflection, yarn.interreflection_albedo, yarn.twist_std, weave.weft_fraction, \
 rotation (the weave's turn in the sample plane, radians), scale (free for relatively \
-calibrated data); the baselines: diffuse, specular, alpha, eta. The yarn kind (one \
-orientation, twisted, isotropic) is the --init material's.
+calibrated data); the baselines: diffuse, specular, alpha, eta (microfacet); diffuse, sheen \
+(the sheen's colour, in [0, 1]) and roughness (glTF's sheenRoughness, in [0.1, 1]) (sheen). \
+The yarn kind (one orientation, twisted, isotropic) is the --init material's.
 
 The result: -o writes the fitted material (a material file for cloth and fiber, usable by \
 woven eval, render and tabulate; the baselines' parameters as TOML), --report a Markdown \
@@ -43,6 +45,7 @@ statistics), --plot the data against the fit (SVG or PNG).",
   woven fit --data sample.csv --model cloth -o fitted.toml --report fit.md --plot fit.png
   woven fit --data sample.csv --model cloth --init polyester-sateen --fix eta=1.6 --free twist_std
   woven fit --data sample.csv --model microfacet
+  woven fit --data sample.csv --model sheen --report sheen.md
   woven fit --compare 'data/curet/abrdf.dat#linen' data/merl/beige-fabric.grid.csv"
 )]
 pub struct FitArgs {
@@ -59,11 +62,11 @@ pub struct FitArgs {
     #[arg(long, value_name = "DATA", num_args = 1..)]
     pub compare: Vec<PathBuf>,
 
-    /// The model: cloth, fiber, lambert or microfacet.
+    /// The model: cloth, fiber, lambert, microfacet or sheen.
     #[arg(long, value_name = "MODEL", default_value = "cloth", value_parser = parse_model)]
     pub model: ModelKind,
 
-    /// With --compare: the models, comma-separated.
+    /// With --compare: the models, comma-separated (cloth, fiber, lambert, microfacet, sheen).
     #[arg(long, value_name = "MODELS", value_delimiter = ',', default_value = "lambert,microfacet,cloth",
           value_parser = parse_model)]
     pub models: Vec<ModelKind>,

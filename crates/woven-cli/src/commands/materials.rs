@@ -6,6 +6,7 @@ use clap::Args;
 use std::io::Write;
 use woven::figures::words::{description, Summary};
 use woven::material::Material;
+use woven::microcylinder::Microcylinder;
 
 /// Arguments of `woven materials`.
 #[derive(Args, Debug)]
@@ -24,7 +25,8 @@ Every command that takes --material accepts a preset's name in place of a file. 
   woven gonio --material belt-cloth"
 )]
 pub struct MaterialsArgs {
-    /// Print this preset's TOML text instead of the table.
+    /// Print this preset's TOML text instead of the table (woven presets; a microcylinder
+    /// fabric's parameters are in docs/microcylinder.md).
     #[arg(long, value_name = "NAME",
           value_parser = PossibleValuesParser::new(Material::preset_names()))]
     pub show: Option<String>,
@@ -40,7 +42,11 @@ pub fn run(args: &MaterialsArgs) -> Result<()> {
                 Material::preset_toml(name).with_context(|| format!("no preset named `{name}`"))?;
             out.write_all(text.as_bytes())?;
         }
-        None => out.write_all(table()?.as_bytes())?,
+        None => {
+            out.write_all(table()?.as_bytes())?;
+            out.write_all(b"\n")?;
+            out.write_all(microcylinder_table()?.as_bytes())?;
+        }
     }
     out.flush()?;
     Ok(())
@@ -97,6 +103,35 @@ pub fn table() -> Result<String> {
         }
         out.push_str(line.trim_end());
         out.push('\n');
+    }
+    Ok(out)
+}
+
+/// The microcylinder fabrics (Sadeghi et al. 2013, Table II): per thread its coverage `a`,
+/// refractive index and the surface lobe's width `γs`, and the range of its tangent curve.
+pub fn microcylinder_table() -> Result<String> {
+    let mut out = String::from(
+        "MICROCYLINDER FABRIC (Sadeghi et al. 2013, Table II; docs/microcylinder.md)  \
+         THREAD 1 (along x): a, η, γs, tilts  /  THREAD 2 (along y)\n",
+    );
+    for name in Microcylinder::preset_names() {
+        let m = Microcylinder::preset(name).with_context(|| format!("loading `{name}`"))?;
+        let thread = |k: usize| {
+            let t = &m.threads[k];
+            let offsets = t.tangents.offsets();
+            let (lo, hi) = offsets
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), o| (a.min(*o), b.max(*o)));
+            format!(
+                "a {:.2}, η {}, γs {:.1}°, tilts {:.0}°…{:.0}°",
+                t.coverage,
+                t.eta,
+                t.gamma_s.to_degrees(),
+                lo.to_degrees(),
+                hi.to_degrees()
+            )
+        };
+        out.push_str(&format!("{name:<36}  {}  /  {}\n", thread(0), thread(1)));
     }
     Ok(out)
 }

@@ -6,7 +6,7 @@ use crate::accel::Accel;
 use crate::camera::Camera;
 use crate::geometry::{Mesh, Primitive};
 use crate::light::{Emitter, Environment, Light, PointLight, RectangleLight};
-use crate::material::{Diffuse, SurfaceMaterial};
+use crate::material::{Diffuse, SurfaceMaterial, Uniform};
 use crate::shapes;
 use crate::sky::{sky_image, SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
 use crate::woven_material::{TableCache, TableGrid, WovenMaterial};
@@ -122,6 +122,9 @@ fn build_materials(
             MaterialDesc::Diffuse { reflectance } => Box::new(Diffuse {
                 reflectance: *reflectance,
             }),
+            MaterialDesc::Microcylinder(m) => Box::new(Uniform((**m).clone())),
+            MaterialDesc::RoughPlastic(m) => Box::new(Uniform((**m).clone())),
+            MaterialDesc::Sheen(m) => Box::new(Uniform((**m).clone())),
             MaterialDesc::Woven(spec) => Box::new(WovenMaterial::build(
                 spec,
                 grid,

@@ -19,8 +19,10 @@ use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::path::Path;
 use toml::Spanned;
+use woven::baseline::{Distribution, RoughPlastic, RoughPlasticParams, Sheen, SheenParams};
 use woven::fsutil::check_regular;
 use woven::material::{Material, PatternSpec, Weave, MAX_FILE_BYTES};
+use woven::microcylinder::Microcylinder;
 use woven::surface::Detail;
 use woven::weave::{Pattern, MAX_WIF_BYTES};
 use woven::Vec3;
@@ -287,6 +289,66 @@ fn materials(
                 reflectance: c.rgb(&format!("{key}.reflectance"), at, reflectance, Some(1.0))?,
             },
             RawMaterial::Woven(w) => MaterialDesc::Woven(Box::new(woven(c, &key, at, w)?)),
+            RawMaterial::Microcylinder { material } => {
+                MaterialDesc::Microcylinder(Box::new(microcylinder(c, &key, at, &material)?))
+            }
+            RawMaterial::Roughplastic {
+                diffuse_reflectance,
+                distribution,
+                alpha,
+                int_ior,
+                ext_ior,
+                nonlinear,
+            } => {
+                let d = RoughPlasticParams::default();
+                let distribution = match distribution.as_deref() {
+                    None => d.distribution,
+                    Some("beckmann") => Distribution::Beckmann,
+                    Some("ggx") => Distribution::Ggx,
+                    Some(other) => {
+                        return Err(c.err(
+                            &format!("{key}.distribution"),
+                            at,
+                            format!("{other:?}: expected \"beckmann\" or \"ggx\""),
+                        ))
+                    }
+                };
+                let params = RoughPlasticParams {
+                    distribution,
+                    alpha: alpha.unwrap_or(d.alpha),
+                    int_ior: int_ior.unwrap_or(d.int_ior),
+                    ext_ior: ext_ior.unwrap_or(d.ext_ior),
+                    diffuse_reflectance: match diffuse_reflectance {
+                        Some(v) => {
+                            c.rgb(&format!("{key}.diffuse_reflectance"), at, v, Some(1.0))?
+                        }
+                        None => d.diffuse_reflectance,
+                    },
+                    nonlinear: nonlinear.unwrap_or(d.nonlinear),
+                    ..d
+                };
+                let built =
+                    RoughPlastic::new(&params).map_err(|e| c.err(&key, at, e.to_string()))?;
+                MaterialDesc::RoughPlastic(Box::new(built))
+            }
+            RawMaterial::Sheen {
+                diffuse_reflectance,
+                sheen_color,
+                roughness,
+            } => {
+                let d = SheenParams::default();
+                let colour = |k: &str, v: Option<[f64; 3]>, default: Rgb| match v {
+                    Some(v) => c.rgb(&format!("{key}.{k}"), at, v, Some(1.0)),
+                    None => Ok(default),
+                };
+                let params = SheenParams {
+                    diffuse: colour("diffuse_reflectance", diffuse_reflectance, d.diffuse)?,
+                    sheen_color: colour("sheen_color", sheen_color, d.sheen_color)?,
+                    roughness: roughness.unwrap_or(d.roughness),
+                };
+                let built = Sheen::new(&params).map_err(|e| c.err(&key, at, e.to_string()))?;
+                MaterialDesc::Sheen(Box::new(built))
+            }
         };
         materials.insert(name, desc);
     }
@@ -337,6 +399,8 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
             .validate()
             .map_err(|e| c.err(&pkey, at, e.to_string()))?;
     }
+    // The material's own tilt (`[yarn] u_max_deg`) unless the scene gives one.
+    let u_max_deg = u_max_deg.unwrap_or_else(|| woven.yarn.map_or(0.0, |y| y.u_max.to_degrees()));
     if !(u_max_deg.is_finite() && (0.0..=MAX_U_MAX_DEG).contains(&u_max_deg)) {
         return Err(c.err(
             &format!("{key}.u_max_deg"),
@@ -375,6 +439,7 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
             )
         })?,
     };
+    let dye = woven.dye;
     Ok(WovenSpec {
         detail,
         material: woven,
@@ -386,11 +451,33 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
             };
             [c.positive(&ykey, at, nu)?, c.positive(&ykey, at, nv)?]
         },
-        weft_color: color("weft_color", weft_color)?,
-        warp_color: color("warp_color", warp_color)?,
+        // A scene's colour overrides the material's own `[dye]`.
+        weft_color: color("weft_color", weft_color)?.or(dye.weft),
+        warp_color: color("warp_color", warp_color)?.or(dye.warp),
         u_max: u_max_deg.to_radians(),
         gap,
     })
+}
+
+/// A `type = "microcylinder"` material at `key`: a preset's name or a file beside the scene.
+fn microcylinder(c: &Checker, key: &str, at: usize, material: &str) -> Result<Microcylinder> {
+    let mkey = format!("{key}.material");
+    if Microcylinder::preset_names().contains(&material) {
+        return Microcylinder::preset(material).map_err(|e| c.err(&mkey, at, e.to_string()));
+    }
+    let path = c.base.join(material);
+    check_regular(&path, MAX_FILE_BYTES, "a material file")
+        .and_then(|_| Microcylinder::from_path(&path))
+        .map_err(|e| {
+            c.err(
+                &mkey,
+                at,
+                format!(
+                    "`{material}`: {e} (the presets: {})",
+                    Microcylinder::preset_names().join(", ")
+                ),
+            )
+        })
 }
 
 /// `[[shape]]`, each with its material's name, which `materials` must define.

@@ -157,6 +157,12 @@ pub enum MaterialDesc {
     },
     /// The woven-cloth BRDF.
     Woven(Box<WovenSpec>),
+    /// A microcylinder fabric (Sadeghi et al. 2013), the same at every point.
+    Microcylinder(Box<woven::microcylinder::Microcylinder>),
+    /// A rough dielectric coating over a diffuse base (Mitsuba 3's `roughplastic`).
+    RoughPlastic(Box<woven::baseline::RoughPlastic>),
+    /// The Charlie sheen over a Lambertian base.
+    Sheen(Box<woven::baseline::Sheen>),
 }
 
 /// A parsed and checked scene file, before any table or geometry is built.

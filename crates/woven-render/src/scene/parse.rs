@@ -242,8 +242,29 @@ fn default_resolution() -> [i64; 2] {
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub(super) enum RawMaterial {
-    Diffuse { reflectance: [f64; 3] },
+    Diffuse {
+        reflectance: [f64; 3],
+    },
     Woven(RawWoven),
+    /// A microcylinder fabric: a preset's name or a file.
+    Microcylinder {
+        material: String,
+    },
+    /// Mitsuba 3's `roughplastic`, its keys and defaults.
+    Roughplastic {
+        diffuse_reflectance: Option<[f64; 3]>,
+        distribution: Option<String>,
+        alpha: Option<f64>,
+        int_ior: Option<f64>,
+        ext_ior: Option<f64>,
+        nonlinear: Option<bool>,
+    },
+    /// The Charlie sheen over a Lambertian base.
+    Sheen {
+        diffuse_reflectance: Option<[f64; 3]>,
+        sheen_color: Option<[f64; 3]>,
+        roughness: Option<f64>,
+    },
 }
 
 /// A `type = "woven"` material.
@@ -256,8 +277,7 @@ pub(super) struct RawWoven {
     pub(super) yarns_per_unit: RawYarns,
     pub(super) weft_color: Option<[f64; 3]>,
     pub(super) warp_color: Option<[f64; 3]>,
-    #[serde(default)]
-    pub(super) u_max_deg: f64,
+    pub(super) u_max_deg: Option<f64>,
     #[serde(default)]
     pub(super) gap: f64,
     pub(super) detail: Option<String>,

@@ -255,3 +255,82 @@ fn renders_are_deterministic_for_a_seed() {
     assert_eq!(run(1, 1), run(1, 2));
     assert_ne!(run(1, 2), run(2, 2));
 }
+
+/// The uniform materials a scene names beside woven cloth (a microcylinder fabric, Mitsuba's
+/// rough plastic, the Charlie sheen) on a plane under a point light: the image is the library's
+/// BSDF times the light's irradiance, pixel by pixel, within the noise of the draws (direct
+/// light only: the light is a point, and nothing else is in view of the plane).
+#[test]
+fn uniform_materials_on_a_plane_under_a_point_light_are_their_library_bsdfs() {
+    use woven::bsdf::Bsdf;
+    use woven::color::Rgb;
+    let (w, h) = (16, 12);
+    let cases: [(&str, Box<dyn Bsdf<Value = Rgb>>); 3] = [
+        (
+            "type = \"microcylinder\"\nmaterial = \"microcylinder-silk-shot\"",
+            Box::new(
+                woven::microcylinder::Microcylinder::preset("microcylinder-silk-shot").unwrap(),
+            ),
+        ),
+        (
+            "type = \"roughplastic\"\nalpha = 0.3\ndiffuse_reflectance = [0.6, 0.3, 0.1]",
+            Box::new(
+                woven::baseline::RoughPlastic::new(&woven::baseline::RoughPlasticParams {
+                    alpha: 0.3,
+                    diffuse_reflectance: Rgb([0.6, 0.3, 0.1]),
+                    ..Default::default()
+                })
+                .unwrap(),
+            ),
+        ),
+        (
+            "type = \"sheen\"\nroughness = 0.4\nsheen_color = [0.9, 0.8, 0.7]",
+            Box::new(
+                woven::baseline::Sheen::new(&woven::baseline::SheenParams {
+                    roughness: 0.4,
+                    sheen_color: Rgb([0.9, 0.8, 0.7]),
+                    ..Default::default()
+                })
+                .unwrap(),
+            ),
+        ),
+    ];
+    let (origin, light) = (Vec3::new(0.3, -2.0, 2.2), Vec3::new(-0.6, 0.9, 1.2));
+    for (material, bsdf) in cases {
+        let text = format!(
+            "[camera]\norigin = [0.3, -2.0, 2.2]\ntarget = [0, 0, 0]\nup = [0, 0, 1]\nfov_deg = 45\n\
+             [film]\nwidth = {w}\nheight = {h}\nspp = 16\n[integrator]\nmax_depth = 2\n\
+             [[light]]\ntype = \"point\"\nposition = [-0.6, 0.9, 1.2]\nintensity = [4, 4, 4]\n\
+             [[shape]]\ntype = \"rectangle\"\ncorner = [-4, -4, 0]\nedge_u = [8, 0, 0]\n\
+             edge_v = [0, 8, 0]\nmaterial = \"m\"\n[material.m]\n{material}\n"
+        );
+        let image = render_text(&text);
+        let camera = Camera::new(origin, Vec3::new(0.0, 0.0, 0.0), Vec3::Z, 45.0, w, h);
+        let n = 6;
+        let (mut got, mut want) = (0.0, 0.0);
+        for y in 0..h {
+            for x in 0..w {
+                let mut e = 0.0;
+                for a in 0..n {
+                    for b in 0..n {
+                        let ray = camera.ray(
+                            x as f64 + (a as f64 + 0.5) / n as f64,
+                            y as f64 + (b as f64 + 0.5) / n as f64,
+                        );
+                        let p = ray.o + ray.d * (-ray.o.z / ray.d.z);
+                        let d = light - p;
+                        let r2 = d.dot(d);
+                        let (wi, wo) = (d.normalize(), (origin - p).normalize());
+                        e += bsdf.eval(wi, wo).luminance() * 4.0 * wi.z / r2 / (n * n) as f64;
+                    }
+                }
+                want += e;
+                got += image.at(x, y).luminance();
+            }
+        }
+        assert!(
+            (got - want).abs() <= 0.01 * want,
+            "{material}: image {got} vs the library's BSDF {want}"
+        );
+    }
+}

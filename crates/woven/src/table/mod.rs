@@ -60,6 +60,7 @@ pub use options::{
 };
 pub use raw::Raw;
 
+use crate::color::Rgb;
 use crate::material::Material;
 use crate::math::Vec3;
 use grid::{slope_of_t, Axis};
@@ -229,6 +230,23 @@ impl Albedos {
                 .as_ref()
                 .map_or(0.0, |y| y.interreflection_albedo),
         }
+    }
+
+    /// The albedos per channel of these (a material's own) dyed `colour`: the colour replaces
+    /// `ρ0` (kept below 1), and `ρ` scales with it (`ρ·c/ρ0`, at most 1; unchanged when `ρ0` is
+    /// 0). No colour: these, in every channel. The one rule every dyed surface follows.
+    pub fn dyed(self, colour: Option<Rgb>) -> [Albedos; 3] {
+        let Some(c) = colour else {
+            return [self; 3];
+        };
+        c.0.map(|c| Albedos {
+            diffuse: c.clamp(0.0, 0.999),
+            interreflection: if self.diffuse > 0.0 {
+                (self.interreflection * c / self.diffuse).clamp(0.0, 1.0)
+            } else {
+                self.interreflection
+            },
+        })
     }
 }
 

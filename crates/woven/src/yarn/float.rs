@@ -29,8 +29,32 @@
 //! toward the viewer — which is what makes a point's BRDF that of the facet it lands on, and
 //! their mean the float's masked average.
 
+use crate::math::quadrature::GaussLegendre;
 use crate::math::roots::monotone_root;
 use crate::math::Vec3;
+use std::ops::{AddAssign, Mul};
+
+/// Gauss–Legendre nodes over the part of a float both lit and seen ([`FloatProfile::average`]).
+pub const TILT_NODES: usize = 8;
+
+/// The rule of [`FloatProfile::average`], built once.
+pub(crate) fn tilt_rule() -> &'static GaussLegendre {
+    static RULE: std::sync::OnceLock<GaussLegendre> = std::sync::OnceLock::new();
+    RULE.get_or_init(|| GaussLegendre::new(TILT_NODES))
+}
+
+/// A direction in the frame of a yarn tilted by `(sin, cos)` of its tilt: the axis `x` turned
+/// toward `+z`.
+#[inline]
+pub fn into_tilted(d: Vec3, (s, c): (f64, f64)) -> Vec3 {
+    Vec3::new(c * d.x + s * d.z, d.y, c * d.z - s * d.x)
+}
+
+/// Back from a tilted yarn's frame ([`into_tilted`]'s inverse).
+#[inline]
+pub fn from_tilted(d: Vec3, (s, c): (f64, f64)) -> Vec3 {
+    Vec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
+}
 
 /// The tolerance of the interval ends and of the point a ray meets, in float lengths.
 const TOL: f64 = 1e-12;
@@ -85,6 +109,38 @@ impl FloatProfile {
         let (a, b) = (self.lit(s)?, self.lit(v)?);
         let (lo, hi) = (a.0.max(b.0), a.1.min(b.1));
         (lo < hi).then_some((lo, hi))
+    }
+
+    /// The BRDF of the whole float for light from `s` seen from `v` (both in the yarn's frame,
+    /// the axis along `x`), from `f`, the BRDF of a facet in its own tilted frame: the mean over
+    /// the facets both lit and seen, each over its projected area toward the viewer,
+    ///
+    /// ```text
+    /// f_float(s, v) = ∫ f(s′, v′) cos θ′s cos θ′v / (cos θs cos θv cos ψ) dt   over [t_lo, t_hi]
+    /// ```
+    ///
+    /// (`s′, v′` turned into the facet's frame by its tilt `ψ(t)`; per unit of cloth, a facet of
+    /// length `dt` has area `dt / cos ψ` and irradiance `cos θ′s / cos θs` relative to the
+    /// cloth's), by [`TILT_NODES`]-point Gauss–Legendre. 0 when no part is both lit and seen.
+    pub fn average<V>(&self, s: Vec3, v: Vec3, mut f: impl FnMut(Vec3, Vec3) -> V) -> V
+    where
+        V: Default + AddAssign + Mul<f64, Output = V>,
+    {
+        let mut sum = V::default();
+        let Some((lo, hi)) = self.lit_and_visible(s, v) else {
+            return sum;
+        };
+        let rule = tilt_rule();
+        for (x, w) in rule.nodes().iter().zip(rule.weights()) {
+            let t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
+            let sc = self.tilt(t).sin_cos();
+            let (ts, tv) = (into_tilted(s, sc), into_tilted(v, sc));
+            if ts.z > 0.0 && tv.z > 0.0 {
+                let k = ts.z * tv.z / (s.z * v.z * sc.1);
+                sum += f(ts, tv) * (0.5 * (hi - lo) * w * k);
+            }
+        }
+        sum
     }
 
     /// The lit interval for a direction from `+x` at slope `m > 0`.

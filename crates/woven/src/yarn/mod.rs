@@ -50,6 +50,11 @@ pub struct YarnParams {
     pub twist_std: f64,
     /// Eq. (22): fibers uniformly in all azimuths.
     pub isotropic: bool,
+    /// An extension beyond the paper (docs/model.md §8, "Tilt"): the tilt of each float's axis
+    /// out of the cloth plane where it rises and dips, radians in `[0, 80°]`. The cloth's BRDF is
+    /// then each family's whole-float average ([`FloatProfile::average`](float::FloatProfile::average));
+    /// 0 (the default): flat floats, the paper's model exactly.
+    pub u_max: f64,
 }
 
 impl Default for YarnParams {
@@ -62,6 +67,7 @@ impl Default for YarnParams {
             interreflection_albedo: 0.0,
             twist_std: 0.0,
             isotropic: false,
+            u_max: 0.0,
         }
     }
 }
@@ -83,6 +89,12 @@ impl YarnParams {
             1.0,
         )?;
         check_range("yarn.twist_std", self.twist_std, 0.0, PI)?;
+        check_range(
+            "yarn.u_max_deg",
+            self.u_max.to_degrees(),
+            0.0,
+            crate::surface::MAX_U_MAX_DEG,
+        )?;
         if self.isotropic && self.twist_std > 0.0 {
             return Err(Error::invalid(
                 "yarn.twist_std",

@@ -1442,6 +1442,7 @@ fn random_yarn_params(rng: &mut Rng) -> YarnParams {
         interreflection_albedo: rng.uniform(),
         twist_std,
         isotropic,
+        u_max: 0.0,
     }
 }
 
@@ -1562,6 +1563,7 @@ fn yarn_and_cloth_brdfs_are_nonnegative() {
         interreflection_albedo: 0.3775892176493678,
         twist_std: 0.5401045400417757,
         isotropic: false,
+        u_max: 0.0,
     };
     let m = woven(
         yarn(&Fiber::new(&fp, WAVELENGTH_NM).unwrap(), yp),
@@ -1592,6 +1594,7 @@ fn yarn_and_cloth_brdfs_are_nonnegative() {
         interreflection_albedo: 0.37706650092326244,
         twist_std: 0.0,
         isotropic: false,
+        u_max: 0.0,
     };
     let m = woven(
         yarn(&Fiber::new(&fp, WAVELENGTH_NM).unwrap(), yp),
