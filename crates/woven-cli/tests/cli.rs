@@ -511,8 +511,15 @@ fn wavelength_out_of_range_is_reported() {
 fn materials_lists_every_preset_with_its_parameters() {
     let assert = woven().arg("materials").assert().success();
     let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
-    let lines: Vec<&str> = out.lines().collect();
+    let (woven_table, microcylinder) = out.split_once("\n\n").expect("two tables");
+    let lines: Vec<&str> = woven_table.lines().collect();
     assert_eq!(lines.len(), 1 + Material::preset_names().len(), "{out}");
+    // Then one line per microcylinder fabric, under its heading.
+    let fabrics = woven::microcylinder::Microcylinder::preset_names();
+    assert_eq!(microcylinder.lines().count(), 1 + fabrics.len(), "{out}");
+    for name in fabrics {
+        assert!(microcylinder.contains(name), "{name} missing: {out}");
+    }
     for heading in [
         "NAME",
         "FIBER",
