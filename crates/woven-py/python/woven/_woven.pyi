@@ -182,7 +182,7 @@ class Surface:
         yarns_per_unit: Union[float, Tuple[float, float], None] = None,
         weft_color: Optional[ArrayLike] = None,
         warp_color: Optional[ArrayLike] = None,
-        u_max_deg: float = 0.0,
+        u_max_deg: Optional[float] = None,
         gap: float = 0.0,
         detail: str = "auto",
         wavelength_nm: float = 550.0,
