@@ -80,6 +80,43 @@ pub struct BsdfSample<V = f64> {
     pub lobe: LobeFlags,
 }
 
+impl<V> BsdfSample<V> {
+    /// The same draw with the value `f` in place of its own (another view of the same BSDF: a
+    /// colour, its luminance).
+    pub fn with_f<W>(self, f: W) -> BsdfSample<W> {
+        BsdfSample {
+            wo: self.wo,
+            wi: self.wi,
+            f,
+            pdf: self.pdf,
+            lobe: self.lobe,
+        }
+    }
+}
+
+/// Completes a direction `drawn` for `known` into a sample of `bsdf`: the pair named for `mode`,
+/// its value and the density [`Bsdf::pdf`] gives; `None` below the horizon or at density 0.
+pub fn complete_draw<B: Bsdf + ?Sized>(
+    bsdf: &B,
+    known: Vec3,
+    drawn: Vec3,
+    lobe: LobeFlags,
+    mode: Transport,
+) -> Option<BsdfSample<B::Value>> {
+    if drawn.z <= 0.0 {
+        return None;
+    }
+    let (wi, wo) = pair_of(known, drawn, mode);
+    let pdf = bsdf.pdf(wi, wo, mode);
+    (pdf > 0.0).then(|| BsdfSample {
+        wo,
+        wi,
+        f: bsdf.eval(wi, wo),
+        pdf,
+        lobe,
+    })
+}
+
 impl<V: Copy + Mul<f64, Output = V>> BsdfSample<V> {
     /// The Monte Carlo weight `f cos θ / pdf`, `θ` the drawn direction's polar angle.
     pub fn weight(&self, mode: Transport) -> V {

@@ -3,15 +3,14 @@
 //! ([`Microcylinder`]), so that `woven eval`, the renderer and the fitter's references take
 //! either the same way.
 
-use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
+use crate::bsdf::{complete_draw, Bsdf, BsdfSample, LobeFlags, Transport};
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::material::{Dye, Material};
-use crate::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
+use crate::math::sampling::cosine_hemisphere;
 use crate::math::Vec3;
 use crate::microcylinder::Microcylinder;
 use crate::Model;
-use std::f64::consts::FRAC_1_PI;
 use std::path::Path;
 
 /// A reflectance model by kind.
@@ -131,15 +130,12 @@ impl Bsdf for DyedModel {
         self.model.eval_rgb(wi, wo, &self.dye)
     }
 
+    /// The exact model's density (a cosine-weighted hemisphere).
     fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
-        let (known, drawn) = known_and_drawn(wi, wo, mode);
-        if known.z <= 0.0 || drawn.z <= 0.0 {
-            0.0
-        } else {
-            drawn.z * FRAC_1_PI
-        }
+        Bsdf::pdf(&self.model, wi, wo, mode)
     }
 
+    /// The exact model's draw (a cosine-weighted hemisphere), valued in colour.
     fn sample(
         &self,
         known: Vec3,
@@ -151,17 +147,13 @@ impl Bsdf for DyedModel {
             return None;
         }
         let drawn = cosine_hemisphere(u[0], u[1]);
-        if drawn.z <= 0.0 {
-            return None;
-        }
-        let (wi, wo) = pair_of(known, drawn, mode);
-        Some(BsdfSample {
-            wo,
-            wi,
-            f: self.eval(wi, wo),
-            pdf: cosine_hemisphere_pdf(drawn.z),
-            lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
-        })
+        complete_draw(
+            self,
+            known,
+            drawn,
+            LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
+            mode,
+        )
     }
 }
 
@@ -185,13 +177,9 @@ impl<B: Bsdf<Value = Rgb>> Bsdf for Luminance<B> {
     }
 
     fn sample(&self, known: Vec3, uc: f64, u: [f64; 2], mode: Transport) -> Option<BsdfSample> {
-        self.0.sample(known, uc, u, mode).map(|s| BsdfSample {
-            wo: s.wo,
-            wi: s.wi,
-            f: s.f.luminance(),
-            pdf: s.pdf,
-            lobe: s.lobe,
-        })
+        self.0
+            .sample(known, uc, u, mode)
+            .map(|s| s.with_f(s.f.luminance()))
     }
 }
 
@@ -220,13 +208,9 @@ impl<B: Bsdf<Value = f64>> Bsdf for Grey<B> {
         u: [f64; 2],
         mode: Transport,
     ) -> Option<BsdfSample<Rgb>> {
-        self.0.sample(known, uc, u, mode).map(|s| BsdfSample {
-            wo: s.wo,
-            wi: s.wi,
-            f: Rgb::grey(s.f),
-            pdf: s.pdf,
-            lobe: s.lobe,
-        })
+        self.0
+            .sample(known, uc, u, mode)
+            .map(|s| s.with_f(Rgb::grey(s.f)))
     }
 }
 

@@ -41,7 +41,7 @@
 //! `specular_reflectance` and `diffuse_reflectance`; otherwise a cosine hemisphere.
 
 use super::{check_reflectance, mean, reflect, CosTable};
-use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
+use crate::bsdf::{complete_draw, known_and_drawn, Bsdf, BsdfSample, LobeFlags, Transport};
 use crate::color::Rgb;
 use crate::error::{check_range, Error, Result};
 use crate::fiber::{beckmann_d, fresnel_dielectric, smith_lambda};
@@ -440,21 +440,7 @@ impl Bsdf for RoughPlastic {
         } else {
             (cosine_hemisphere(u[0], u[1]), LobeFlags::DIFFUSE)
         };
-        if drawn.z <= 0.0 {
-            return None;
-        }
-        let (wi, wo) = pair_of(known, drawn, mode);
-        let pdf = self.pdf(wi, wo, mode);
-        if pdf <= 0.0 {
-            return None;
-        }
-        Some(BsdfSample {
-            wo,
-            wi,
-            f: self.eval(wi, wo),
-            pdf,
-            lobe: LobeFlags::REFLECTION | lobe,
-        })
+        complete_draw(self, known, drawn, LobeFlags::REFLECTION | lobe, mode)
     }
 }
 
