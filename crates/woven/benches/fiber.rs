@@ -16,6 +16,8 @@ fn fibers() -> Vec<(&'static str, Fiber)> {
         eta: Ior::Constant(1.55),
         diffuse: 0.05,
         normalization: Normalization::Paper,
+        body_gloss: 0.0,
+        body_roughness: 0.0,
     };
     vec![
         ("rough", Fiber::new(&rough, 550.0).unwrap()),

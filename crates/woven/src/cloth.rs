@@ -2,7 +2,6 @@
 
 use crate::fiber::Fiber;
 use crate::math::Vec3;
-use crate::yarn::float::FloatProfile;
 use crate::yarn::Yarn;
 use std::f64::consts::FRAC_PI_2;
 use std::ops::{AddAssign, Mul};
@@ -16,7 +15,7 @@ pub fn weave_axes(weft_fraction: f64) -> [(f64, f64); 2] {
 
 /// Each family's BRDF on its tilted floats, `[weft, warp]` (the yarn's `u_max > 0`): `f(yarn,
 /// s′, v′, weight)` evaluates the yarn along `x` with the family's weight (`γ` or `1 − γ`) at
-/// directions in a facet's frame, and [`FloatProfile::average`] takes the whole float's mean
+/// directions in a facet's frame, and [`FloatProfile::average`](crate::yarn::float::FloatProfile::average) takes the whole float's mean
 /// over them, the warp's directions first turned so that its axis lies along `x`.
 pub fn tilted_families<V>(
     yarn: &Yarn,
@@ -28,7 +27,9 @@ pub fn tilted_families<V>(
 where
     V: Default + AddAssign + Mul<f64, Output = V>,
 {
-    let float = FloatProfile::new(yarn.params().u_max);
+    let Some(float) = yarn.params().float_profile() else {
+        return [V::default(), V::default()];
+    };
     let to_warp = |d: Vec3| Vec3::new(d.y, -d.x, d.z);
     [
         float.average(s, v, |a, b| f(yarn, a, b, weft_fraction)),

@@ -194,7 +194,7 @@ impl Material {
         m.weave = None;
         // A surface tilts the yarn itself (SurfaceSpec::u_max, which takes the material's).
         if let Some(y) = &mut m.yarn {
-            y.u_max = 0.0;
+            (y.u_max, y.float_crest, y.float_flank) = (0.0, 0.0, 0.0);
         }
         m
     }
@@ -315,6 +315,10 @@ mod file {
         isotropic: bool,
         #[serde(default, skip_serializing_if = "is_zero")]
         u_max_deg: f64,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        float_crest: f64,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        float_flank: f64,
     }
 
     fn is_zero(x: &f64) -> bool {
@@ -351,6 +355,8 @@ mod file {
                 twist_std: self.twist_std,
                 isotropic: self.isotropic,
                 u_max: self.u_max_deg.to_radians(),
+                float_crest: self.float_crest,
+                float_flank: self.float_flank,
             };
             p.validate()?;
             Ok(p)
@@ -366,6 +372,8 @@ mod file {
                 twist_std: p.twist_std,
                 isotropic: p.isotropic,
                 u_max_deg: p.u_max.to_degrees(),
+                float_crest: p.float_crest,
+                float_flank: p.float_flank,
             }
         }
     }
@@ -521,6 +529,10 @@ mod file {
         diffuse: Option<f64>,
         #[serde(skip_serializing_if = "Option::is_none")]
         normalization: Option<String>,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        body_gloss: f64,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        body_roughness: f64,
     }
 
     fn missing(key: &str, why: &str) -> Error {
@@ -655,6 +667,8 @@ mod file {
                 eta,
                 diffuse: self.diffuse.unwrap_or(0.0),
                 normalization,
+                body_gloss: self.body_gloss,
+                body_roughness: self.body_roughness,
             };
             params.validate()?;
             Ok(params)
@@ -686,6 +700,7 @@ mod file {
                 }
             });
             raw.diffuse = Some(p.diffuse);
+            (raw.body_gloss, raw.body_roughness) = (p.body_gloss, p.body_roughness);
             raw.normalization = Some(
                 match p.normalization {
                     Normalization::Paper => "paper",

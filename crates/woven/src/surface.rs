@@ -203,6 +203,16 @@ impl SurfaceSpec {
         self.material.yarn_family()
     }
 
+    /// The floats' profile: tilt [`u_max`](Self::u_max), crest and flanks the material's own
+    /// (`[yarn] float_crest`, `float_flank`); only read where `u_max > 0`.
+    pub fn float_profile(&self) -> FloatProfile {
+        let (crest, flank) = self
+            .material
+            .yarn
+            .map_or((0.0, 0.0), |y| (y.float_crest, y.float_flank));
+        FloatProfile::shaped(self.u_max.max(f64::MIN_POSITIVE), crest, flank)
+    }
+
     /// Checks every parameter.
     ///
     /// # Errors
@@ -418,6 +428,8 @@ pub struct WovenSurface {
     warp: [Albedos; 3],
     yarns_per_unit: [f64; 2],
     u_max: f64,
+    /// The floats' profile: tilt `u_max`, the material's crest and flanks.
+    float: FloatProfile,
     gap: f64,
     detail: Detail,
     /// The exact yarn and its draws, where fibres are resolved ([`Detail::Auto`] and
@@ -549,6 +561,7 @@ impl WovenSurface {
             warp: own.dyed(spec.warp_color),
             yarns_per_unit: spec.yarns_per_unit,
             u_max: spec.u_max,
+            float: spec.float_profile(),
             gap: spec.gap,
             detail: spec.detail,
             fibers,
@@ -599,10 +612,17 @@ impl WovenSurface {
             warp: own.dyed(color),
             yarns_per_unit: [1.0, 1.0],
             u_max: 0.0,
+            float: FloatProfile::new(f64::MIN_POSITIVE),
             gap: 0.0,
             detail: Detail::Yarns,
             fibers: None,
         })
+    }
+
+    /// The floats' profile (its tilt is [`u_max`](Self::u_max), at least the smallest positive
+    /// number).
+    pub fn float_profile(&self) -> FloatProfile {
+        self.float
     }
 
     /// Pattern cells per unit of `u` and of `v`.
@@ -896,7 +916,7 @@ impl WovenSurface {
             (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
             _ => Rgb(self.yarn.eval_dyed(a, b, albedos)),
         };
-        let float = FloatProfile::new(self.u_max.max(f64::MIN_POSITIVE));
+        let float = self.float;
         match lobe.tilt {
             Tilt::Flat => value(wi, wo),
             Tilt::Entering(entry) => {
@@ -922,7 +942,7 @@ impl WovenSurface {
     /// for a flat lobe.
     #[inline]
     fn draw_tilt(&self, lobe: &Lobe, known: Vec3, u: f64) -> (Option<(f64, f64)>, f64) {
-        let float = FloatProfile::new(self.u_max.max(f64::MIN_POSITIVE));
+        let float = self.float;
         match lobe.tilt {
             Tilt::Flat => (None, u),
             Tilt::Entering(entry) => (Some(float.tilt(float.seen_at(entry, known)).sin_cos()), u),
@@ -959,7 +979,7 @@ impl WovenSurface {
             Tilt::Flat => untilted(k, d),
             Tilt::Entering(_) => tilted(self.draw_tilt(lobe, k, 0.0).0.unwrap_or((0.0, 1.0))),
             Tilt::Float => {
-                let float = FloatProfile::new(self.u_max.max(f64::MIN_POSITIVE));
+                let float = self.float;
                 (0..TILT_NODES)
                     .map(|i| tilted(float.tilt((i as f64 + 0.5) / TILT_NODES as f64).sin_cos()))
                     .sum::<f64>()

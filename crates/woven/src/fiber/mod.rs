@@ -9,6 +9,8 @@
 //! | `tau_um` | autocorrelation length `τ` (htsg) | µm | — | `(0, 100]`, with `σ_h/τ ∈ [0.005, 2]` |
 //! | `diffuse` | uniform diffuse albedo `ρ0` | — | 0 | `[0, 1)` |
 //! | `normalization` | `paper` (β of §1.5) or `none` (β = 1) | — | `paper` | — |
+//! | `body_gloss` | share of the body's light `ρ0` leaving in a glossy lobe (an extension) | — | 0 | `[0, 1]` |
+//! | `body_roughness` | that lobe's `σ_h/τ` | — | required with `body_gloss > 0` | `[0.005, 2]` |
 //!
 //! The BRDF is `β(θ_i) F(θ_d) D_B(h) S(s, v) / (4 cos θ_i cos θ_r) + ρ0/π` in the rough limit
 //! (Torrance–Sparrow with a Beckmann distribution and the paper's Smith term), and
@@ -93,6 +95,14 @@ pub struct FiberParams {
     pub diffuse: f64,
     /// Normalization mode.
     pub normalization: Normalization,
+    /// An extension beyond the paper (docs/model.md §9, "Body gloss"): the share `g ∈ [0, 1]` of
+    /// the body's light (the `ρ0` that enters the fiber and comes back out, dyed) that leaves in
+    /// a glossy lobe about the mirror direction instead of diffusely, as light refracted through
+    /// a smooth transparent filament does. 0 (the default): the paper's Lambertian body exactly.
+    pub body_gloss: f64,
+    /// The glossy body lobe's `σ_h/τ` (in `[0.005, 2]` when [`body_gloss`](Self::body_gloss)
+    /// `> 0`; unused, and 0, otherwise).
+    pub body_roughness: f64,
 }
 
 impl FiberParams {
@@ -103,6 +113,8 @@ impl FiberParams {
             eta: Ior::Constant(eta),
             diffuse,
             normalization: Normalization::Paper,
+            body_gloss: 0.0,
+            body_roughness: 0.0,
         }
     }
 
@@ -120,6 +132,21 @@ impl FiberParams {
         self.eta.validate()?;
         check_range("fiber.diffuse", self.diffuse, 0.0, 1.0 - 1e-12)
             .map_err(|_| Error::invalid("fiber.diffuse", self.diffuse, "a number in [0, 1)"))?;
+        check_range("fiber.body_gloss", self.body_gloss, 0.0, 1.0)?;
+        if self.body_gloss > 0.0 {
+            check_range(
+                "fiber.body_roughness",
+                self.body_roughness,
+                ROUGHNESS_MIN,
+                ROUGHNESS_MAX,
+            )?;
+        } else if self.body_roughness != 0.0 {
+            return Err(Error::invalid(
+                "fiber.body_roughness",
+                self.body_roughness,
+                "0 (unused) unless body_gloss > 0",
+            ));
+        }
         match self.model {
             FiberModel::Rough { roughness } => {
                 check_range("fiber.roughness", roughness, ROUGHNESS_MIN, ROUGHNESS_MAX)?;
@@ -172,6 +199,9 @@ pub struct Fiber {
     tau: f64,
     unit_fresnel: bool,
     beta: Option<Arc<BetaTable>>,
+    /// The glossy body lobe ([`FiberParams::body_gloss`]` > 0`): a rough fiber of the body's
+    /// roughness with unit Fresnel and no diffuse part, normalised as this fiber is.
+    body: Option<Arc<Fiber>>,
 }
 
 impl Fiber {
@@ -203,7 +233,30 @@ impl Fiber {
             unit.params.diffuse = 0.0;
             fiber.beta = Some(Arc::new(BetaTable::build(&unit)));
         }
+        fiber.body = Self::body_lobe(params, wavelength_nm)?;
         Ok(fiber)
+    }
+
+    /// The glossy body lobe of `params`, if it has one: the paper's lobe at the body's roughness
+    /// with `F = 1` and `ρ0 = 0`, so that with the `paper` normalization it returns all the body
+    /// light it is given (`β` makes its albedo exactly 1).
+    fn body_lobe(params: &FiberParams, wavelength_nm: f64) -> Result<Option<Arc<Fiber>>> {
+        if params.body_gloss == 0.0 {
+            return Ok(None);
+        }
+        let lobe = FiberParams {
+            model: FiberModel::Rough {
+                roughness: params.body_roughness,
+            },
+            eta: Ior::Constant(1.5),
+            diffuse: 0.0,
+            normalization: params.normalization,
+            body_gloss: 0.0,
+            body_roughness: 0.0,
+        };
+        Ok(Some(Arc::new(
+            Fiber::new(&lobe, wavelength_nm)?.with_unit_fresnel(),
+        )))
     }
 
     /// A fiber with other parameters at this fiber's wavelength, sharing this fiber's β table
@@ -237,6 +290,13 @@ impl Fiber {
         params.eta.checked_at(self.lambda_nm)?;
         let mut fiber = Self::unnormalized(params, self.lambda_nm);
         fiber.beta = self.beta.clone();
+        fiber.body = if (params.body_gloss > 0.0) == self.body.is_some()
+            && params.body_roughness == self.params.body_roughness
+        {
+            self.body.clone()
+        } else {
+            Self::body_lobe(params, self.lambda_nm)?
+        };
         Ok(fiber)
     }
 
@@ -256,6 +316,7 @@ impl Fiber {
             tau,
             unit_fresnel: false,
             beta: None,
+            body: None,
         }
     }
 
@@ -360,7 +421,8 @@ impl Fiber {
     }
 
     /// The BRDF at normal `a` in the two parts it is affine in (docs/spec.md §1.5):
-    /// `[β/ζ · lobe, 1/π]`, so that `f = ζ·parts[0] + ρ0·parts[1]` with `ζ` the
+    /// `[β/ζ · lobe, body]`, the body `1/π` (with a glossy body, `(1 − g)/π + g·f_gloss`,
+    /// [`FiberParams::body_gloss`]), so that `f = ζ·parts[0] + ρ0·parts[1]` with `ζ` the
     /// [`lobe_weight`](Self::lobe_weight) (`1 − ρ0` for the `paper` normalization, else 1). Both
     /// parts are non-negative and independent of `ρ0`; `[0, 0]` when `s` or `v` is below `a`.
     #[inline]
@@ -370,7 +432,14 @@ impl Fiber {
         if ci <= 0.0 || cr <= 0.0 {
             return [0.0, 0.0];
         }
-        [self.beta_unit(ci) * self.lobe(s, v, a, ci, cr), FRAC_1_PI]
+        let body = match &self.body {
+            None => FRAC_1_PI,
+            Some(lobe) => {
+                let g = self.params.body_gloss;
+                (1.0 - g) * FRAC_1_PI + g * lobe.beta(ci) * lobe.lobe(s, v, a, ci, cr)
+            }
+        };
+        [self.beta_unit(ci) * self.lobe(s, v, a, ci, cr), body]
     }
 
     /// The single-scattering lobe with `β = 1` (Fresnel included, `ρ0` excluded).
@@ -443,7 +512,14 @@ impl Fiber {
             let cr = v.z;
             self.beta(ci) * self.lobe(s, v, Vec3::Z, ci, cr)
         });
-        lobe + self.params.diffuse + self.specular_reflectance(ci)
+        let body = match &self.body {
+            None => 1.0,
+            Some(lobe) => {
+                let g = self.params.body_gloss;
+                1.0 - g + g * lobe.albedo(ci)
+            }
+        };
+        lobe + self.params.diffuse * body + self.specular_reflectance(ci)
     }
 
     /// The half-vector width of the lobe at incidence `ci`: `α`, or for the full model at low `g`

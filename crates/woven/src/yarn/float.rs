@@ -59,32 +59,156 @@ pub fn from_tilted(d: Vec3, (s, c): (f64, f64)) -> Vec3 {
 /// The tolerance of the interval ends and of the point a ray meets, in float lengths.
 const TOL: f64 = 1e-12;
 
-/// A float's height along its length for a tilt `u_max` at its ends (module docs).
+/// Most knots a float's tilt curve has ([`FloatProfile::shaped`]).
+const MAX_KNOTS: usize = 6;
+
+/// A float's height along its length (module docs): its tilt `ψ(t)` is piecewise linear in `t`
+/// through knots `(t_k, ψ_k)`, non-increasing from `+u_max` at `t = 0` to `−u_max` at `t = 1`
+/// and odd about the crest `t = 1/2`, so that the height is a concave hill with its top at the
+/// crest.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FloatProfile {
     u_max: f64,
+    /// The shares lying flat on top and at full tilt at each end ([`shaped`](Self::shaped)).
+    shape: (f64, f64),
+    /// `(t_k, ψ_k)`, `t` increasing from 0 to 1; the first `len` are used.
+    knots: [(f64, f64); MAX_KNOTS],
+    /// `∫₀^{t_k} tan ψ`, the height at each knot above the float's start.
+    rise: [f64; MAX_KNOTS],
+    len: usize,
+    /// The crest's height above the float's start, `∫₀^{1/2} tan ψ`.
+    top: f64,
 }
 
 impl FloatProfile {
-    /// The float of tilt `u_max` (radians, in `(0, π/2)`; the surface allows up to 80°).
+    /// The float of tilt `u_max` (radians, in `(0, π/2)`; the surface allows up to 80°), its
+    /// tilt falling linearly along it: `ψ(t) = u_max (1 − 2t)`.
     pub fn new(u_max: f64) -> FloatProfile {
+        FloatProfile::shaped(u_max, 0.0, 0.0)
+    }
+
+    /// A float that keeps its full tilt `u_max` over the first and last `flank` of its length,
+    /// lies flat over the middle `crest`, and turns linearly between (an option beyond Irawan &
+    /// Marschner's linear tilt, [`new`](Self::new), which is `crest = flank = 0`): a float pressed
+    /// flat on top, rising and dipping steeply at its ends. `crest, flank ≥ 0` with
+    /// `crest + 2 flank < 1` ([`YarnParams::validate`](super::YarnParams::validate) checks them).
+    pub fn shaped(u_max: f64, crest: f64, flank: f64) -> FloatProfile {
         debug_assert!(
             u_max > 0.0 && u_max < std::f64::consts::FRAC_PI_2,
             "u_max {u_max}"
         );
-        FloatProfile { u_max }
+        debug_assert!(
+            crest >= 0.0 && flank >= 0.0 && crest + 2.0 * flank < 1.0,
+            "crest {crest} flank {flank}"
+        );
+        let (a, b) = (0.5 * (1.0 - crest), 0.5 * (1.0 + crest));
+        let all = [
+            (0.0, u_max),
+            (flank, u_max),
+            (a, 0.0),
+            (b, 0.0),
+            (1.0 - flank, -u_max),
+            (1.0, -u_max),
+        ];
+        let mut f = FloatProfile {
+            u_max,
+            shape: (crest, flank),
+            knots: [(0.0, 0.0); MAX_KNOTS],
+            rise: [0.0; MAX_KNOTS],
+            len: 0,
+            top: 0.0,
+        };
+        for k in all {
+            // Pieces of zero length are dropped, and a knot where the tilt does not turn (a
+            // linear tilt is one piece).
+            if f.len > 0 && k.0 <= f.knots[f.len - 1].0 {
+                continue;
+            }
+            if f.len >= 2 {
+                let ((t0, p0), (t1, p1)) = (f.knots[f.len - 2], f.knots[f.len - 1]);
+                if ((p1 - p0) / (t1 - t0) - (k.1 - p1) / (k.0 - t1)).abs() <= 1e-12 * u_max {
+                    f.len -= 1;
+                }
+            }
+            f.knots[f.len] = k;
+            if f.len > 0 {
+                let (t0, _) = f.knots[f.len - 1];
+                f.rise[f.len] = f.rise[f.len - 1] + f.rise_within(f.len - 1, k.0 - t0);
+            }
+            f.len += 1;
+        }
+        f.top = f.rise_to(0.5);
+        f
+    }
+
+    /// The tilt at the float's ends, radians.
+    pub fn u_max(&self) -> f64 {
+        self.u_max
+    }
+
+    /// `(crest, flank)`: the shares of the float lying flat on top and at full tilt at each end
+    /// (`(0, 0)` for a linear tilt).
+    pub fn shape(&self) -> (f64, f64) {
+        self.shape
+    }
+
+    /// `∫ tan ψ` over the first `dt` of piece `i` (from knot `i` toward knot `i + 1`).
+    #[inline]
+    fn rise_within(&self, i: usize, dt: f64) -> f64 {
+        let ((t0, p0), (t1, p1)) = (self.knots[i], self.knots[i + 1]);
+        let k = (p1 - p0) / (t1 - t0);
+        if k == 0.0 {
+            p0.tan() * dt
+        } else {
+            (p0.cos().ln() - (p0 + k * dt).cos().ln()) / k
+        }
+    }
+
+    /// The piece holding `t` (clamped to the float).
+    #[inline]
+    fn piece(&self, t: f64) -> usize {
+        let mut i = 0;
+        while i + 2 < self.len && t >= self.knots[i + 1].0 {
+            i += 1;
+        }
+        i
+    }
+
+    /// The height at `t` above the float's start.
+    #[inline]
+    fn rise_to(&self, t: f64) -> f64 {
+        let i = self.piece(t);
+        self.rise[i] + self.rise_within(i, t - self.knots[i].0)
     }
 
     /// The axis's tilt at the fraction `t` of the float, radians.
     #[inline]
     pub fn tilt(&self, t: f64) -> f64 {
-        self.u_max * (1.0 - 2.0 * t)
+        let i = self.piece(t);
+        let ((t0, p0), (t1, p1)) = (self.knots[i], self.knots[i + 1]);
+        p0 + (p1 - p0) * ((t - t0) / (t1 - t0))
     }
 
     /// The height at `t`, in float lengths below the crest (`≤ 0`).
     #[inline]
     pub fn height(&self, t: f64) -> f64 {
-        self.tilt(t).cos().ln() / (2.0 * self.u_max)
+        self.rise_to(t) - self.top
+    }
+
+    /// The first `t` past which the tilt is below `a` (`tan ψ(t) < tan a`): where a direction
+    /// from `+x` at elevation `a` starts to face the float.
+    fn facing_from(&self, a: f64) -> f64 {
+        for i in 0..self.len - 1 {
+            let ((t0, p0), (t1, p1)) = (self.knots[i], self.knots[i + 1]);
+            if p1 < a {
+                return if p0 <= a {
+                    t0
+                } else {
+                    t0 + (t1 - t0) * (p0 - a) / (p0 - p1)
+                };
+            }
+        }
+        1.0
     }
 
     /// The part `[t0, t1]` of a float lit from `d` (equally, visible from it), in the yarn's
@@ -131,13 +255,29 @@ impl FloatProfile {
             return sum;
         };
         let rule = tilt_rule();
-        for (x, w) in rule.nodes().iter().zip(rule.weights()) {
-            let t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
-            let sc = self.tilt(t).sin_cos();
-            let (ts, tv) = (into_tilted(s, sc), into_tilted(v, sc));
-            if ts.z > 0.0 && tv.z > 0.0 {
-                let k = ts.z * tv.z / (s.z * v.z * sc.1);
-                sum += f(ts, tv) * (0.5 * (hi - lo) * w * k);
+        let mut piece = |lo: f64, hi: f64, flat: bool| {
+            let mut add = |t: f64, w: f64| {
+                let sc = self.tilt(t).sin_cos();
+                let (ts, tv) = (into_tilted(s, sc), into_tilted(v, sc));
+                if ts.z > 0.0 && tv.z > 0.0 {
+                    let k = ts.z * tv.z / (s.z * v.z * sc.1);
+                    sum += f(ts, tv) * (w * k);
+                }
+            };
+            if flat {
+                // A piece of constant tilt: the integrand is constant along it.
+                add(0.5 * (lo + hi), hi - lo);
+            } else {
+                for (x, w) in rule.nodes().iter().zip(rule.weights()) {
+                    add(0.5 * (lo + hi) + 0.5 * (hi - lo) * x, 0.5 * (hi - lo) * w);
+                }
+            }
+        };
+        for i in 0..self.len - 1 {
+            let ((t0, p0), (t1, p1)) = (self.knots[i], self.knots[i + 1]);
+            let (a, b) = (t0.max(lo), t1.min(hi));
+            if a < b {
+                piece(a, b, p0 == p1);
             }
         }
         sum
@@ -145,19 +285,15 @@ impl FloatProfile {
 
     /// The lit interval for a direction from `+x` at slope `m > 0`.
     fn lit_from_plus_x(&self, m: f64) -> (f64, f64) {
-        let u = self.u_max;
         let a = m.atan();
-        if a >= u {
+        if a >= self.u_max {
             return (0.0, 1.0);
         }
-        let t_star = 0.5 * (1.0 - a / u);
+        let t_star = self.facing_from(a);
         let g = self.height(t_star) - m * t_star;
         // H(t) = h(t) − m t − (g − m): m at t*, h(1) − g < 0 at 1, decreasing between.
         let t_end = monotone_root(
-            |t| {
-                let psi = self.tilt(t);
-                (psi.cos().ln() / (2.0 * u) - m * t - g + m, psi.tan() - m)
-            },
+            |t| (self.height(t) - m * t - g + m, self.tilt(t).tan() - m),
             t_star,
             1.0,
             TOL,
@@ -202,6 +338,80 @@ mod tests {
         Vec3::new(x, 0.3, z).normalize()
     }
 
+    /// Linear tilts and shaped ones (a flat crest, flanks at full tilt, both).
+    fn profiles(u_degs: &[f64]) -> Vec<FloatProfile> {
+        let mut out = Vec::new();
+        for &u in u_degs {
+            let u = u.to_radians();
+            for (crest, flank) in [(0.0, 0.0), (0.3, 0.0), (0.0, 0.25), (0.2, 0.13)] {
+                out.push(FloatProfile::shaped(u, crest, flank));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_height_rises_as_the_tilt_and_tops_out_at_the_crest() {
+        for f in profiles(&[10.0, 45.0, 80.0]) {
+            assert!(f.height(0.5).abs() < 1e-15, "{f:?}");
+            for k in 1..200 {
+                let t = k as f64 / 200.0;
+                let dt = 1e-6;
+                let slope = (f.height(t + dt) - f.height(t - dt)) / (2.0 * dt);
+                // h′ = tan ψ away from the kinks; h ≤ 0 everywhere.
+                assert!(
+                    (slope - f.tilt(t).tan()).abs() < 1e-4 * (1.0 + slope.abs()) || kink(&f, t),
+                    "{f:?} t {t}: h′ {slope} tan ψ {}",
+                    f.tilt(t).tan()
+                );
+                assert!(f.height(t) <= 1e-15, "{f:?} t {t}");
+            }
+        }
+    }
+
+    fn kink(f: &FloatProfile, t: f64) -> bool {
+        f.knots[..f.len].iter().any(|k| (k.0 - t).abs() < 1e-5)
+    }
+
+    #[test]
+    fn a_shaped_float_is_its_linear_float_without_crest_or_flanks() {
+        let (a, b) = (FloatProfile::new(0.5), FloatProfile::shaped(0.5, 0.0, 0.0));
+        assert_eq!(a, b);
+        assert_eq!(a.len, 2);
+        // A pressed float: flat over its crest, at full tilt over its flanks.
+        let f = FloatProfile::shaped(0.5, 0.2, 0.1);
+        assert_eq!(f.tilt(0.45), 0.0);
+        assert_eq!(f.tilt(0.05), 0.5);
+        assert_eq!(f.tilt(0.97), -0.5);
+        assert!((f.tilt(0.25) - 0.25).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_whole_float_average_is_a_fine_riemann_sum() {
+        // f ≡ 1: the mean of cos θ′s cos θ′v / (cos θs cos θv cos ψ) over the lit-and-seen part.
+        for f in profiles(&[20.0, 60.0]) {
+            for (s, v) in [
+                (dir(1.0, 0.7), dir(-0.6, 1.0)),
+                (dir(0.3, 1.0), dir(2.0, 0.5)),
+            ] {
+                let got = f.average(s, v, |_, _| 1.0);
+                let (lo, hi) = f.lit_and_visible(s, v).unwrap();
+                let n = 200_000;
+                let want: f64 = (0..n)
+                    .map(|k| {
+                        let t = lo + (hi - lo) * (k as f64 + 0.5) / n as f64;
+                        let sc = f.tilt(t).sin_cos();
+                        let (ts, tv) = (into_tilted(s, sc), into_tilted(v, sc));
+                        (ts.z * tv.z).max(0.0) / (s.z * v.z * sc.1)
+                    })
+                    .sum::<f64>()
+                    * (hi - lo)
+                    / n as f64;
+                assert!((got - want).abs() < 1e-6 * want, "{f:?}: {got} vs {want}");
+            }
+        }
+    }
+
     /// Brute force: whether the point at `t` (float 0) is seen from `d` (yarn frame), by
     /// marching the ray over the next floats.
     fn lit_by_marching(f: &FloatProfile, t: f64, d: Vec3) -> bool {
@@ -226,8 +436,7 @@ mod tests {
 
     #[test]
     fn the_lit_interval_is_what_a_marched_ray_sees() {
-        for u_deg in [10.0, 40.0, 80.0] {
-            let f = FloatProfile::new(f64::to_radians(u_deg));
+        for f in profiles(&[10.0, 40.0, 80.0]) {
             for d in [dir(1.0, 0.2), dir(-1.0, 0.6), dir(0.4, 1.0), dir(-3.0, 0.1)] {
                 let (lo, hi) = f.lit(d).unwrap();
                 for k in 0..100 {
@@ -238,7 +447,7 @@ mod tests {
                         assert_eq!(
                             lit_by_marching(&f, t, d),
                             inside,
-                            "u {u_deg}° d {d:?} t {t}: interval ({lo}, {hi})"
+                            "{f:?} d {d:?} t {t}: interval ({lo}, {hi})"
                         );
                     }
                 }
@@ -250,8 +459,7 @@ mod tests {
     fn the_visible_parts_tile_the_plane() {
         // ∫ over the visible part of w′(t) = 1 − tan ψ / m is one float length, so the
         // projected lengths seen from any direction add up to the cloth's.
-        for u_deg in [5.0, 45.0, 80.0] {
-            let f = FloatProfile::new(f64::to_radians(u_deg));
+        for f in profiles(&[5.0, 45.0, 80.0]) {
             for d in [dir(1.0, 0.05), dir(-1.0, 1.0), dir(2.0, 1.0)] {
                 let (lo, hi) = f.lit(d).unwrap();
                 let m = d.z / d.x.abs();
@@ -265,54 +473,56 @@ mod tests {
                     .sum::<f64>()
                     * (hi - lo)
                     / n as f64;
-                assert!((sum - 1.0).abs() < 1e-6, "u {u_deg}° d {d:?}: {sum}");
+                assert!((sum - 1.0).abs() < 1e-6, "{f:?} d {d:?}: {sum}");
             }
         }
     }
 
     #[test]
     fn a_ray_meets_a_visible_point_on_its_own_line() {
-        let f = FloatProfile::new(f64::to_radians(60.0));
-        for v in [dir(1.0, 0.3), dir(-0.5, 1.0), dir(4.0, 0.2)] {
-            let (lo, hi) = f.lit(v).unwrap();
-            for k in 0..100 {
-                let entry = (k as f64 + 0.25) / 100.0;
-                let t = f.seen_at(entry, v);
-                assert!(
-                    t >= lo - 1e-9 && t <= hi + 1e-9,
-                    "v {v:?} entry {entry}: t {t}"
-                );
-                // The ray through the point reaches the crests' plane at the entry (mod 1).
-                let foot = t - f.height(t) * v.x / v.z;
-                let off = foot - entry;
-                assert!(
-                    (off - off.round()).abs() < 1e-9,
-                    "v {v:?} entry {entry}: foot {foot}"
-                );
+        for f in profiles(&[60.0]) {
+            for v in [dir(1.0, 0.3), dir(-0.5, 1.0), dir(4.0, 0.2)] {
+                let (lo, hi) = f.lit(v).unwrap();
+                for k in 0..100 {
+                    let entry = (k as f64 + 0.25) / 100.0;
+                    let t = f.seen_at(entry, v);
+                    assert!(
+                        t >= lo - 1e-9 && t <= hi + 1e-9,
+                        "v {v:?} entry {entry}: t {t}"
+                    );
+                    // The ray through the point reaches the crests' plane at the entry (mod 1).
+                    let foot = t - f.height(t) * v.x / v.z;
+                    let off = foot - entry;
+                    assert!(
+                        (off - off.round()).abs() < 1e-9,
+                        "v {v:?} entry {entry}: foot {foot}"
+                    );
+                }
             }
+            // Straight down the axis' normal plane, the point below the entry.
+            assert_eq!(f.seen_at(0.3, Vec3::new(0.0, 0.6, 0.8)), 0.3);
         }
-        // Straight down the axis' normal plane, the point below the entry.
-        assert_eq!(f.seen_at(0.3, Vec3::new(0.0, 0.6, 0.8)), 0.3);
     }
 
     #[test]
     fn tiny_and_steep_tilts_and_grazing_directions_stay_finite() {
         for u in [1e-9, 1e-4, f64::to_radians(80.0)] {
-            let f = FloatProfile::new(u);
-            for d in [
-                dir(1.0, 1e-9),
-                dir(-1.0, 1e-6),
-                dir(1e-12, 1.0),
-                dir(3.0, 0.02),
-            ] {
-                let (lo, hi) = f.lit(d).unwrap();
-                assert!(
-                    (0.0..=hi).contains(&lo) && hi <= 1.0,
-                    "u {u} d {d:?}: ({lo}, {hi})"
-                );
-                for entry in [0.0, 0.3, 0.999_999] {
-                    let t = f.seen_at(entry, d);
-                    assert!((0.0..=1.0).contains(&t), "u {u} d {d:?} entry {entry}: {t}");
+            for f in [FloatProfile::new(u), FloatProfile::shaped(u, 0.5, 0.2)] {
+                for d in [
+                    dir(1.0, 1e-9),
+                    dir(-1.0, 1e-6),
+                    dir(1e-12, 1.0),
+                    dir(3.0, 0.02),
+                ] {
+                    let (lo, hi) = f.lit(d).unwrap();
+                    assert!(
+                        (0.0..=hi).contains(&lo) && hi <= 1.0,
+                        "u {u} d {d:?}: ({lo}, {hi})"
+                    );
+                    for entry in [0.0, 0.3, 0.999_999] {
+                        let t = f.seen_at(entry, d);
+                        assert!((0.0..=1.0).contains(&t), "u {u} d {d:?} entry {entry}: {t}");
+                    }
                 }
             }
         }

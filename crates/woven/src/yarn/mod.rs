@@ -55,6 +55,13 @@ pub struct YarnParams {
     /// then each family's whole-float average ([`FloatProfile::average`](float::FloatProfile::average));
     /// 0 (the default): flat floats, the paper's model exactly.
     pub u_max: f64,
+    /// With [`u_max`](Self::u_max) `> 0`, the share of each float's length lying flat on top
+    /// (another extension, [`FloatProfile::shaped`](float::FloatProfile::shaped)); 0: the tilt
+    /// falls linearly along the whole float.
+    pub float_crest: f64,
+    /// With [`u_max`](Self::u_max) `> 0`, the share of each float's length at its full tilt, at
+    /// each end ([`FloatProfile::shaped`](float::FloatProfile::shaped)).
+    pub float_flank: f64,
 }
 
 impl Default for YarnParams {
@@ -68,11 +75,23 @@ impl Default for YarnParams {
             twist_std: 0.0,
             isotropic: false,
             u_max: 0.0,
+            float_crest: 0.0,
+            float_flank: 0.0,
         }
     }
 }
 
+/// The largest [`YarnParams::float_crest`] `+ 2` [`YarnParams::float_flank`]: the float turns
+/// over at least a tenth of its length.
+pub const MAX_FLOAT_SHAPE: f64 = 0.9;
+
 impl YarnParams {
+    /// The floats' profile along their length, `None` for the paper's flat floats (`u_max = 0`).
+    pub fn float_profile(&self) -> Option<float::FloatProfile> {
+        (self.u_max > 0.0)
+            .then(|| float::FloatProfile::shaped(self.u_max, self.float_crest, self.float_flank))
+    }
+
     /// Checks every parameter against its valid range.
     ///
     /// # Errors
@@ -95,6 +114,35 @@ impl YarnParams {
             0.0,
             crate::surface::MAX_U_MAX_DEG,
         )?;
+        check_range("yarn.float_crest", self.float_crest, 0.0, MAX_FLOAT_SHAPE)?;
+        check_range(
+            "yarn.float_flank",
+            self.float_flank,
+            0.0,
+            MAX_FLOAT_SHAPE / 2.0,
+        )?;
+        if self.float_crest + 2.0 * self.float_flank > MAX_FLOAT_SHAPE {
+            return Err(Error::invalid(
+                "yarn.float_flank",
+                self.float_flank,
+                format!(
+                    "float_crest + 2 float_flank ≤ {MAX_FLOAT_SHAPE} (float_crest is {})",
+                    self.float_crest
+                ),
+            ));
+        }
+        if self.u_max == 0.0 && (self.float_crest > 0.0 || self.float_flank > 0.0) {
+            let (key, value) = if self.float_crest > 0.0 {
+                ("yarn.float_crest", self.float_crest)
+            } else {
+                ("yarn.float_flank", self.float_flank)
+            };
+            return Err(Error::invalid(
+                key,
+                value,
+                "0 unless the floats are tilted (u_max_deg > 0): a flat float has no shape",
+            ));
+        }
         if self.isotropic && self.twist_std > 0.0 {
             return Err(Error::invalid(
                 "yarn.twist_std",

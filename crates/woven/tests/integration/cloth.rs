@@ -1403,6 +1403,8 @@ fn random_fiber_params(rng: &mut Rng, roughness: (f64, f64)) -> FiberParams {
         } else {
             Normalization::Paper
         },
+        body_gloss: 0.0,
+        body_roughness: 0.0,
     }
 }
 
@@ -1442,7 +1444,7 @@ fn random_yarn_params(rng: &mut Rng) -> YarnParams {
         interreflection_albedo: rng.uniform(),
         twist_std,
         isotropic,
-        u_max: 0.0,
+        ..YarnParams::default()
     }
 }
 
@@ -1554,6 +1556,8 @@ fn yarn_and_cloth_brdfs_are_nonnegative() {
         eta: Ior::Constant(1.6885531440180523),
         diffuse: 0.9250524258154802,
         normalization: Normalization::Paper,
+        body_gloss: 0.0,
+        body_roughness: 0.0,
     };
     let yp = YarnParams {
         lateral_length: 0.0,
@@ -1563,7 +1567,7 @@ fn yarn_and_cloth_brdfs_are_nonnegative() {
         interreflection_albedo: 0.3775892176493678,
         twist_std: 0.5401045400417757,
         isotropic: false,
-        u_max: 0.0,
+        ..YarnParams::default()
     };
     let m = woven(
         yarn(&Fiber::new(&fp, WAVELENGTH_NM).unwrap(), yp),
@@ -1585,6 +1589,8 @@ fn yarn_and_cloth_brdfs_are_nonnegative() {
         eta: Ior::Constant(1.1626368959305258),
         diffuse: 0.6459733184799219,
         normalization: Normalization::Paper,
+        body_gloss: 0.0,
+        body_roughness: 0.0,
     };
     let yp = YarnParams {
         lateral_length: 0.007047398876471274,
@@ -1594,7 +1600,7 @@ fn yarn_and_cloth_brdfs_are_nonnegative() {
         interreflection_albedo: 0.37706650092326244,
         twist_std: 0.0,
         isotropic: false,
-        u_max: 0.0,
+        ..YarnParams::default()
     };
     let m = woven(
         yarn(&Fiber::new(&fp, WAVELENGTH_NM).unwrap(), yp),

@@ -1,6 +1,7 @@
-//! Two options beyond the paper that a material file may carry: `[dye]` (the weft's and the
-//! warp's colours) and `[yarn] u_max_deg` (floats tilted along their length). Off, the material
-//! is the paper's model exactly; on, the BRDF stays consistent with its parts and with energy.
+//! Options beyond the paper that a material file may carry: `[dye]` (the weft's and the warp's
+//! colours), `[yarn] u_max_deg` (floats tilted along their length) with `float_crest` and
+//! `float_flank` (their shape), and `[fiber] body_gloss` (a glossy body). Off, the material is
+//! the paper's model exactly; on, the BRDF stays consistent with its parts and with energy.
 
 use std::f64::consts::FRAC_PI_2;
 use woven::color::Rgb;
@@ -13,6 +14,64 @@ fn tilted(name: &str, deg: f64) -> Material {
     let mut m = Material::preset(name).unwrap();
     m.yarn.as_mut().unwrap().u_max = deg.to_radians();
     m
+}
+
+fn shaped(name: &str, deg: f64, crest: f64, flank: f64) -> Material {
+    let mut m = tilted(name, deg);
+    let y = m.yarn.as_mut().unwrap();
+    (y.float_crest, y.float_flank) = (crest, flank);
+    m
+}
+
+#[test]
+fn float_shape_and_body_gloss_round_trip_and_are_validated() {
+    let mut m = shaped("belt-cloth", 25.0, 0.4, 0.2);
+    (m.fiber.body_gloss, m.fiber.body_roughness) = (0.7, 0.12);
+    let text = m.to_toml_string();
+    let back = Material::from_toml_str(&text, "<test>").unwrap();
+    assert_eq!(back.yarn, m.yarn);
+    assert_eq!(back.fiber, m.fiber);
+    let paper = Material::preset("belt-cloth").unwrap().to_toml_string();
+    for key in ["float_crest", "float_flank", "body_gloss", "body_roughness"] {
+        assert!(text.contains(key) && !paper.contains(key), "{key}: {text}");
+    }
+    for (from, to, key) in [
+        ("float_flank = 0.2", "float_flank = 0.3", "yarn.float_flank"),
+        (
+            "float_crest = 0.4",
+            "float_crest = 0.95",
+            "yarn.float_crest",
+        ),
+        ("u_max_deg = 25", "u_max_deg = 0", "yarn.float_crest"),
+        ("body_gloss = 0.7", "body_gloss = 1.2", "fiber.body_gloss"),
+        (
+            "body_roughness = 0.12",
+            "body_roughness = 0.001",
+            "fiber.body_roughness",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let e = Material::from_toml_str(&text.replace(from, to), "<test>")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(key), "{to}: {e}");
+    }
+}
+
+/// A float pressed flat on top keeps more of the flat floats' mirror peak than a linear tilt to
+/// the same angle, which spreads its facets evenly.
+#[test]
+fn a_pressed_float_keeps_the_mirror_peak() {
+    let t = 30f64.to_radians();
+    let (s, c) = t.sin_cos();
+    // filament-satin is warp-faced: its floats run along y; light in the xz plane.
+    let (wi, mirror) = (Vec3::new(s, 0.0, c), Vec3::new(-s, 0.0, c));
+    let linear = tilted("filament-satin", 30.0).build(550.0).unwrap();
+    let pressed = shaped("filament-satin", 30.0, 0.6, 0.1)
+        .build(550.0)
+        .unwrap();
+    let (a, b) = (linear.eval(wi, mirror), pressed.eval(wi, mirror));
+    assert!(b > 1.5 * a, "pressed {b} vs linear {a}");
 }
 
 #[test]
@@ -118,12 +177,16 @@ fn tilted_floats_spread_the_sheen_along_them() {
 /// preset are in energy.rs).
 #[test]
 fn a_tilted_cloth_reflects_no_more_than_it_receives() {
-    for (name, deg) in [
-        ("filament-satin", 40.0),
-        ("filament-satin", 75.0),
-        ("polyester-sateen", 25.0),
+    for (name, deg, crest, flank, gloss) in [
+        ("filament-satin", 40.0, 0.0, 0.0, 0.0),
+        ("filament-satin", 75.0, 0.0, 0.0, 0.0),
+        ("polyester-sateen", 25.0, 0.0, 0.0, 0.0),
+        ("filament-satin", 35.0, 0.5, 0.15, 0.9),
     ] {
-        let mut m = tilted(name, deg);
+        let mut m = shaped(name, deg, crest, flank);
+        if gloss > 0.0 {
+            (m.fiber.body_gloss, m.fiber.body_roughness) = (gloss, 0.1);
+        }
         m.fiber.diffuse = 0.999;
         if let Some(y) = &mut m.yarn {
             y.interreflection_albedo = 1.0;

@@ -54,6 +54,8 @@ fn htsg(
         eta: Ior::Constant(eta),
         diffuse,
         normalization,
+        body_gloss: 0.0,
+        body_roughness: 0.0,
     };
     Fiber::new(&params, lambda_nm).unwrap_or_else(|e| panic!("{params:?} at {lambda_nm} nm: {e}"))
 }
@@ -160,6 +162,8 @@ fn fiber_none() -> impl Strategy<Value = (FiberParams, f64)> {
                 eta: Ior::Constant(eta),
                 diffuse,
                 normalization: Normalization::None,
+                body_gloss: 0.0,
+                body_roughness: 0.0,
             };
             (params, lambda)
         })
@@ -902,4 +906,105 @@ fn cauchy_dispersion_sets_eta_per_wavelength() {
         f_blue > f_red,
         "the bluer, denser fiber reflects more: {f_blue} vs {f_red}"
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The glossy body (`body_gloss`, an extension beyond the paper)
+// ---------------------------------------------------------------------------------------------
+
+fn glossy(diffuse: f64, gloss: f64, body_roughness: f64, normalization: Normalization) -> Fiber {
+    glossy_on(0.05, diffuse, gloss, body_roughness, normalization)
+}
+
+fn glossy_on(
+    roughness: f64,
+    diffuse: f64,
+    gloss: f64,
+    body_roughness: f64,
+    normalization: Normalization,
+) -> Fiber {
+    let params = FiberParams {
+        body_gloss: gloss,
+        body_roughness,
+        ..FiberParams::rough(1.55, roughness, diffuse).with_normalization(normalization)
+    };
+    Fiber::new(&params, 550.0).unwrap()
+}
+
+#[test]
+fn a_glossy_body_keeps_the_furnace_at_one_and_agrees_with_brute_force() {
+    for (gloss, body_roughness) in [(0.5, 0.4), (1.0, 0.25)] {
+        let fiber = glossy(0.6, gloss, body_roughness, Normalization::Paper);
+        let white = fiber.clone().with_unit_fresnel();
+        for deg in [0.0f64, 40.0, 75.0, 89.0] {
+            let ci = deg.to_radians().cos();
+            let what = format!("body gloss {gloss}, roughness {body_roughness}, θi {deg}°");
+            assert_close(
+                white.albedo(ci),
+                1.0,
+                1e-4,
+                0.0,
+                &format!("furnace, {what}"),
+            );
+        }
+        // By the tensor rule, on a fibre whose own lobe is broad enough for it (α = 0.8).
+        let broad = glossy_on(0.4, 0.6, gloss, body_roughness, Normalization::Paper);
+        for deg in [0.0f64, 30.0, 60.0] {
+            let ci = deg.to_radians().cos();
+            assert_close(
+                broad.albedo(ci),
+                brute_force_albedo(&broad, ci, 64),
+                1e-5,
+                0.0,
+                &format!("albedo vs brute force, gloss {gloss}, θi {deg}°"),
+            );
+        }
+    }
+}
+
+#[test]
+fn without_gloss_the_body_is_the_papers_and_with_it_light_leaves_near_the_mirror() {
+    let paper = rough(1.55, 0.05, 0.3, Normalization::Paper);
+    let off = glossy(0.3, 0.0, 0.0, Normalization::Paper);
+    let on = glossy(0.3, 0.9, 0.1, Normalization::Paper);
+    let s = Vec3::from_spherical(0.6, 0.0);
+    let (mirror, back) = (
+        Vec3::from_spherical(0.6, PI),
+        Vec3::from_spherical(0.6, 0.0),
+    );
+    for v in [mirror, back, Vec3::from_spherical(1.2, 2.0)] {
+        assert_eq!(paper.eval(s, v), off.eval(s, v));
+    }
+    // The body's light moves from the backward direction to the mirror's neighbourhood.
+    let body = |f: &Fiber, v: Vec3| {
+        f.eval(s, v) - rough(1.55, 0.05, 0.0, Normalization::Paper).eval(s, v) * 0.7
+    };
+    assert!(body(&on, back) < 0.2 * body(&paper, back));
+    assert!(body(&on, mirror) > 5.0 * body(&paper, mirror));
+    // In `none` mode the glossy body is reciprocal too.
+    let none = glossy(0.3, 0.9, 0.1, Normalization::None);
+    let (a, b) = (
+        Vec3::from_spherical(0.3, 0.4),
+        Vec3::from_spherical(1.1, 2.9),
+    );
+    assert!((none.eval(a, b) - none.eval(b, a)).abs() <= 1e-12 * none.eval(a, b));
+}
+
+#[test]
+fn body_gloss_out_of_range_or_without_its_roughness_is_refused() {
+    let base = FiberParams::rough(1.5, 0.1, 0.2);
+    for (gloss, roughness, key) in [
+        (1.5, 0.1, "fiber.body_gloss"),
+        (0.5, 0.0, "fiber.body_roughness"),
+        (0.5, 3.0, "fiber.body_roughness"),
+        (0.0, 0.2, "fiber.body_roughness"),
+    ] {
+        let p = FiberParams {
+            body_gloss: gloss,
+            body_roughness: roughness,
+            ..base
+        };
+        let e = Fiber::new(&p, 550.0).unwrap_err().to_string();
+        assert!(e.contains(key), "{gloss} {roughness}: {e}");
+    }
 }

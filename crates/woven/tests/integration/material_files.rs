@@ -87,6 +87,8 @@ normalization = "none"
             eta: Ior::Constant(1.6),
             diffuse: 0.1,
             normalization: Normalization::None,
+            body_gloss: 0.0,
+            body_roughness: 0.0,
         }
     );
     // Defaults: model "rough", diffuse 0, normalization "paper"; integers are numbers.
@@ -105,6 +107,8 @@ normalization = "none"
         },
         diffuse: 0.0,
         normalization: Normalization::Paper,
+        body_gloss: 0.0,
+        body_roughness: 0.0,
     };
     let inline = parse(
         "[fiber]\nmodel = \"htsg\"\neta = { cauchy_a = 1.55, cauchy_b_nm2 = 4000.0 }\n\
@@ -141,6 +145,8 @@ fn materials_round_trip_through_toml() {
                 },
                 diffuse: 0.3,
                 normalization: Normalization::Paper,
+                body_gloss: 0.0,
+                body_roughness: 0.0,
             })
         },
         Material::flat(FiberParams::rough(1.0, 0.005, 0.0)),
