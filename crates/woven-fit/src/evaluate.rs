@@ -1,6 +1,7 @@
 //! Evaluating a parameter set: the BRDF at every measurement, as the affine function of the
 //! albedos it is (so the albedos, the scale and `ħ` get exact derivatives for free).
 
+use crate::microcylinder::PreparedFabric;
 use crate::params::{ModelKind, ParamSet, Quantity};
 use rayon::prelude::*;
 use std::f64::consts::FRAC_1_PI;
@@ -20,6 +21,10 @@ use woven::{AffineBrdf, Model, Vec3};
 /// `per_diffuse` = `1/π`, `per_interreflection` = the base's loss per unit `c`,
 /// `max(Ê(θi), Ê(θr))/π`: `f = c·fixed + diffuse·(per_diffuse − c·per_interreflection)`
 /// ([`Linear::predict`]).
+///
+/// The microcylinder fabric fills them as `fixed` = the surface lobes, `per_diffuse` = thread
+/// 1's volume lobe per unit albedo, `per_interreflection` = thread 2's, each times the held
+/// energy guard's factor ([`crate::microcylinder::PreparedFabric`]).
 pub type Parts = AffineBrdf;
 
 /// One measurement as the fitter uses it: directions in the measurement's frame, values per
@@ -60,6 +65,8 @@ pub enum Prepared {
         /// The library's lobe at the set's roughness.
         lobe: Box<SheenLobe>,
     },
+    /// The microcylinder fabric, affine in its threads' albedos.
+    Microcylinder(Box<PreparedFabric>),
 }
 
 impl Prepared {
@@ -107,6 +114,9 @@ impl Prepared {
                     set.get(Quantity::SheenRoughness, 0).unwrap_or(0.5),
                 )?),
             },
+            ModelKind::Microcylinder => {
+                Prepared::Microcylinder(Box::new(PreparedFabric::new(set)?))
+            }
         })
     }
 
@@ -138,6 +148,7 @@ impl Prepared {
                 per_diffuse: FRAC_1_PI,
                 per_interreflection: lobe.base_attenuation(s.z, v.z) * FRAC_1_PI,
             },
+            Prepared::Microcylinder(fabric) => fabric.parts(s, v),
         }
     }
 
@@ -230,11 +241,16 @@ pub struct Linear {
 }
 
 impl Linear {
-    /// The linear parameters of `set`.
+    /// The linear parameters of `set` (a microcylinder's threads' albedos in the places of
+    /// `diffuse` and `interreflection_albedo`, as its [`Parts`] are laid out).
     pub fn of(set: &ParamSet) -> Self {
+        let (first, second) = match set.model {
+            ModelKind::Microcylinder => (Quantity::VolumeAlbedo(0), Quantity::VolumeAlbedo(1)),
+            _ => (Quantity::Diffuse, Quantity::InterreflectionAlbedo),
+        };
         Linear {
-            diffuse: set.channels_of(Quantity::Diffuse),
-            interreflection_albedo: set.channels_of(Quantity::InterreflectionAlbedo),
+            diffuse: set.channels_of(first),
+            interreflection_albedo: set.channels_of(second),
             specular: set.get(Quantity::Specular, 0).unwrap_or(1.0),
             sheen: (set.model == ModelKind::Sheen).then(|| set.channels_of(Quantity::SheenColor)),
             scale: set.get(Quantity::Scale, 0).unwrap_or(1.0),
@@ -283,8 +299,12 @@ impl Linear {
             };
         }
         match quantity {
-            Quantity::Diffuse if channel == c => self.scale * p.per_diffuse,
-            Quantity::InterreflectionAlbedo if channel == c => self.scale * p.per_interreflection,
+            Quantity::Diffuse | Quantity::VolumeAlbedo(0) if channel == c => {
+                self.scale * p.per_diffuse
+            }
+            Quantity::InterreflectionAlbedo | Quantity::VolumeAlbedo(1) if channel == c => {
+                self.scale * p.per_interreflection
+            }
             Quantity::Specular => self.scale * p.fixed,
             Quantity::Scale => self.predict(p, c) / self.scale,
             Quantity::Interreflection => {

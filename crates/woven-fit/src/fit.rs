@@ -40,6 +40,7 @@ use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{storage::Owned, DMatrix, DVector, Dyn};
 use rayon::prelude::*;
 use std::cell::{Cell, RefCell};
+use std::fmt::Write as _;
 
 /// The residual of one measurement (see the module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -752,6 +753,11 @@ pub fn fit(
             work.obs.len()
         );
     }
+    // The microcylinder's energy guard, measured at the result (crate::microcylinder).
+    let (guarded, evals, t) = settle_guard(fitted, &work, &data, options, &tick, &cache);
+    fitted = guarded;
+    evaluations += evals;
+    termination.push_str(&t);
     progress(total, total);
 
     // The Jacobian at the optimum for the standard errors.
@@ -776,6 +782,65 @@ pub fn fit(
         evaluations,
         termination,
     ))
+}
+
+/// Runs of the microcylinder's energy guard ([`crate::microcylinder`]) before the final run is
+/// repeated with a guard measured anew at its result.
+pub const GUARD_ROUNDS: usize = 2;
+
+/// The microcylinder's energy guard, held through the runs (none at the start), measured at the
+/// result `set` at the incidences of `all`; while it changed, the final run on `work` is repeated
+/// with it and the guard measured at that run's result (at most [`GUARD_ROUNDS`] times). Of the
+/// results, each holding its own guard, the one of least cost on `work` is kept. Returns it, the
+/// model evaluations spent and what happened (empty when nothing did); other models pass through.
+fn settle_guard(
+    mut set: ParamSet,
+    work: &Observations,
+    all: &Observations,
+    options: &FitOptions,
+    tick: &(dyn Fn() + Sync),
+    cache: &FiberCache,
+) -> (ParamSet, usize, String) {
+    let (mut evaluations, mut note) = (0, String::new());
+    let mut best: Option<(f64, ParamSet, usize)> = None;
+    let mut results = 0;
+    for round in 0..=GUARD_ROUNDS {
+        let (changed, evals) = crate::microcylinder::update_guard(&mut set, all);
+        evaluations += evals;
+        if round == 0 && !changed {
+            return (set, evaluations, note);
+        }
+        let cost = Prepared::with_cache(&set, Some(cache)).map_or(f64::INFINITY, |p| {
+            cost_of(&work.residuals(options.residual, &p.parts_all(&work.obs), &Linear::of(&set)))
+        });
+        evaluations += work.obs.len();
+        results += 1;
+        if best.as_ref().is_none_or(|b| cost < b.0) {
+            best = Some((cost, set.clone(), round));
+        }
+        if !changed || round == GUARD_ROUNDS {
+            break;
+        }
+        let (again, _, evals, t) = levenberg_marquardt(
+            set,
+            work,
+            options.residual,
+            options.max_iterations,
+            tick,
+            cache,
+        );
+        evaluations += evals;
+        set = again;
+        let _ = write!(note, "; again with the energy guard of its result: {t}");
+    }
+    let (_, set, round) = best.expect("one round at least");
+    let _ = write!(
+        note,
+        "; kept result {} of {}, each scored with its own energy guard",
+        round + 1,
+        results
+    );
+    (set, evaluations, note)
 }
 
 /// The cost of `set` on `data` (infinite if it does not build), a free `scale` first matched to
@@ -807,8 +872,11 @@ pub const LAMBERT_LIKE_INTERREFLECTION: f64 = 0.99;
 /// roughness (the fiber's, the microfacet's `α`, the sheen's) at the top of its start range (a
 /// broad lobe), a free specular weight or sheen colour at the bottom of its; the other parameters
 /// keep their values. Its error is the Lambert fit's for `lambert`, and close to it for `cloth`
-/// (1 % of the yarn's body is left), `microfacet` and `sheen`; the `fiber` model, which has no `ħ`, keeps its specular lobe. A free
-/// `scale` is matched to the data when the limit is scored.
+/// (1 % of the yarn's body is left), `microfacet` and `sheen`; the `fiber` model, which has no
+/// `ħ`, keeps its specular lobe. The microcylinder's limit is a start, not a limit: its threads'
+/// albedos at that albedo, their lobes at their broadest start and `k_d` at the top of its start
+/// range (its surface lobes stay). A free `scale` is matched to the data when the limit is
+/// scored.
 pub fn lambert_like(set: &ParamSet, data: &Observations, kind: Residual) -> ParamSet {
     let mut albedo = [0.0; 3];
     for (c, a) in albedo.iter_mut().enumerate().take(data.channels) {
@@ -839,7 +907,7 @@ pub fn lambert_like(set: &ParamSet, data: &Observations, kind: Residual) -> Para
     let mut out = set.clone();
     for p in out.params.iter_mut().filter(|p| p.free) {
         match p.quantity {
-            Quantity::Diffuse | Quantity::InterreflectionAlbedo => {
+            Quantity::Diffuse | Quantity::InterreflectionAlbedo | Quantity::VolumeAlbedo(_) => {
                 // Inside the bounds, where the transform can move it.
                 let (lo, hi) = if p.hi.is_finite() {
                     let margin = 1e-3 * (p.hi - p.lo);
@@ -853,7 +921,12 @@ pub fn lambert_like(set: &ParamSet, data: &Observations, kind: Residual) -> Para
             Quantity::Interreflection => {
                 p.value = LAMBERT_LIKE_INTERREFLECTION.clamp(p.lo, p.hi);
             }
-            Quantity::Roughness | Quantity::Alpha | Quantity::SheenRoughness => p.value = p.start.1,
+            Quantity::Roughness
+            | Quantity::Alpha
+            | Quantity::SheenRoughness
+            | Quantity::SurfaceWidth
+            | Quantity::VolumeWidth
+            | Quantity::VolumeShare => p.value = p.start.1,
             Quantity::Specular | Quantity::SheenColor => p.value = p.start.0,
             _ => {}
         }

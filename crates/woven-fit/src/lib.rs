@@ -34,7 +34,9 @@
 //! - [`data`]: measurements (one type for every source) and the readers that produce them.
 //! - [`params`]: the parameter registry of each model: names, bounds, transforms, which are free.
 //! - [`evaluate`]: a parameter set made ready to evaluate at every measurement (the woven model,
-//!   the Lambert and microfacet baselines).
+//!   the microcylinder fabric, the Lambert, microfacet and sheen baselines).
+//! - [`microcylinder`]: fitting the microcylinder cloth model (Sadeghi et al. 2013): its
+//!   parameters, its starting fabric, its energy guard, the fitted fabric as a file.
 //! - [`fit`](mod@fit): the objective (log or relative residuals) and the optimizer (quasi-random
 //!   multi-start, then bounded Levenberg–Marquardt).
 //! - [`reference`](mod@reference): fitting to a reference model sampled over the hemisphere (the microcylinder
@@ -46,6 +48,7 @@ pub mod data;
 pub mod error;
 pub mod evaluate;
 pub mod fit;
+pub mod microcylinder;
 pub mod params;
 pub mod reference;
 pub mod report;

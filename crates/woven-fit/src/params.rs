@@ -3,14 +3,15 @@
 //!
 //! | model | parameters (free by default in bold) |
 //! |---|---|
-//! | `cloth` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, **`yarn.lateral_length`**, **`yarn.slope_mean`**, **`yarn.slope_std`**, **`yarn.interreflection`**, **`yarn.interreflection_albedo`**, `yarn.twist_std` (free when the initial yarn is twisted), `yarn.u_max` (radians; free when the initial yarn's floats are tilted), `weave.weft_fraction` and `rotation` (free unless the yarn is isotropic), `scale` (free for relative data) |
+//! | `cloth` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, **`yarn.lateral_length`**, **`yarn.slope_mean`**, **`yarn.slope_std`**, **`yarn.interreflection`**, **`yarn.interreflection_albedo`**, `yarn.twist_std` (free when the initial yarn is twisted), `yarn.u_max` (radians; free when the initial yarn's floats are tilted), `yarn.float_crest` and `yarn.float_flank` (free when they are tilted and shaped), `weave.weft_fraction` and `rotation` (free unless the yarn is isotropic), `scale` (free for relative data) |
 //! | `fiber` | `fiber.eta`, **`fiber.roughness`**, **`fiber.diffuse`**, `scale` (free for relative data) |
 //! | `lambert` | **`diffuse`** (`f = diffuse/π`) |
 //! | `microfacet` | **`diffuse`**, **`specular`**, **`alpha`**, `eta` (`f = diffuse/π + specular·F·D·G/(4 cos θi cos θr)`) |
 //! | `sheen` | **`diffuse`**, **`sheen`**, **`roughness`** (`f = diffuse/π·(1 − sheen·max(Ê(θi), Ê(θr))) + sheen·D·V/N`, [`woven::baseline::Sheen`]) |
+//! | `microcylinder` | per thread (`thread1`, `thread2`): **`albedo`**, **`kd`**, **`gamma_s`**, **`gamma_v`** (radians), `eta`; **`coverage`** (`a_1 + a_2`), **`thread1.coverage_share`** (`a_1/(a_1 + a_2)`), `scale` (free for relative data); [`woven::microcylinder::Microcylinder`], [`crate::microcylinder`] |
 //!
 //! With colour data the albedos (`fiber.diffuse`, `yarn.interreflection_albedo`, the baselines'
-//! `diffuse`, the sheen's `sheen` colour) are one parameter per channel, named with `.r`, `.g`, `.b`; the geometry is shared.
+//! `diffuse`, the sheen's `sheen` colour, the microcylinder threads' `albedo`) are one parameter per channel, named with `.r`, `.g`, `.b`; the geometry is shared.
 //! `rotation` (radians) turns the weave in the sample's plane: the weft lies at azimuth
 //! `rotation` in the measurement's frame. `scale` multiplies the whole BRDF (for data calibrated
 //! only up to a factor; absent from the baselines, whose amplitudes are free anyway).
@@ -19,6 +20,7 @@
 //! unconstrained and every iterate is a valid material.
 
 use crate::error::FitError;
+use crate::microcylinder::Fabric;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use woven::fiber::{FiberModel, Ior};
 use woven::material::{Material, Weave};
@@ -36,16 +38,20 @@ pub enum ModelKind {
     Microfacet,
     /// The Charlie sheen over a Lambertian base ([`woven::baseline::Sheen`]).
     Sheen,
+    /// The microcylinder cloth model of Sadeghi et al. 2013
+    /// ([`woven::microcylinder::Microcylinder`], guarded as it renders; [`crate::microcylinder`]).
+    Microcylinder,
 }
 
 impl ModelKind {
     /// Every model, in the order reports list them (baselines first).
-    pub const ALL: [ModelKind; 5] = [
+    pub const ALL: [ModelKind; 6] = [
         ModelKind::Lambert,
         ModelKind::Microfacet,
         ModelKind::Sheen,
         ModelKind::Fiber,
         ModelKind::Cloth,
+        ModelKind::Microcylinder,
     ];
 
     /// The model's name (in reports and files, and what [`parse`](Self::parse) reads).
@@ -56,6 +62,7 @@ impl ModelKind {
             ModelKind::Lambert => "lambert",
             ModelKind::Microfacet => "microfacet",
             ModelKind::Sheen => "sheen",
+            ModelKind::Microcylinder => "microcylinder",
         }
     }
 
@@ -71,12 +78,13 @@ impl ModelKind {
                 FitError::invalid(
                     "model",
                     name,
-                    "one of cloth, fiber, lambert, microfacet, sheen",
+                    "one of cloth, fiber, lambert, microfacet, sheen, microcylinder",
                 )
             })
     }
 
-    /// Whether the model is a woven material (written as a material file).
+    /// Whether the model is a woven material (written as a material file; a microcylinder fit
+    /// is written as a microcylinder file).
     pub fn is_material(self) -> bool {
         matches!(self, ModelKind::Cloth | ModelKind::Fiber)
     }
@@ -111,6 +119,14 @@ pub enum Quantity {
     TwistStd,
     /// The floats' tilt `u_max`, radians (an extension beyond the paper; 0 = flat).
     UMax,
+    /// The share of the fiber's body light in its glossy lobe.
+    BodyGloss,
+    /// The glossy body lobe's `σ_h/τ`.
+    BodyRoughness,
+    /// The share of each float lying flat on top (with `u_max > 0`).
+    FloatCrest,
+    /// The share of each float at its full tilt, at each end (with `u_max > 0`).
+    FloatFlank,
     /// `γ`.
     WeftFraction,
     /// In-plane rotation of the weave, radians.
@@ -125,6 +141,18 @@ pub enum Quantity {
     SheenColor,
     /// The sheen baseline's roughness (glTF's `sheenRoughness`; `α = roughness²`).
     SheenRoughness,
+    /// A microcylinder thread's volume albedo `A` (per channel); thread 0 (`thread1`) or 1.
+    VolumeAlbedo(usize),
+    /// A microcylinder thread's isotropic share `k_d` of its volume lobe.
+    VolumeShare,
+    /// A microcylinder thread's surface lobe width `γ_s`, radians.
+    SurfaceWidth,
+    /// A microcylinder thread's volume lobe width `γ_v`, radians.
+    VolumeWidth,
+    /// The microcylinder threads' coverage `a_1 + a_2`.
+    Coverage,
+    /// Thread 1's share `a_1/(a_1 + a_2)` of the microcylinder's covered area.
+    CoverageShare,
 }
 
 impl Quantity {
@@ -139,6 +167,7 @@ impl Quantity {
                 | Quantity::Scale
                 | Quantity::Specular
                 | Quantity::SheenColor
+                | Quantity::VolumeAlbedo(_)
         )
     }
 }
@@ -286,28 +315,29 @@ const CHANNELS: [&str; 3] = ["r", "g", "b"];
 
 /// One row of a model's parameter table: everything [`ParamSet::new`] needs to make the
 /// parameter, and [`ParamSet::material`] to put its value back into a material.
-struct Spec {
+#[derive(Clone, Copy)]
+pub(crate) struct Spec {
     /// The name in [`ParamSet::fix`], [`ParamSet::free`] and reports.
-    name: &'static str,
+    pub(crate) name: &'static str,
     /// What it is.
-    quantity: Quantity,
+    pub(crate) quantity: Quantity,
     /// One parameter per colour channel (`.r`, `.g`, `.b`) for colour data.
-    per_channel: bool,
+    pub(crate) per_channel: bool,
     /// `(lo, hi)`, natural units.
-    bounds: (f64, f64),
+    pub(crate) bounds: (f64, f64),
     /// The map to the optimizer's variable.
-    transform: Transform,
+    pub(crate) transform: Transform,
     /// The multi-start's range.
-    start: (f64, f64),
+    pub(crate) start: (f64, f64),
     /// Where the initial value comes from and the fitted value goes.
-    home: Home,
+    pub(crate) home: Home,
     /// Whether the fit adjusts it unless told otherwise.
-    free: FreeBy,
+    pub(crate) free: FreeBy,
 }
 
 /// Where a parameter's initial value comes from, and where its fitted value goes.
 #[derive(Clone, Copy)]
-enum Home {
+pub(crate) enum Home {
     /// The fit's own (a baseline's parameter, `rotation`, `scale`): it starts at this value and
     /// has no place in a material file.
     Own(f64),
@@ -319,11 +349,17 @@ enum Home {
         read: fn(&Material) -> Option<f64>,
         write: fn(&mut Material, f64, bool),
     },
+    /// A quantity of the initial microcylinder fabric: `read` gives its value per channel (a
+    /// scalar in each), `write` sets the fitted values (a scalar from the first).
+    Fabric {
+        read: fn(&Fabric) -> [f64; 3],
+        write: fn(&mut Fabric, [f64; 3]),
+    },
 }
 
 /// When a parameter is free unless the caller fixes or frees it.
 #[derive(Clone, Copy)]
-enum FreeBy {
+pub(crate) enum FreeBy {
     /// Always free.
     Always,
     /// Always held.
@@ -336,6 +372,10 @@ enum FreeBy {
     Anisotropic,
     /// Free when the initial yarn's floats are tilted (`u_max > 0`).
     Tilted,
+    /// Free when the initial yarn's floats are tilted and shaped (a crest or flanks).
+    Shaped,
+    /// Free when the initial fiber has a glossy body (`body_gloss > 0`).
+    Glossy,
 }
 
 /// The fiber's `η`: its value at the default wavelength; a fixed Cauchy index stays
@@ -388,8 +428,38 @@ const FIBER_DIFFUSE: Spec = Spec {
     free: FreeBy::Always,
 };
 
+/// The share of the fiber's body light in its glossy lobe (an extension beyond the paper).
+const FIBER_BODY_GLOSS: Spec = Spec {
+    name: "fiber.body_gloss",
+    quantity: Quantity::BodyGloss,
+    per_channel: false,
+    bounds: (0.0, 1.0),
+    transform: Transform::Logit,
+    start: (0.2, 0.95),
+    home: Home::Material {
+        read: |m| (m.fiber.body_gloss > 0.0).then_some(m.fiber.body_gloss),
+        write: |m, g, _| m.fiber.body_gloss = g,
+    },
+    free: FreeBy::Glossy,
+};
+
+/// The roughness of the fiber's glossy body lobe.
+const FIBER_BODY_ROUGHNESS: Spec = Spec {
+    name: "fiber.body_roughness",
+    quantity: Quantity::BodyRoughness,
+    per_channel: false,
+    bounds: (woven::fiber::ROUGHNESS_MIN, woven::fiber::ROUGHNESS_MAX),
+    transform: Transform::LogLogit,
+    start: (0.02, 0.5),
+    home: Home::Material {
+        read: |m| (m.fiber.body_gloss > 0.0).then_some(m.fiber.body_roughness),
+        write: |m, r, _| m.fiber.body_roughness = r,
+    },
+    free: FreeBy::Glossy,
+};
+
 /// The factor on the whole BRDF.
-const SCALE: Spec = Spec {
+pub(crate) const SCALE: Spec = Spec {
     name: "scale",
     quantity: Quantity::Scale,
     per_channel: false,
@@ -524,6 +594,8 @@ const FIBER: &[Spec] = &[FIBER_ETA, FIBER_ROUGHNESS, FIBER_DIFFUSE, SCALE];
 const CLOTH: &[Spec] = &[
     FIBER_ETA,
     FIBER_ROUGHNESS,
+    FIBER_BODY_GLOSS,
+    FIBER_BODY_ROUGHNESS,
     FIBER_DIFFUSE,
     yarn_spec!(
         "yarn.lateral_length",
@@ -607,6 +679,41 @@ const CLOTH: &[Spec] = &[
         free: FreeBy::Tilted,
     },
     Spec {
+        name: "yarn.float_crest",
+        quantity: Quantity::FloatCrest,
+        per_channel: false,
+        bounds: (0.0, woven::yarn::MAX_FLOAT_SHAPE),
+        transform: Transform::Logit,
+        start: (0.05, 0.6),
+        home: Home::Material {
+            read: |m| m.yarn.filter(|y| y.u_max > 0.0).map(|y| y.float_crest),
+            write: |m, crest, _| {
+                if let Some(y) = m.yarn.as_mut() {
+                    y.float_crest = crest;
+                }
+            },
+        },
+        free: FreeBy::Shaped,
+    },
+    Spec {
+        name: "yarn.float_flank",
+        quantity: Quantity::FloatFlank,
+        per_channel: false,
+        bounds: (0.0, woven::yarn::MAX_FLOAT_SHAPE / 2.0),
+        transform: Transform::Logit,
+        start: (0.02, 0.3),
+        home: Home::Material {
+            read: |m| m.yarn.filter(|y| y.u_max > 0.0).map(|y| y.float_flank),
+            // The crest is written first; the flanks yield to it (crest + 2 flank ≤ 0.9).
+            write: |m, flank, _| {
+                if let Some(y) = m.yarn.as_mut() {
+                    y.float_flank = flank.min(0.5 * (woven::yarn::MAX_FLOAT_SHAPE - y.float_crest));
+                }
+            },
+        },
+        free: FreeBy::Shaped,
+    },
+    Spec {
         name: "weave.weft_fraction",
         quantity: Quantity::WeftFraction,
         per_channel: false,
@@ -648,12 +755,21 @@ fn specs(model: ModelKind) -> &'static [Spec] {
         ModelKind::Sheen => SHEEN,
         ModelKind::Fiber => FIBER,
         ModelKind::Cloth => CLOTH,
+        ModelKind::Microcylinder => crate::microcylinder::SPECS,
     }
 }
 
 /// The initial material of `model` (`None` for the baselines), checked for what the fitter
 /// needs.
 fn template(model: ModelKind, init: Option<&Material>) -> Result<Option<Material>, FitError> {
+    if let (ModelKind::Microcylinder, Some(m)) = (model, init) {
+        return Err(FitError::invalid(
+            "init",
+            m.name.as_deref().unwrap_or("(a material)"),
+            "a microcylinder fabric for model microcylinder (a preset microcylinder-…, or a file \
+             with model = \"microcylinder\"; `ParamSet::microcylinder`), not a woven material",
+        ));
+    }
     if !model.is_material() {
         return match init {
             Some(m) => Err(FitError::invalid(
@@ -701,6 +817,9 @@ pub struct ParamSet {
     /// For `cloth` and `fiber`: the initial material (its fiber model, normalization, yarn kind
     /// and weave pattern are kept).
     pub template: Option<Material>,
+    /// For `microcylinder`: the initial fabric (its tangent curves are kept) and the energy
+    /// guard held during a fit ([`crate::microcylinder`]).
+    pub fabric: Option<Fabric>,
 }
 
 /// The initial material of a `cloth` or `fiber` fit when none is given: the twisted belt cloth.
@@ -709,7 +828,8 @@ pub const DEFAULT_CLOTH_INIT: &str = "belt-cloth";
 impl ParamSet {
     /// The parameters of `model` for data with `channels` colour channels (1 or 3), starting at
     /// `init` (`cloth` and `fiber`: a material; `None` takes the belt-cloth preset; the baselines
-    /// take no material). `relative`: the data is calibrated only up to a factor, so `scale` is
+    /// take no material; `microcylinder` takes none either and starts at its default fabric:
+    /// [`ParamSet::microcylinder`] takes another). `relative`: the data is calibrated only up to a factor, so `scale` is
     /// free. The model's table of parameter specs gives every parameter.
     ///
     /// # Errors
@@ -721,6 +841,21 @@ impl ParamSet {
         channels: usize,
         relative: bool,
     ) -> Result<Self, FitError> {
+        if model == ModelKind::Microcylinder && init.is_none() {
+            return ParamSet::microcylinder(None, channels, relative);
+        }
+        let template = template(model, init)?;
+        ParamSet::with_templates(model, template, None, channels, relative)
+    }
+
+    /// [`new`](Self::new) from its initial material or fabric (checked by the caller).
+    pub(crate) fn with_templates(
+        model: ModelKind,
+        template: Option<Material>,
+        fabric: Option<Fabric>,
+        channels: usize,
+        relative: bool,
+    ) -> Result<Self, FitError> {
         if channels != 1 && channels != 3 {
             return Err(FitError::invalid(
                 "channels",
@@ -728,12 +863,22 @@ impl ParamSet {
                 "1 (single-channel data) or 3 (RGB)",
             ));
         }
-        let template = template(model, init)?;
         let yarn = template.as_ref().and_then(|m| m.yarn);
         let mut params = Vec::new();
         for spec in specs(model) {
+            // A fabric's value per channel; one value (the channels' mean) for mono data.
+            let per_channel = match (spec.home, fabric.as_ref()) {
+                (Home::Fabric { read, .. }, Some(f)) => Some(read(f)),
+                (Home::Fabric { .. }, None) => continue,
+                _ => None,
+            };
             let value = match spec.home {
                 Home::Own(value) => value,
+                Home::Fabric { .. } => match per_channel {
+                    Some(v) if spec.per_channel => (v[0] + v[1] + v[2]) / 3.0,
+                    Some(v) => v[0],
+                    None => continue,
+                },
                 Home::Material { read, .. } => match template.as_ref().and_then(read) {
                     Some(value) => value,
                     // The material has no such quantity (an isotropic yarn has no twist).
@@ -747,6 +892,9 @@ impl ParamSet {
                 FreeBy::Twisted => yarn.is_some_and(|y| y.twist_std > 0.0),
                 FreeBy::Anisotropic => yarn.is_some_and(|y| !y.isotropic),
                 FreeBy::Tilted => yarn.is_some_and(|y| y.u_max > 0.0),
+                FreeBy::Glossy => template.as_ref().is_some_and(|m| m.fiber.body_gloss > 0.0),
+                FreeBy::Shaped => yarn
+                    .is_some_and(|y| y.u_max > 0.0 && (y.float_crest > 0.0 || y.float_flank > 0.0)),
             };
             let param = Param {
                 name: spec.name.to_string(),
@@ -764,6 +912,7 @@ impl ParamSet {
                     params.push(Param {
                         name: format!("{}.{suffix}", spec.name),
                         channel,
+                        value: per_channel.map_or(value, |v| v[channel]),
                         ..param.clone()
                     });
                 }
@@ -776,6 +925,7 @@ impl ParamSet {
             params,
             channels,
             template,
+            fabric,
         })
     }
 

@@ -271,8 +271,13 @@ impl FitResult {
     }
 
     /// The fitted material as a TOML material file, with a header recording the fit (and the
-    /// rotation, scale and per-channel albedos, which a material file has no key for).
+    /// rotation, scale and per-channel albedos, which a material file has no key for); for
+    /// `microcylinder`, the fitted fabric as a microcylinder file (`model = "microcylinder"`).
+    /// `None` for the baselines.
     pub fn material_toml(&self) -> Option<String> {
+        if self.model == ModelKind::Microcylinder {
+            return crate::microcylinder::fabric_toml_of(self);
+        }
         let mut m = self.material()?;
         if m.name.is_none()
             || m.name

@@ -18,12 +18,13 @@ use woven_fit::{fit, FitError, FitOptions, FitResult, ModelKind, ParamSet, Resid
 /// Arguments of `woven fit`.
 #[derive(Args, Debug)]
 #[command(
-    about = "Fit the woven-cloth model, or a baseline, to measured reflectance",
+    about = "Fit the woven-cloth model, the microcylinder model, or a baseline, to measured reflectance",
     long_about = "Fit the woven-cloth model (--model cloth), the fiber BRDF alone (fiber), a \
-Lambertian surface (lambert), a Beckmann microfacet + Lambert baseline (microfacet) or the \
-Charlie sheen over a Lambertian base (sheen, glTF's KHR_materials_sheen) to measurements, by a \
-quasi-random multi-start and bounded Levenberg–Marquardt on log residuals. Deterministic for a \
---seed.
+Lambertian surface (lambert), a Beckmann microfacet + Lambert baseline (microfacet), the \
+Charlie sheen over a Lambertian base (sheen, glTF's KHR_materials_sheen) or the microcylinder \
+cloth model of Sadeghi et al. 2013 (microcylinder, with its energy guard, as it renders) to \
+measurements, by a quasi-random multi-start and bounded Levenberg–Marquardt on log residuals. \
+Deterministic for a --seed.
 
 --data takes a measurement CSV (theta_i,phi_i,theta_r,phi_r,value, radians, BRDF in 1/sr; \
 optional weight and value_r,value_g,value_b), the CSV `woven gonio` writes, or a CUReT, RGL or \
@@ -34,11 +35,17 @@ fiber.roughness, fiber.diffuse, yarn.lateral_length, yarn.slope_mean, yarn.slope
 yarn.interreflection, yarn.interreflection_albedo, yarn.twist_std, weave.weft_fraction, \
 rotation (the weave's turn in the sample plane, radians), scale (free for relatively \
 calibrated data); the baselines: diffuse, specular, alpha, eta (microfacet); diffuse, sheen \
-(the sheen's colour, in [0, 1]) and roughness (glTF's sheenRoughness, in [0.1, 1]) (sheen). \
-The yarn kind (one orientation, twisted, isotropic) is the --init material's.
+(the sheen's colour, in [0, 1]) and roughness (glTF's sheenRoughness, in [0.1, 1]) (sheen); \
+microcylinder: per thread (thread1 along x, the weft; thread2 along y) albedo (per channel), \
+kd, gamma_s and gamma_v (radians), eta (held unless freed), and coverage (a1 + a2) and \
+thread1.coverage_share (a1/(a1 + a2)), so each coverage is in [0, 1] with a1 + a2 <= 1. \
+The yarn kind (one orientation, twisted, isotropic) is the --init material's; a \
+microcylinder fit keeps the --init fabric's tangent curves (microcylinder-linen-plain by \
+default).
 
 The result: -o writes the fitted material (a material file for cloth and fiber, usable by \
-woven eval, render and tabulate; the baselines' parameters as TOML), --report a Markdown \
+woven eval, render and tabulate; a microcylinder file for microcylinder, usable by woven eval \
+and render; the baselines' parameters as TOML), --report a Markdown \
 report (values with standard errors, warnings for what the data cannot determine, residual \
 statistics), --plot the data against the fit (SVG or PNG).",
     after_help = "Examples:
@@ -46,6 +53,7 @@ statistics), --plot the data against the fit (SVG or PNG).",
   woven fit --data sample.csv --model cloth --init polyester-sateen --fix eta=1.6 --free twist_std
   woven fit --data sample.csv --model microfacet
   woven fit --data sample.csv --model sheen --report sheen.md
+  woven fit --data sample.csv --model microcylinder --init microcylinder-silk-shot -o silk.toml
   woven fit --compare 'data/curet/abrdf.dat#linen' data/merl/beige-fabric.grid.csv"
 )]
 pub struct FitArgs {
@@ -62,11 +70,12 @@ pub struct FitArgs {
     #[arg(long, value_name = "DATA", num_args = 1..)]
     pub compare: Vec<PathBuf>,
 
-    /// The model: cloth, fiber, lambert, microfacet or sheen.
+    /// The model: cloth, fiber, lambert, microfacet, sheen or microcylinder.
     #[arg(long, value_name = "MODEL", default_value = "cloth", value_parser = parse_model)]
     pub model: ModelKind,
 
-    /// With --compare: the models, comma-separated (cloth, fiber, lambert, microfacet, sheen).
+    /// With --compare: the models, comma-separated (cloth, fiber, lambert, microfacet, sheen,
+    /// microcylinder).
     #[arg(long, value_name = "MODELS", value_delimiter = ',', default_value = "lambert,microfacet,cloth",
           value_parser = parse_model)]
     pub models: Vec<ModelKind>,
@@ -79,7 +88,9 @@ pub struct FitArgs {
     #[arg(long, value_name = "NAMES", value_delimiter = ',')]
     pub free: Vec<String>,
 
-    /// The starting material (cloth, fiber): a preset or a material file; belt-cloth by default.
+    /// The starting material: for cloth and fiber a woven preset or material file (belt-cloth by
+    /// default); for microcylinder a microcylinder preset or file (microcylinder-linen-plain by
+    /// default).
     #[arg(long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse)]
     pub init: Option<MaterialSource>,
 
@@ -208,23 +219,15 @@ fn param_set(
     model: ModelKind,
     dataset: &woven_fit::data::Dataset,
 ) -> Result<ParamSet> {
-    // With --compare, --init is the woven models' start and the baselines ignore it; a single
-    // baseline fit given one is an error (ParamSet::new says so).
-    let init = match &args.init {
-        Some(src) if model.is_material() || args.compare.is_empty() => Some(src.load()?),
-        _ => None,
-    };
     let channels = match dataset.samples.first().map(|s| s.value) {
         Some(woven_fit::data::Value::Rgb(_)) => 3,
         _ => 1,
     };
-    // The library names its parameters (`init`, `fix`); the context names the flags.
-    let mut set = ParamSet::new(model, init.as_ref(), channels, dataset.relative).with_context(
-        || match (&args.init, &init) {
-            (Some(src), Some(_)) => format!("--model {model} --init {src}"),
-            _ => format!("--model {model}"),
-        },
-    )?;
+    let mut set = if model == ModelKind::Microcylinder {
+        microcylinder_set(args, channels, dataset.relative)?
+    } else {
+        woven_set(args, model, channels, dataset.relative)?
+    };
     for f in &args.fix {
         set.fix_arg(f).with_context(|| format!("--fix {f}"))?;
     }
@@ -232,6 +235,54 @@ fn param_set(
         set.free(f.trim()).with_context(|| format!("--free {f}"))?;
     }
     Ok(set)
+}
+
+/// The microcylinder's parameter set from --init (a microcylinder preset or file). With
+/// --compare, an --init of another kind is the other models' and this one starts at its default.
+fn microcylinder_set(args: &FitArgs, channels: usize, relative: bool) -> Result<ParamSet> {
+    let fabric = match &args.init {
+        Some(src) => {
+            match woven_fit::microcylinder::Fabric::from_preset_or_path(&src.to_string()) {
+                Ok(f) => Some(f),
+                Err(_) if !args.compare.is_empty() => None,
+                Err(e) => {
+                    return Err(anyhow::Error::from(e)
+                        .context(format!("--model microcylinder --init {src}")))
+                }
+            }
+        }
+        None => None,
+    };
+    ParamSet::microcylinder(fabric.as_ref(), channels, relative).context("--model microcylinder")
+}
+
+/// The parameter set of a woven model or a baseline from --init.
+fn woven_set(
+    args: &FitArgs,
+    model: ModelKind,
+    channels: usize,
+    relative: bool,
+) -> Result<ParamSet> {
+    // With --compare, --init is the woven models' start and the baselines ignore it; a single
+    // baseline fit given one is an error (ParamSet::new says so).
+    // With --compare, a microcylinder --init is the microcylinder's start alone.
+    let theirs = |src: &MaterialSource| {
+        !args.compare.is_empty()
+            && woven_fit::microcylinder::Fabric::from_preset_or_path(&src.to_string()).is_ok()
+    };
+    let init = match &args.init {
+        Some(src) if (model.is_material() || args.compare.is_empty()) && !theirs(src) => {
+            Some(src.load()?)
+        }
+        _ => None,
+    };
+    // The library names its parameters (`init`, `fix`); the context names the flags.
+    ParamSet::new(model, init.as_ref(), channels, relative).with_context(|| {
+        match (&args.init, &init) {
+            (Some(src), Some(_)) => format!("--model {model} --init {src}"),
+            _ => format!("--model {model}"),
+        }
+    })
 }
 
 fn run_fit(

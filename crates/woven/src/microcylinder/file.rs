@@ -103,6 +103,19 @@ impl Microcylinder {
     /// # Ok::<(), woven::Error>(())
     /// ```
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Microcylinder> {
+        let (name, threads) = Self::threads_from_toml_str(text, origin)?;
+        Microcylinder::new(name, threads)
+    }
+
+    /// The name (the file's `name`, else `origin`) and the two threads of a microcylinder
+    /// file's text, checked as [`from_toml_str`](Self::from_toml_str) checks them but not built:
+    /// no energy guard is measured (seconds), for a caller that only needs the numbers (a fit's
+    /// starting point).
+    ///
+    /// # Errors
+    /// As [`from_toml_str`](Self::from_toml_str), except the coverages' sum, which is checked
+    /// when the threads are built ([`Microcylinder::new`]).
+    pub fn threads_from_toml_str(text: &str, origin: &str) -> Result<(String, [Thread; 2])> {
         let raw: RawFabric = toml::from_str(text).map_err(|e| Error::Parse {
             path: origin.to_string(),
             message: e.to_string().trim_end().to_string(),
@@ -130,7 +143,27 @@ impl Microcylinder {
         let [Some(a), Some(b)] = threads else {
             unreachable!("two threads were counted above")
         };
-        Microcylinder::new(raw.name.unwrap_or_else(|| origin.to_string()), [a, b])
+        a.validate(0)?;
+        b.validate(1)?;
+        Ok((raw.name.unwrap_or_else(|| origin.to_string()), [a, b]))
+    }
+
+    /// As [`threads_from_toml_str`](Self::threads_from_toml_str) for a file (at most
+    /// [`MAX_FILE_BYTES`]).
+    ///
+    /// # Errors
+    /// [`Error::Io`] if it cannot be read; otherwise as
+    /// [`threads_from_toml_str`](Self::threads_from_toml_str).
+    pub fn threads_from_path(path: impl AsRef<Path>) -> Result<(String, [Thread; 2])> {
+        let path = path.as_ref();
+        let text = crate::fsutil::read_text_capped(path, MAX_FILE_BYTES, "a microcylinder file")?;
+        Self::threads_from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// The fabric as a microcylinder file that [`from_toml_str`](Self::from_toml_str) reads
+    /// back as the same fabric ([`fabric_toml`]).
+    pub fn to_toml_string(&self) -> String {
+        fabric_toml(&self.name, &self.threads)
     }
 
     /// Reads a microcylinder file (at most [`MAX_FILE_BYTES`]).
@@ -141,5 +174,68 @@ impl Microcylinder {
         let path = path.as_ref();
         let text = crate::fsutil::read_text_capped(path, MAX_FILE_BYTES, "a microcylinder file")?;
         Self::from_toml_str(&text, &path.display().to_string())
+    }
+}
+
+/// A fabric of `name` and two threads as the text of a microcylinder file (angles in degrees, as
+/// the file has them; every number to its last digit, so that it reads back as the same threads,
+/// up to the rounding of the conversion from radians).
+///
+/// ```
+/// use woven::microcylinder::{fabric_toml, Microcylinder};
+/// let threads = Microcylinder::preset_threads("microcylinder-silk-shot")?;
+/// let text = fabric_toml("shot", &threads);
+/// let (name, back) = Microcylinder::threads_from_toml_str(&text, "<doc>")?;
+/// assert_eq!(name, "shot");
+/// assert!((back[0].gamma_s - threads[0].gamma_s).abs() < 1e-15);
+/// assert_eq!(back[1].tangents.offsets(), threads[1].tangents.offsets());
+/// # Ok::<(), woven::Error>(())
+/// ```
+pub fn fabric_toml(name: &str, threads: &[Thread; 2]) -> String {
+    use std::fmt::Write as _;
+    let list = |v: &[f64]| {
+        let items: Vec<String> = v.iter().map(|x| format!("{x:?}")).collect();
+        format!("[{}]", items.join(", "))
+    };
+    let mut s = format!(
+        "model = \"microcylinder\"\nname = {}\n",
+        toml::Value::String(name.to_string())
+    );
+    for (k, t) in threads.iter().enumerate() {
+        let along = if k == 0 {
+            "x (the weft)"
+        } else {
+            "y (the warp)"
+        };
+        let offsets: Vec<f64> = t.tangents.offsets().iter().map(|&a| degrees(a)).collect();
+        let _ = write!(
+            s,
+            "\n[[thread]]            # thread {}, along {along}\n\
+             eta = {:?}\nalbedo = {}\nkd = {:?}\ngamma_s_deg = {:?}\ngamma_v_deg = {:?}\n\
+             coverage = {:?}\ntangent_offsets_deg = {}\ntangent_lengths = {}\n",
+            k + 1,
+            t.eta,
+            list(&t.albedo.0),
+            t.kd,
+            degrees(t.gamma_s),
+            degrees(t.gamma_v),
+            t.coverage,
+            list(&offsets),
+            list(t.tangents.lengths()),
+        );
+    }
+    s
+}
+
+/// Radians in degrees, the conversion's rounding noise removed (`25.000000000000004` → `25.0`)
+/// where the value is a whole number of 10⁻⁹ degrees to within 10⁻¹⁴ of itself (a few units in
+/// the last place).
+fn degrees(radians: f64) -> f64 {
+    let d = radians.to_degrees();
+    let r = (d * 1e9).round() / 1e9;
+    if (r - d).abs() <= 1e-14 * d.abs().max(1.0) {
+        r
+    } else {
+        d
     }
 }

@@ -47,6 +47,8 @@ mod thread;
 
 pub use cloth::{default_rule, GAUSS_NODES_PER_PANEL, PANEL_WIDTH_OVER_GAMMA_S};
 pub use curve::{CurveNode, CurveRule, TangentCurve, MAX_CONTROL_POINTS};
+#[cfg(feature = "serde")]
+pub use file::fabric_toml;
 pub use frame::{psi_difference, wrap_pi, PairAngles, TangentFrame, ThreadAngles};
 pub use guard::{
     albedo_quadrature, h_at, EnergyGuard, ALBEDO_PANELS, GUARD_MARGIN, GUARD_PHI_COUNT,
