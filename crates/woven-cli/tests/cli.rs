@@ -513,7 +513,7 @@ fn materials_lists_every_preset_with_its_parameters() {
     let out = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
     let (woven_table, microcylinder) = out.split_once("\n\n").expect("two tables");
     let lines: Vec<&str> = woven_table.lines().collect();
-    assert_eq!(lines.len(), 1 + Material::preset_names().len(), "{out}");
+    assert_eq!(lines.len(), 1 + Material::all_preset_names().len(), "{out}");
     // Then one line per microcylinder fabric, under its heading.
     let fabrics = woven::microcylinder::Microcylinder::preset_names();
     assert_eq!(microcylinder.lines().count(), 1 + fabrics.len(), "{out}");
@@ -538,7 +538,7 @@ fn materials_lists_every_preset_with_its_parameters() {
             lines[0]
         );
     }
-    for name in Material::preset_names() {
+    for name in Material::all_preset_names() {
         let line = lines
             .iter()
             .find(|l| l.starts_with(name))
@@ -566,7 +566,7 @@ fn materials_lists_every_preset_with_its_parameters() {
 
 #[test]
 fn materials_show_prints_the_preset_toml_exactly() {
-    for name in Material::preset_names() {
+    for name in Material::all_preset_names() {
         let assert = woven()
             .args(["materials", "--show", name])
             .assert()
@@ -1645,4 +1645,66 @@ fn eval_rgb_writes_three_columns_for_every_kind_of_material() {
     for c in run("silk", true) {
         assert!(c[0] > 0.0 && c[0] == c[1] && c[1] == c[2], "{c:?}");
     }
+}
+
+/// A small microcylinder fabric file (docs/microcylinder.md §8): two straight threads, one
+/// tangent each, so that measuring its energy guard takes well under a second.
+const FABRIC: &str = "model = \"microcylinder\"\nname = \"test threads\"\n\n\
+[[thread]]\neta = 1.46\nalbedo = [0.06, 0.24, 0.3]\nkd = 0.3\ngamma_s_deg = 12.0\n\
+gamma_v_deg = 24.0\ncoverage = 0.5\ntangent_offsets_deg = [0.0]\n\n\
+[[thread]]\neta = 1.46\nalbedo = [0.3, 0.2, 0.1]\nkd = 0.3\ngamma_s_deg = 12.0\n\
+gamma_v_deg = 24.0\ncoverage = 0.5\ntangent_offsets_deg = [0.0]\n";
+
+/// `woven gonio` takes a microcylinder fabric (a preset or a file): its radiance is the
+/// luminance of the library's RGB value, f cos θi; an unknown name lists both kinds' presets.
+#[test]
+fn gonio_reads_a_microcylinder_fabric_as_its_luminance() {
+    let (_dir, file) = material_file(FABRIC);
+    let file = file.to_str().unwrap().to_string();
+    for material in ["microcylinder-velvet", file.as_str()] {
+        let assert = woven()
+            .args(["gonio", "-m", material, "--azimuth-deg", "0,90"])
+            .args(["--tilt-deg=-30,0,30"])
+            .assert()
+            .success();
+        let rows = gonio_rows(&String::from_utf8(assert.get_output().stdout.clone()).unwrap());
+        assert_eq!(rows.len(), 6);
+        let fabric = match woven::catalog::AnyMaterial::from_preset_or_path(material).unwrap() {
+            woven::catalog::AnyMaterial::Microcylinder(m) => m,
+            other => panic!("{material} read as {other:?}"),
+        };
+        for [a, _, theta_i, theta_r, radiance] in rows {
+            let s = Vec3::from_spherical(theta_i, a.to_radians());
+            let v = Vec3::from_spherical(theta_r, a.to_radians() + std::f64::consts::PI);
+            let want = fabric.eval_rgb(s, v).luminance() * theta_i.cos();
+            assert_eq!(radiance, want, "{material}");
+            assert!(radiance > 0.0);
+        }
+    }
+    woven()
+        .args(["gonio", "-m", "microcylinder-nope"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("microcylinder-velvet"))
+        .stderr(predicate::str::contains("belt-cloth"));
+}
+
+/// `woven plot hemisphere` draws a microcylinder fabric, its luminance (a fabric file takes the
+/// same path, `load_mono`, as in `woven gonio`, which tests it).
+#[test]
+fn hemisphere_plots_a_microcylinder_fabric() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("charmeuse.png");
+    woven()
+        .args(["plot", "hemisphere", "-m", "microcylinder-satin-charmeuse"])
+        .args(["--grid", "12", "--size", "256", "-o"])
+        .arg(&png)
+        .assert()
+        .success();
+    assert_eq!(png_size(&std::fs::read(&png).unwrap()), (320, 256));
+    woven()
+        .args(["plot", "hemisphere", "--help"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("microcylinder-velvet"));
 }

@@ -23,10 +23,10 @@ pub enum AnyMaterial {
 }
 
 impl AnyMaterial {
-    /// Every built-in preset: the woven ones ([`Material::preset_names`]), then the
+    /// Every built-in preset: the woven ones ([`Material::all_preset_names`]), then the
     /// microcylinder fabrics ([`Microcylinder::preset_names`]).
     pub fn preset_names() -> Vec<&'static str> {
-        let mut names = Material::preset_names().to_vec();
+        let mut names = Material::all_preset_names();
         names.extend_from_slice(Microcylinder::preset_names());
         names
     }

@@ -258,6 +258,28 @@ impl Material {
         &Self::preset_names()[..3]
     }
 
+    /// The presets grounded in measured fabrics: the woven model fitted to each woven fabric of
+    /// the microcylinder model of Sadeghi et al. 2013 (docs/microcylinder.md §11), with the
+    /// options beyond the paper that the fits use (shaped floats, a glossy body) and their dyes.
+    /// Listed apart from [`preset_names`](Self::preset_names): their exact evaluation averages
+    /// each tilted float over up to 19 facets, too slow for the tests that sweep every preset.
+    pub fn grounded_preset_names() -> &'static [&'static str] {
+        &[
+            "satin-charmeuse",
+            "silk-crepe-de-chine",
+            "linen-plain",
+            "silk-shot",
+        ]
+    }
+
+    /// Every built-in preset: [`preset_names`](Self::preset_names), then
+    /// [`grounded_preset_names`](Self::grounded_preset_names).
+    pub fn all_preset_names() -> Vec<&'static str> {
+        let mut all = Self::preset_names().to_vec();
+        all.extend_from_slice(Self::grounded_preset_names());
+        all
+    }
+
     /// The TOML text of a built-in preset, or `None` for an unknown name.
     pub fn preset_toml(name: &str) -> Option<&'static str> {
         match name {
@@ -265,6 +287,10 @@ impl Material {
             "belt-cloth" => Some(include_str!("../presets/belt-cloth.toml")),
             "silk" => Some(include_str!("../presets/silk.toml")),
             "filament-satin" => Some(include_str!("../presets/filament-satin.toml")),
+            "satin-charmeuse" => Some(include_str!("../presets/satin-charmeuse.toml")),
+            "silk-crepe-de-chine" => Some(include_str!("../presets/silk-crepe-de-chine.toml")),
+            "linen-plain" => Some(include_str!("../presets/linen-plain.toml")),
+            "silk-shot" => Some(include_str!("../presets/silk-shot.toml")),
             _ => None,
         }
     }
@@ -762,7 +788,7 @@ mod file {
                     format!("{name:?}"),
                     format!(
                         "a material file or a preset: {}",
-                        Material::preset_names().join(", ")
+                        Material::all_preset_names().join(", ")
                     ),
                 )
             })?;

@@ -28,7 +28,7 @@ pub struct MaterialsArgs {
     /// Print this preset's TOML text instead of the table (woven presets; a microcylinder
     /// fabric's parameters are in docs/microcylinder.md).
     #[arg(long, value_name = "NAME",
-          value_parser = PossibleValuesParser::new(Material::preset_names()))]
+          value_parser = PossibleValuesParser::new(Material::all_preset_names()))]
     pub show: Option<String>,
 }
 
@@ -69,7 +69,7 @@ const HEADINGS: [&str; 10] = [
 /// The presets as an aligned text table, one line per preset under a heading line.
 pub fn table() -> Result<String> {
     let mut rows: Vec<Vec<String>> = vec![HEADINGS.iter().map(|h| h.to_string()).collect()];
-    for name in Material::preset_names() {
+    for name in Material::all_preset_names() {
         let material =
             Material::preset(name).with_context(|| format!("loading the preset `{name}`"))?;
         let s = Summary::of(&material);
@@ -144,7 +144,7 @@ mod tests {
     fn table_has_a_row_per_preset_with_aligned_columns() {
         let t = table().unwrap();
         let lines: Vec<&str> = t.lines().collect();
-        assert_eq!(lines.len(), 1 + Material::preset_names().len());
+        assert_eq!(lines.len(), 1 + Material::all_preset_names().len());
         assert!(lines[0].starts_with("NAME"));
         // The FIBERS column starts at the same character position on every line.
         let col = |l: &str, what: &str| l.find(what).map(|b| l[..b].chars().count());

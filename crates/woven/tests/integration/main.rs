@@ -9,6 +9,7 @@ mod energy;
 mod export;
 mod fiber;
 mod golden;
+mod grounded;
 mod masking;
 mod material_files;
 mod microcylinder;
