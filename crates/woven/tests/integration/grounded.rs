@@ -36,51 +36,53 @@ fn grounded_presets_load_with_their_dyes_figures_and_options() {
 /// no more than it receives (its dyes are albedos in [0, 1], checked when it loads).
 #[test]
 fn a_white_grounded_preset_reflects_no_more_than_it_receives() {
-    for name in Material::grounded_preset_names() {
+    // One direction each (an exact tilted albedo costs seconds), grazing for the two satin-like
+    // filaments, where a glossy lobe's energy is hardest to keep.
+    let directions = [(1.45, 0.4), (0.6, 1.3), (1.0, 0.4), (1.45, 1.3)];
+    for (name, (theta, phi)) in Material::grounded_preset_names().iter().zip(directions) {
         let mut m = Material::preset(name).unwrap();
         m.dye = Dye::default();
         m.fiber.diffuse = 0.999;
         if let Some(y) = &mut m.yarn {
             y.interreflection_albedo = 1.0;
         }
-        let model = m.build(550.0).unwrap();
-        for (theta, phi) in [(0.2, 0.4), (1.0, 1.3), (1.45, 0.4)] {
-            let a = model.albedo(theta, phi);
-            assert!(a <= 1.0 + 2e-3, "{name} at θ {theta} φ {phi}: albedo {a}");
-            assert!(a > 0.3, "{name} at θ {theta} φ {phi}: albedo {a}");
-        }
+        let a = m.build(550.0).unwrap().albedo(theta, phi);
+        assert!(a <= 1.0 + 2e-3, "{name} at θ {theta} φ {phi}: albedo {a}");
+        assert!(a > 0.3, "{name} at θ {theta} φ {phi}: albedo {a}");
     }
 }
 
 /// χ² of a grounded preset's draws against its density, laid on a surface as a scene lays it
 /// (its own weave, tilt, float shape, glossy body and dyes): a point of a float at fibre level
-/// and the whole cloth, at two incidences each.
+/// at 25° and the whole cloth at 70°.
 #[test]
 fn grounded_presets_sample_their_density() {
     let mut k = 0;
     for name in Material::grounded_preset_names() {
-        for detail in [Detail::Fibers, Detail::Cloth] {
+        let material = Material::preset(name).unwrap();
+        let m = SurfaceSpec::new(material.clone()).table_material();
+        let options = TableOptions {
+            n_theta: 4,
+            n_phi: 3,
+            n_h: 11,
+            colour: true,
+            ..TableOptions::default()
+        };
+        let table =
+            Arc::new(Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {}).unwrap());
+        for (detail, theta_deg) in [(Detail::Fibers, 25.0), (Detail::Cloth, 70.0)] {
             let spec = SurfaceSpec {
                 yarns_per_unit: [1.0, 1.0],
                 detail,
-                ..SurfaceSpec::new(Material::preset(name).unwrap())
+                ..SurfaceSpec::new(material.clone())
             };
-            let m = spec.table_material();
-            let options = TableOptions {
-                n_theta: 4,
-                n_phi: 3,
-                n_h: 11,
-                colour: true,
-                ..TableOptions::default()
-            };
-            let table = Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {}).unwrap();
-            let surface = WovenSurface::new(&spec, Arc::new(table)).unwrap();
+            let surface = WovenSurface::new(&spec, table.clone()).unwrap();
             let at = SurfacePoint {
                 uv: [0.5, 0.37],
                 footprint: [[0.0; 2]; 2],
             };
             let bsdf = surface.at(&at);
-            for theta_deg in [25.0, 70.0] {
+            {
                 let wo = Vec3::from_spherical(f64::to_radians(theta_deg), 0.7);
                 let (p, accepted, integral) = crate::table::chi2_of(
                     |rng| {
@@ -93,13 +95,13 @@ fn grounded_presets_sample_their_density() {
                         .map(|s| s.wi)
                     },
                     |wi| bsdf.pdf(wi, wo, Transport::Radiance),
-                    50_000,
+                    40_000,
                     300 + k,
                 );
                 k += 1;
-                // Sixteen tests: Bonferroni at 1 %.
+                // Eight tests: Bonferroni at 1 %.
                 assert!(
-                    p > 0.01 / 16.0,
+                    p > 0.01 / 8.0,
                     "{name} {detail:?} at θo {theta_deg}°: p {p:.2e}"
                 );
                 assert!(
