@@ -4,11 +4,9 @@
 //! at fibre level and as a whole cloth.
 
 use std::sync::Arc;
-use woven::bsdf::{Bsdf, Transport};
 use woven::material::{Dye, Material};
 use woven::surface::{Detail, SurfacePoint, SurfaceSpec, WovenSurface};
 use woven::table::{Table, TableOptions};
-use woven::Vec3;
 
 #[test]
 fn grounded_presets_load_with_their_dyes_figures_and_options() {
@@ -83,21 +81,8 @@ fn grounded_presets_sample_their_density() {
             };
             let bsdf = surface.at(&at);
             {
-                let wo = Vec3::from_spherical(f64::to_radians(theta_deg), 0.7);
-                let (p, accepted, integral) = crate::table::chi2_of(
-                    |rng| {
-                        bsdf.sample(
-                            wo,
-                            rng.uniform(),
-                            [rng.uniform(), rng.uniform()],
-                            Transport::Radiance,
-                        )
-                        .map(|s| s.wi)
-                    },
-                    |wi| bsdf.pdf(wi, wo, Transport::Radiance),
-                    40_000,
-                    300 + k,
-                );
+                let (p, accepted, integral) =
+                    crate::surface::radiance_chi2(&bsdf, theta_deg, 40_000, 300 + k);
                 k += 1;
                 // Eight tests: Bonferroni at 1 %.
                 assert!(

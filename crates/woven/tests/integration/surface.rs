@@ -382,6 +382,31 @@ fn a_fibre_level_surface_averages_to_the_yarn_brdf() {
     }
 }
 
+/// χ² of a BSDF's draws for a viewer at `theta_deg` (azimuth 0.7) against its density in
+/// radiance mode: `(p, share of draws accepted, ∫ pdf)` ([`crate::table::chi2_of`]).
+pub fn radiance_chi2<B: Bsdf + ?Sized>(
+    bsdf: &B,
+    theta_deg: f64,
+    n: usize,
+    seed: u64,
+) -> (f64, f64, f64) {
+    let wo = Vec3::from_spherical(f64::to_radians(theta_deg), 0.7);
+    crate::table::chi2_of(
+        |rng| {
+            bsdf.sample(
+                wo,
+                rng.uniform(),
+                [rng.uniform(), rng.uniform()],
+                Transport::Radiance,
+            )
+            .map(|s| s.wi)
+        },
+        |wi| bsdf.pdf(wi, wo, Transport::Radiance),
+        n,
+        seed,
+    )
+}
+
 /// χ² of the fibre-level sampling (the facet's Beckmann lobe and the cosine lobe, mixed) against
 /// its density, at three incidences for every preset's yarn, in radiance mode: a pattern point at
 /// `detail = "fibers"` on the crest, on a flank and near the edge of a yarn.
@@ -414,21 +439,7 @@ fn fibre_level_sampling_passes_chi2() {
             };
             let bsdf = surface.at(&at);
             assert!(bsdf.mix().lobes()[0].point.is_some());
-            let wo = Vec3::from_spherical(f64::to_radians(theta_deg), 0.7);
-            let (p, accepted, integral) = crate::table::chi2_of(
-                |rng| {
-                    bsdf.sample(
-                        wo,
-                        rng.uniform(),
-                        [rng.uniform(), rng.uniform()],
-                        Transport::Radiance,
-                    )
-                    .map(|s| s.wi)
-                },
-                |wi| bsdf.pdf(wi, wo, Transport::Radiance),
-                100_000,
-                91 + k,
-            );
+            let (p, accepted, integral) = radiance_chi2(&bsdf, theta_deg, 100_000, 91 + k);
             k += 1;
             // Nine tests: Bonferroni at 1 %.
             assert!(
