@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use std::path::Path;
 use woven::bsdf::Bsdf;
-use woven::catalog::AnyMaterial;
+use woven::catalog::{AnyMaterial, Luminance};
 use woven::color::Rgb;
 use woven::material::Material;
 use woven::table::Table;
@@ -26,7 +26,7 @@ impl MaterialSource {
         if value.trim().is_empty() {
             return Err(format!(
                 "expected a preset name ({}) or the path of a TOML material file",
-                Material::preset_names().join(", ")
+                Material::all_preset_names().join(", ")
             ));
         }
         Ok(MaterialSource(value.to_string()))
@@ -82,6 +82,33 @@ impl MaterialSource {
         })
     }
 
+    /// The material of either kind as one value per pair, for the commands that plot or tabulate
+    /// a single channel (`woven plot hemisphere`, `woven gonio`): a woven material's exact model
+    /// at `wavelength_nm` (undyed, as before the microcylinder fabrics came), a microcylinder
+    /// fabric's Rec. 709 luminance (its own refractive indices: the wavelength does not apply).
+    ///
+    /// # Errors
+    /// As [`load_any`](Self::load_any) and [`load_and_build`](Self::load_and_build).
+    pub fn load_mono(&self, wavelength_nm: f64) -> Result<MonoBrdf> {
+        Ok(match self.load_any()? {
+            AnyMaterial::Woven(material) => {
+                let model = material.build(wavelength_nm).with_context(|| {
+                    format!("cannot prepare material `{self}` at --wavelength-nm {wavelength_nm}")
+                })?;
+                MonoBrdf {
+                    name: self.display_name(&material),
+                    brdf: Box::new(model),
+                    kind: MaterialKind::Woven,
+                }
+            }
+            AnyMaterial::Microcylinder(fabric) => MonoBrdf {
+                name: fabric.name.clone(),
+                brdf: Box::new(Luminance(fabric)),
+                kind: MaterialKind::Microcylinder,
+            },
+        })
+    }
+
     /// Reads and validates the material.
     ///
     /// # Errors
@@ -98,11 +125,30 @@ impl MaterialSource {
                 format!(
                     "cannot load --material `{arg}`: neither a preset ({}; see `woven \
                      materials`) nor a readable material file",
-                    Material::preset_names().join(", ")
+                    Material::all_preset_names().join(", ")
                 )
             }
         })
     }
+}
+
+/// Which model a material is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MaterialKind {
+    /// A woven material (the Yang–Ikeuchi model).
+    Woven,
+    /// A microcylinder fabric (Sadeghi et al. 2013), in colour.
+    Microcylinder,
+}
+
+/// A material of either kind seen in one channel ([`MaterialSource::load_mono`]).
+pub struct MonoBrdf {
+    /// The material's name: its `name`, else the `--material` value.
+    pub name: String,
+    /// Its BRDF, sr⁻¹: the woven model, or a colour BRDF's luminance.
+    pub brdf: Box<dyn Bsdf<Value = f64>>,
+    /// Which model it is.
+    pub kind: MaterialKind,
 }
 
 impl std::fmt::Display for MaterialSource {
@@ -116,7 +162,19 @@ pub fn material_help() -> String {
     format!(
         "A preset ({}; list them with `woven materials`) or a material file (TOML; see the \
          `woven` library's `material` module for its keys)",
-        Material::preset_names().join(", ")
+        Material::all_preset_names().join(", ")
+    )
+}
+
+/// The help line of a `--material` that takes either model: the woven presets, the
+/// microcylinder fabrics, and files of both kinds.
+pub fn any_material_help() -> String {
+    format!(
+        "A preset ({}; or a microcylinder fabric: {}; list them with `woven materials`) or a \
+         material file (TOML: a woven material, or a microcylinder fabric with `model = \
+         \"microcylinder\"`)",
+        Material::all_preset_names().join(", "),
+        woven::microcylinder::Microcylinder::preset_names().join(", ")
     )
 }
 

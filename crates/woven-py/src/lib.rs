@@ -11,6 +11,7 @@
 //! (`python/woven/_woven.pyi`); docs/python.md shows it at work.
 
 mod arrays;
+mod bsdf;
 mod material;
 mod surface;
 mod table;
@@ -46,7 +47,12 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<material::Model>()?;
     m.add_class::<table::Table>()?;
     m.add_class::<surface::Surface>()?;
+    m.add_class::<bsdf::PyBsdf>()?;
+    m.add_class::<bsdf::Microcylinder>()?;
+    m.add_class::<bsdf::Sheen>()?;
+    m.add_class::<bsdf::RoughPlastic>()?;
     m.add_function(wrap_pyfunction!(material::presets, m)?)?;
+    m.add_function(wrap_pyfunction!(bsdf::open_material, m)?)?;
     m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
     m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;
     m.add_function(wrap_pyfunction!(material::to_spherical, m)?)?;

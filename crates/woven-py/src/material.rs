@@ -520,16 +520,17 @@ pub fn to_spherical<'py>(
     ))
 }
 
-/// The names of the built-in presets.
+/// The names of the built-in presets: the paper's, `filament-satin`, then those grounded in measured fabrics.
 #[pyfunction]
 pub fn presets() -> Vec<&'static str> {
-    woven::material::Material::preset_names().to_vec()
+    woven::material::Material::all_preset_names()
 }
 
 /// The paper's virtual goniometer (§4, Fig. 7): light and sensor 90° apart, the sample turned to
 /// azimuth A and tilted by t, so θi = 45° + t, θr = 45° − t, φi = A, φr = A + 180°.
 ///
-/// `material` is a Material (built at `wavelength_nm`) or a Model; `azimuth_deg` and `tilt_deg`
+/// `material` is a Material (built at `wavelength_nm`), a Model, or a colour `woven.Bsdf` (a
+/// `Microcylinder`: its luminance, Rec. 709, as `woven gonio` reads it); `azimuth_deg` and `tilt_deg`
 /// are lists or arrays of degrees (tilts in (−45°, 45°); default: the paper's −42° to 42° by 3°).
 /// Returns a dict of (M,) arrays over every azimuth (outer) × tilt (inner): `azimuth_deg`,
 /// `tilt_deg`, `theta_i`, `theta_r` (radians) and `radiance` = f cos θi for unit irradiance,
@@ -543,13 +544,21 @@ pub fn gonio<'py>(
     tilt_deg: Option<&Bound<'py, PyAny>>,
     wavelength_nm: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let model: Arc<woven::Model> = if let Ok(m) = material.cast::<Model>() {
-        Arc::clone(&m.get().inner)
+    enum Source {
+        Model(Arc<woven::Model>),
+        Colour(woven::catalog::Luminance<crate::bsdf::Shared>),
+    }
+    let source = if let Ok(m) = material.cast::<Model>() {
+        Source::Model(Arc::clone(&m.get().inner))
     } else if let Ok(m) = material.cast::<Material>() {
-        m.get().build(py, wavelength_nm)?.inner
+        Source::Model(m.get().build(py, wavelength_nm)?.inner)
+    } else if let Some(b) = crate::bsdf::bsdf_arg(material) {
+        // A colour BSDF (a microcylinder fabric) reads as its luminance, as in `woven gonio`.
+        Source::Colour(woven::catalog::Luminance(b))
     } else {
         return Err(PyTypeError::new_err(
-            "`material` must be a woven.Material or a woven.Model",
+            "`material` must be a woven.Material, a woven.Model or a woven.Bsdf \
+             (woven.Microcylinder, woven.Sheen, woven.RoughPlastic)",
         ));
     };
     let azimuths = match azimuth_deg {
@@ -582,7 +591,10 @@ pub fn gonio<'py>(
             }
         }
     }
-    let readings = py.detach(|| woven::gonio::sweep(&model, &azimuths, &tilts, || {}));
+    let readings = py.detach(|| match &source {
+        Source::Model(m) => woven::gonio::sweep(&**m, &azimuths, &tilts, || {}),
+        Source::Colour(b) => woven::gonio::sweep(b, &azimuths, &tilts, || {}),
+    });
     let out = PyDict::new(py);
     let column = |f: fn(&woven::gonio::Reading) -> f64| readings.iter().map(f).collect::<Vec<_>>();
     out.set_item(

@@ -432,7 +432,8 @@ impl Surface {
 
     /// What the surface lays on its uv, for code that re-traces it (the Mitsuba plugin's
     /// Dr.Jit variants): a dict with `kind` ("flat", "whole", "macro" or "pattern"),
-    /// `yarns_per_unit`, `u_max` (radians), `gap`, `weft_fraction`, `filter_cells` (the
+    /// `yarns_per_unit`, `u_max` (radians), `float_shape` (the floats' `(crest, flank)`, `(0, 0)`
+    /// for a linear tilt), `gap`, `weft_fraction`, `filter_cells` (the
     /// footprint filter's start and end, in cells), `macro` (the macro BRDF's lobes: a list of
     /// `(warp, float, weight)`, `float` true for a whole tilted float), `albedos` (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`), and for a
     /// pattern `cells` (rows × cols, 1 where the weft is on top) and `floats` (rows × cols × 2:
@@ -453,6 +454,7 @@ impl Surface {
         d.set_item("detail", s.detail().name())?;
         d.set_item("yarns_per_unit", s.yarns_per_unit().to_vec())?;
         d.set_item("u_max", s.u_max())?;
+        d.set_item("float_shape", s.float_profile().shape())?;
         d.set_item("gap", s.gap())?;
         d.set_item("weft_fraction", s.weft_fraction())?;
         d.set_item("filter_cells", FILTER_CELLS.to_vec())?;

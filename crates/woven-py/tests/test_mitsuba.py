@@ -681,3 +681,86 @@ def test_fibres_render_in_scalar_variants_and_are_refused_by_name_in_jit(llvm, y
         np.testing.assert_allclose(got, want, rtol=1e-5)
     finally:
         mi.set_variant("llvm_ad_rgb")
+
+
+def test_shaped_floats_are_refused_by_name_in_jit(llvm, cache):
+    """A grounded preset's floats (a flat crest, flanks at full tilt) take the material's own
+    tilt by default; the JIT variants trace linear tilts only and say so, naming the keys."""
+    surface = woven.Surface(woven.Material.preset("satin-charmeuse"), progress=False)
+    crest, flank = surface.layout()["float_shape"]
+    assert crest > 0 and flank > 0 and surface.layout()["u_max"] > 0
+    with pytest.raises(ValueError, match="float_crest"):
+        woven.mitsuba.JitLayout(surface, mi)
+
+
+def test_microcylinder_fabric_renders_in_scalar_rgb_as_the_library():
+    """material = "microcylinder-…": scalar_rgb evaluates, samples and weighs the library's
+    fabric (woven.Microcylinder) per ray; a plane lit by a directional light and seen by an
+    orthographic camera renders f(s, v) · E cos θs in every pixel."""
+    if "scalar_rgb" not in mi.variants():
+        pytest.skip("this Mitsuba build has no scalar_rgb")
+    name = "microcylinder-velvet"
+    fabric = woven.Microcylinder(name)
+    previous = mi.variant()
+    mi.set_variant("scalar_rgb")
+    try:
+        woven.mitsuba.register()
+        bsdf = mi.load_dict({"type": "woven", "material": name})
+        ctx = mi.BSDFContext()
+        rng = np.random.default_rng(8)
+        for _ in range(5):
+            view, light = random_dirs(rng, 2)
+            si = mi.SurfaceInteraction3f()
+            si.wi = mi.Vector3f(*view)
+            wo = mi.Vector3f(*light)
+            v = np.array(si.wi, dtype=np.float64)  # the float32 directions Mitsuba holds
+            s = np.array(wo, dtype=np.float64)
+            got = np.array(bsdf.eval(ctx, si, wo), dtype=np.float64).ravel()
+            np.testing.assert_allclose(got, fabric.eval(s, v) * s[2], rtol=1e-6)
+            p = float(bsdf.pdf(ctx, si, wo))
+            np.testing.assert_allclose(p, fabric.pdf(s, v, mode="radiance"), rtol=1e-6)
+            u1, u2 = rng.random(), rng.random(2)
+            bs, weight = bsdf.sample(ctx, si, float(u1), mi.Point2f(*u2))
+            u1 = float(np.float32(u1))
+            d, f, pdf = fabric.sample(v, u1, np.float32(u2).astype(np.float64), mode="radiance")
+            if pdf[0] > 0:
+                np.testing.assert_allclose(np.array(bs.wo, dtype=np.float64), d[0], atol=1e-6)
+                want = f[0] * d[0, 2] / pdf[0]
+                np.testing.assert_allclose(np.array(weight, dtype=np.float64), want, rtol=1e-5)
+        # A tiny render: directional light from s, orthographic view from v.
+        s = woven.from_spherical(0.5, 0.3)
+        v = woven.from_spherical(0.7, 2.5)
+        scene = mi.load_dict(
+            {
+                "type": "scene",
+                "integrator": {"type": "direct"},
+                "plane": {
+                    "type": "rectangle",
+                    "to_world": mi.ScalarTransform4f().scale([10, 10, 1]),
+                    "bsdf": {"type": "woven", "material": name},
+                },
+                "sun": {"type": "directional", "direction": (-s).tolist(), "irradiance": 1.0},
+                "camera": {
+                    "type": "orthographic",
+                    "to_world": mi.ScalarTransform4f().look_at(
+                        origin=(3 * v).tolist(), target=[0, 0, 0], up=[0, 0, 1]
+                    ),
+                    "film": {"type": "hdrfilm", "width": 4, "height": 4, "rfilter": {"type": "box"}},
+                    "sampler": {"type": "independent", "sample_count": 1},
+                },
+            }
+        )
+        image = np.array(mi.render(scene), dtype=np.float64).reshape(-1, 3)
+        want = fabric.eval(s, v) * s[2]
+        np.testing.assert_allclose(image, np.broadcast_to(want, image.shape), rtol=1e-4)
+        # The woven cloth's keys do not apply to a fabric, and say so.
+        with pytest.raises(Exception, match="pattern"):
+            mi.load_dict({"type": "woven", "material": name, "pattern": "plain"})
+    finally:
+        if previous is not None:
+            mi.set_variant(previous)
+
+
+def test_microcylinder_fabric_is_refused_by_name_in_jit(llvm):
+    with pytest.raises(Exception, match=r"microcylinder-satin-charmeuse.*llvm_ad_rgb.*scalar_rgb"):
+        mi.load_dict({"type": "woven", "material": "microcylinder-satin-charmeuse"})

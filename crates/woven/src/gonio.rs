@@ -11,7 +11,8 @@
 //! radiance `L = f(s, v) · I0 cos θi`; we report it for unit irradiance `I0 = 1`, in sr⁻¹.
 //! `t` must lie in `(−45°, 45°)`: at ±45° light or sensor grazes the sample.
 
-use crate::{Model, Vec3};
+use crate::bsdf::Bsdf;
+use crate::Vec3;
 
 /// The half-angle between light and sensor, degrees: they are 90° apart.
 pub const HALF_ANGLE_DEG: f64 = 45.0;
@@ -49,8 +50,10 @@ pub fn directions(azimuth_deg: f64, tilt_deg: f64) -> (Vec3, Vec3) {
     (s, v)
 }
 
-/// The reading of `model` at sample azimuth `azimuth_deg` and tilt `tilt_deg` (degrees).
-pub fn read(model: &Model, azimuth_deg: f64, tilt_deg: f64) -> Reading {
+/// The reading of `model` at sample azimuth `azimuth_deg` and tilt `tilt_deg` (degrees). Any
+/// single-valued BSDF reads: a woven [`Model`](crate::Model), a table, or a colour BSDF (a
+/// microcylinder fabric) as its [`Luminance`](crate::catalog::Luminance).
+pub fn read<B: Bsdf<Value = f64> + ?Sized>(model: &B, azimuth_deg: f64, tilt_deg: f64) -> Reading {
     let (s, v) = directions(azimuth_deg, tilt_deg);
     let theta_i = (HALF_ANGLE_DEG + tilt_deg).to_radians();
     Reading {
@@ -73,8 +76,8 @@ pub fn sweep_grid(azimuths_deg: &[f64], tilts_deg: &[f64]) -> Vec<(f64, f64)> {
 
 /// The readings of `model` over [`sweep_grid`]`(azimuths_deg, tilts_deg)`, in that order,
 /// computed over all cores (rayon); `progress` is called once per reading, from any thread.
-pub fn sweep(
-    model: &Model,
+pub fn sweep<B: Bsdf<Value = f64> + ?Sized>(
+    model: &B,
     azimuths_deg: &[f64],
     tilts_deg: &[f64],
     progress: impl Fn() + Sync,

@@ -16,20 +16,29 @@ y), both pointing away from the surface: ``wi`` toward the light (the paper's s)
 the viewer (v). Bad parameters raise ValueError with the library's message, files OSError.
 ``woven.Surface`` is a woven material laid on a surface (pattern cells, dyes, yarn tilt, gaps,
 the footprint filter), the one ``woven render`` and the Mitsuba plugin evaluate.
+``woven.Microcylinder("microcylinder-satin-charmeuse")`` is a microcylinder fabric (Sadeghi et
+al. 2013) in colour, and ``woven.Sheen`` and ``woven.RoughPlastic`` the baselines: each a
+``woven.Bsdf`` with ``eval`` (f per channel, (N, 3)), ``pdf``, ``sample`` and ``albedo``;
+``woven.open_material(name)`` opens a preset or file of either model.
 ``woven.mitsuba.register()`` adds the ``woven`` BSDF to Mitsuba 3.
 """
 
 from ._woven import (
     PARALLEL_MIN,
+    Bsdf,
     Material,
+    Microcylinder,
     Model,
+    RoughPlastic,
     Section,
+    Sheen,
     Surface,
     Table,
     __version__,
     export_merl,
     from_spherical,
     gonio,
+    open_material,
     presets,
     to_spherical,
 )
@@ -37,6 +46,11 @@ from ._woven import (
 __all__ = [
     "Material",
     "Model",
+    "Bsdf",
+    "Microcylinder",
+    "Sheen",
+    "RoughPlastic",
+    "open_material",
     "Section",
     "Surface",
     "Table",

@@ -17,15 +17,20 @@ PathLike = Union[str, "os.PathLike[str]"]
 def presets() -> List[str]:
     """The names of the built-in presets."""
 
+def open_material(preset_or_path: PathLike) -> Union["Material", "Microcylinder"]:
+    """A preset or material file of either model: a ``Material`` (woven) or a ``Microcylinder``
+    (a ``microcylinder-*`` preset, or a file with ``model = "microcylinder"``)."""
+
 def gonio(
-    material: Union["Material", "Model"],
+    material: Union["Material", "Model", "Bsdf"],
     azimuth_deg: Optional[ArrayLike] = None,
     tilt_deg: Optional[ArrayLike] = None,
     wavelength_nm: float = 550.0,
 ) -> Dict[str, FloatArray]:
     """The paper's virtual goniometer: a dict of (M,) arrays ``azimuth_deg``, ``tilt_deg``,
     ``theta_i``, ``theta_r`` (radians) and ``radiance`` = f cos θi (sr⁻¹) over every azimuth
-    (outer) × tilt (inner). Defaults: azimuths 0, 45, 90; the paper's tilts −42° to 42° by 3°."""
+    (outer) × tilt (inner). Defaults: azimuths 0, 45, 90; the paper's tilts −42° to 42° by 3°.
+    A colour ``Bsdf`` (a ``Microcylinder``) reads as its luminance (Rec. 709), as ``woven gonio``."""
 
 def from_spherical(theta: ArrayLike, phi: ArrayLike) -> FloatArray:
     """Unit directions (N, 3) (or (3,)) from polar angles and azimuths, radians."""
@@ -227,3 +232,72 @@ class Surface:
     @property
     def uses_footprint(self) -> bool: ...
 
+
+class Bsdf:
+    """A reflectance model in colour (the library's ``Bsdf`` trait, RGB values): the base of
+    ``Microcylinder``, ``Sheen`` and ``RoughPlastic``; not made directly. ``wi`` toward the light,
+    ``wo`` toward the viewer; f in sr⁻¹ without the cosine, 0 below the surface."""
+
+    def eval(self, wi: ArrayLike, wo: ArrayLike) -> FloatArray:
+        """f(wi, wo) per channel: (N, 3), or (3,) when both are (3,)."""
+    def pdf(self, wi: ArrayLike, wo: ArrayLike, mode: str = "radiance") -> Union[float, FloatArray]:
+        """The density with which ``sample`` in ``mode`` draws the unknown direction: ``wi`` for
+        a known ``wo`` ("radiance"), ``wo`` for a known ``wi`` ("importance"). (N,) or a float."""
+    def sample(
+        self, known: ArrayLike, uc: ArrayLike, u: ArrayLike, mode: str = "radiance"
+    ) -> Tuple[FloatArray, FloatArray, FloatArray]:
+        """``(drawn (N, 3), f (N, 3), pdf (N,))``: ``wi`` for a known ``wo`` ("radiance") or
+        ``wo`` for a known ``wi`` ("importance"); all zeros for a failed draw."""
+    def albedo(self, theta_i: ArrayLike, phi_i: Optional[ArrayLike] = None) -> FloatArray:
+        """The directional albedo ∫ f cos θo dωo per channel: (N, 3), or (3,) for scalars."""
+    @property
+    def lobes(self) -> List[str]:
+        """A subset of "reflection", "glossy", "diffuse", "anisotropic"."""
+
+class Microcylinder(Bsdf):
+    """A microcylinder fabric (Sadeghi et al. 2013) in colour: a preset's name
+    (``Microcylinder.preset_names()``) or a fabric file's path. ValueError for an unknown name or a
+    woven material, OSError for an unreadable file."""
+
+    def __init__(self, material: PathLike) -> None: ...
+    @staticmethod
+    def from_toml(text: str, origin: str = "<string>") -> "Microcylinder":
+        """A fabric from a fabric file's text (``model = "microcylinder"``)."""
+    @staticmethod
+    def preset_names() -> List[str]:
+        """The six fabrics of the paper's Table II."""
+    @property
+    def name(self) -> str:
+        """The fabric's name."""
+    @property
+    def tangent_counts(self) -> Tuple[int, int]:
+        """Tangents (quadrature nodes) along each thread's curve."""
+    def eval_unguarded(self, wi: ArrayLike, wo: ArrayLike) -> FloatArray:
+        """The printed model without the energy guard, per channel (as ``eval``)."""
+
+class Sheen(Bsdf):
+    """The Charlie sheen over a Lambertian base (a baseline). Colours: a number or (r, g, b) in
+    [0, 1]; ``roughness`` in [0.1, 1]."""
+
+    def __init__(
+        self,
+        *,
+        diffuse: Optional[ArrayLike] = None,
+        sheen_color: Optional[ArrayLike] = None,
+        roughness: Optional[float] = None,
+    ) -> None: ...
+
+class RoughPlastic(Bsdf):
+    """Mitsuba 3's ``roughplastic`` (a baseline), with Mitsuba's defaults."""
+
+    def __init__(
+        self,
+        *,
+        distribution: str = "beckmann",
+        alpha: Optional[float] = None,
+        int_ior: Optional[float] = None,
+        ext_ior: Optional[float] = None,
+        diffuse_reflectance: Optional[ArrayLike] = None,
+        specular_reflectance: Optional[ArrayLike] = None,
+        nonlinear: bool = False,
+    ) -> None: ...

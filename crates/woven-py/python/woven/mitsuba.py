@@ -24,7 +24,10 @@ the library's ``woven.Surface`` holds that meaning, and this plugin takes it fro
 ``yarns_per_unit``    pattern cells per unit of uv: one number or "n_u, n_v" (default 40).
 ``weft_color``,       dyed fiber albedos ρ0 per channel (values or textures); the
 ``warp_color``        interreflection albedo follows in proportion. Default: the material's own.
-``u_max_deg``         yarn tilt at the ends of each float, degrees in [0, 80] (default 0).
+``u_max_deg``         yarn tilt at the ends of each float, degrees in [0, 80] (default: the
+                      material's own ``[yarn] u_max_deg``, 0 for the paper's presets; floats
+                      shaped by ``float_crest``/``float_flank`` are traced by scalar variants
+                      only).
 ``gap``               fraction of each cell between yarns, in [0, 0.95] (default 0): the crossing
                       yarn shows there, and a hole where both leave one.
 ``detail``            how finely the weave is resolved: ``"yarns"`` (the default here: each
@@ -56,6 +59,12 @@ yarns that the library evaluates exactly for near-forward pairs (|wi + wo| < 0.5
 vectors within 5° of the horizon (which a tilted frame can bring about) give
 ``Table.eval_interpolated`` there, and flat fiber surfaces their table, not the exact model. In
 scalar variants each call goes to the library's ``woven.Surface``.
+
+``material`` may also name a microcylinder fabric (Sadeghi et al. 2013: a ``microcylinder-*``
+preset, or a file with ``model = "microcylinder"``; see ``woven.Microcylinder``). Scalar RGB
+variants then evaluate, sample and weigh it with the library per ray (the keys above other than
+``material`` do not apply and are refused by name). The microcylinder model has no Dr.Jit port:
+JIT variants (and spectral ones) refuse such a material with an error naming it and the variant.
 """
 
 from __future__ import annotations
@@ -82,8 +91,22 @@ def register():
     if variant in _REGISTERED:
         return
     cls = _bsdf_class(mi)
-    mi.register_bsdf("woven", lambda props: cls(props))
+    fabric_cls = _microcylinder_class(mi)
+    mi.register_bsdf("woven", lambda props: _make(props, cls, fabric_cls))
     _REGISTERED.add(variant)
+
+
+def _make(props, woven_cls, fabric_cls):
+    """The BSDF a ``woven`` plugin's properties describe: a microcylinder fabric when
+    ``material`` names one, otherwise the woven cloth."""
+    if "material" in props and "table" not in props:
+        try:
+            opened = woven.open_material(str(props["material"]))
+        except ValueError as e:
+            raise ValueError(f"woven BSDF: {e}") from None
+        if isinstance(opened, woven.Microcylinder):
+            return fabric_cls(props, opened)
+    return woven_cls(props)
 
 
 class JitTable:
@@ -440,7 +463,7 @@ def _surface(props, mi):
         "pattern": props["pattern"] if has("pattern") else None,
         "weft_fraction": float(props["weft_fraction"]) if has("weft_fraction") else None,
         "yarns_per_unit": _yarns(props["yarns_per_unit"]) if has("yarns_per_unit") else 40.0,
-        "u_max_deg": float(props["u_max_deg"]) if has("u_max_deg") else 0.0,
+        "u_max_deg": float(props["u_max_deg"]) if has("u_max_deg") else None,
         "gap": float(props["gap"]) if has("gap") else 0.0,
         # Mitsuba's stock integrators give no pixel footprints (so "auto" would be yarns
         # everywhere, at the cost of its look-ups): yarns unless asked.
@@ -495,6 +518,13 @@ class JitLayout:
             self.kind = "macro"  # every point the macro BRDF
         self.nu, self.nv = lay["yarns_per_unit"]
         self.u_max, self.gap = lay["u_max"], lay["gap"]
+        if self.u_max > 0 and tuple(lay.get("float_shape", (0.0, 0.0))) != (0.0, 0.0):
+            crest, flank = lay["float_shape"]
+            raise ValueError(
+                f"woven BSDF: floats shaped by float_crest = {crest} and float_flank = {flank}"
+                " are not traced by the JIT variants yet (their floats tilt linearly); use a"
+                " scalar variant, or u_max_deg = 0"
+            )
         self.float = JitFloat(self.u_max, mi) if self.u_max > 0 else None
         self.filter_lo, self.filter_hi = lay["filter_cells"]
         self.macro = [(bool(w), FLOAT if f else FLAT, float(g)) for w, f, g in lay["macro"]]
@@ -970,9 +1000,120 @@ def _bsdf_class(mi):
     return WovenBSDF
 
 
+# The keys of the woven cloth that a microcylinder fabric has no use for.
+_WOVEN_ONLY_KEYS = (
+    "pattern",
+    "weft_fraction",
+    "yarns_per_unit",
+    "weft_color",
+    "warp_color",
+    "u_max_deg",
+    "gap",
+    "detail",
+    "footprint_filter",
+    "wavelength_nm",
+)
+
+
+def _microcylinder_class(mi):
+    """The BSDF class of a microcylinder fabric for the current variant: the library's
+    ``woven.Microcylinder`` called per ray (scalar RGB variants only)."""
+    import drjit as dr
+
+    jit = dr.is_jit_v(mi.Float)
+
+    class MicrocylinderBSDF(mi.BSDF):
+        """A microcylinder fabric (Sadeghi et al. 2013) through the ``woven`` plugin:
+        ``material = "microcylinder-..."`` or a fabric file. Scalar RGB variants call the
+        library per ray; JIT and spectral variants refuse it by name."""
+
+        def __init__(self, props, fabric):
+            mi.BSDF.__init__(self, props)
+            name = str(props["material"])
+            if jit:
+                raise ValueError(
+                    f"woven BSDF: `material` = {name!r} is a microcylinder fabric, which the"
+                    f" {mi.variant()} variant cannot evaluate (the microcylinder model has no"
+                    " Dr.Jit port; only woven materials trace in JIT variants): use a scalar RGB"
+                    " variant (scalar_rgb)"
+                )
+            if not mi.is_rgb:
+                raise ValueError(
+                    f"woven BSDF: `material` = {name!r} is a microcylinder fabric, whose values"
+                    f" are RGB: the {mi.variant()} variant is not an RGB variant; use scalar_rgb"
+                )
+            extra = [k for k in _WOVEN_ONLY_KEYS if k in props]
+            if extra:
+                raise ValueError(
+                    f"woven BSDF: `material` = {name!r} is a microcylinder fabric:"
+                    f" {', '.join(f'`{k}`' for k in extra)} apply to woven materials only"
+                )
+            self.fabric = fabric
+            flags = (
+                mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide | mi.BSDFFlags.Anisotropic
+            )
+            self.m_flags = flags
+            self.m_components = [flags]
+
+        # Mitsuba's si.wi is toward the viewer (woven's wo), its wo toward the light (woven's
+        # wi); sample draws the light direction for the viewer: the library's radiance mode.
+
+        def eval(self, ctx, si, wo, active=True):
+            if not (active and ctx.is_enabled(mi.BSDFFlags.GlossyReflection)):
+                return mi.Color3f(0.0)
+            if not (si.wi.z > 0 and wo.z > 0):
+                return mi.Color3f(0.0)
+            f = self.fabric.eval(_vec(wo), _vec(si.wi))
+            return mi.Color3f(*map(float, f)) * wo.z
+
+        def pdf(self, ctx, si, wo, active=True):
+            if not (active and ctx.is_enabled(mi.BSDFFlags.GlossyReflection)):
+                return 0.0
+            if not (si.wi.z > 0 and wo.z > 0):
+                return 0.0
+            return float(self.fabric.pdf(_vec(wo), _vec(si.wi), "radiance"))
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            bs = mi.BSDFSample3f()
+            if not (active and ctx.is_enabled(mi.BSDFFlags.GlossyReflection) and si.wi.z > 0):
+                return bs, mi.Color3f(0.0)
+            u = (float(sample2[0]), float(sample2[1]))
+            d, f, pdf = self.fabric.sample(_vec(si.wi), float(sample1), u, "radiance")
+            if not pdf[0] > 0:
+                return bs, mi.Color3f(0.0)
+            wo = mi.Vector3f(*map(float, d[0]))
+            bs.wo = wo
+            bs.pdf = float(pdf[0])
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            weight = mi.Color3f(*map(float, f[0])) * (float(d[0][2]) / float(pdf[0]))
+            return bs, weight
+
+        def traverse(self, callback):
+            pass
+
+        def to_string(self):
+            return f"MicrocylinderBSDF[{self.fabric!r}]"
+
+    return MicrocylinderBSDF
+
+
+def _vec(v):
+    """A Mitsuba scalar vector as a tuple of floats."""
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
 def __getattr__(name):
     if name == "WovenBSDF":
         import mitsuba as mi
 
         return _bsdf_class(mi)
+    if name == "MicrocylinderBSDF":
+        import mitsuba as mi
+
+        return _microcylinder_class(mi)
     raise AttributeError(name)

@@ -8,7 +8,8 @@
 //!
 //! `woven plot hemisphere` and the explorer (`woven serve`) draw this map; both compute it here.
 
-use crate::{Model, Vec3};
+use crate::bsdf::Bsdf;
+use crate::Vec3;
 use rayon::prelude::*;
 
 /// The largest `sin θr` evaluated (θr = 89.9°): the BRDF is 0 at the horizon itself, while its
@@ -56,12 +57,19 @@ pub fn nodes_needed(n: usize) -> u64 {
         .sum()
 }
 
-/// Evaluates `model` for light from `s` at the nodes of an `n × n` grid, rows in parallel;
+/// Evaluates `model` (any single-valued BSDF: a woven [`Model`](crate::Model), a table, a
+/// colour BSDF's [`Luminance`](crate::catalog::Luminance)) for light from `s` at the nodes of
+/// an `n × n` grid, rows in parallel;
 /// `progress` is called with the number of nodes each finished row computed (from any thread).
 ///
 /// # Panics
 /// If `n < 2`.
-pub fn evaluate(model: &Model, s: Vec3, n: usize, progress: impl Fn(u64) + Sync) -> Grid {
+pub fn evaluate<B: Bsdf<Value = f64> + ?Sized>(
+    model: &B,
+    s: Vec3,
+    n: usize,
+    progress: impl Fn(u64) + Sync,
+) -> Grid {
     assert!(n >= 2, "a grid needs at least 2 nodes per side");
     let mut values = vec![f64::NAN; n * n];
     values.par_chunks_mut(n).enumerate().for_each(|(row, out)| {
@@ -76,7 +84,13 @@ pub fn evaluate(model: &Model, s: Vec3, n: usize, progress: impl Fn(u64) + Sync)
 ///
 /// # Panics
 /// If `out.len() != n` or `row >= n`.
-pub fn evaluate_row(model: &Model, s: Vec3, n: usize, row: usize, out: &mut [f64]) -> u64 {
+pub fn evaluate_row<B: Bsdf<Value = f64> + ?Sized>(
+    model: &B,
+    s: Vec3,
+    n: usize,
+    row: usize,
+    out: &mut [f64],
+) -> u64 {
     assert!(out.len() == n && row < n, "row {row} of an {n}-grid");
     let y = -centre(row, n);
     let mut done = 0;
@@ -144,6 +158,7 @@ mod tests {
     use super::*;
     use crate::fiber::FiberParams;
     use crate::material::Material;
+    use crate::Model;
 
     fn model() -> Model {
         Material::flat(FiberParams::rough(1.5, 0.2, 0.1))

@@ -5,7 +5,7 @@
 pub mod default_job;
 
 use crate::args::{
-    material_help, parse_degrees_in, parse_finite, Interval, MaterialArgs, MaterialSource,
+    any_material_help, parse_degrees_in, parse_finite, Interval, MaterialSource,
     DEFAULT_WAVELENGTH_NM,
 };
 use crate::io;
@@ -30,6 +30,11 @@ Prints CSV with the header `azimuth_deg,tilt_deg,theta_i,theta_r,radiance`: A an
 as given, θi and θr in radians, and the radiance f(s, v)·cos θi (sr⁻¹) for unit irradiance. \
 Rows run over the tilts for each azimuth in turn, computed in parallel.
 
+--material takes a woven material or a microcylinder fabric (the microcylinder-* presets, or a \
+file with `model = \"microcylinder\"`); a microcylinder fabric is coloured, and its radiance is \
+the luminance (Rec. 709) of its RGB BRDF, as `woven eval` without --rgb writes it \
+(--wavelength-nm does not apply to it).
+
 Without --material (and without -o) it runs the main goniometer job: the polyester-sateen \
 preset on the paper's grid, written to woven-out/ as CSV (gonio-polyester-sateen.csv) and as \
 the paper's Figure 8 (fig8.svg, fig8.png), with a short summary; --azimuth-deg and --tilt-deg \
@@ -38,15 +43,17 @@ then keep their defaults.",
   woven gonio
   woven gonio --material polyester-sateen
   woven gonio -m belt-cloth --azimuth-deg 0,45,90 --tilt-deg -42:42:3 -o belt.csv
-  woven gonio -m my-cloth.toml --azimuth-deg 30 --tilt-deg -44:44:0.5 --wavelength-nm 450"
+  woven gonio -m my-cloth.toml --azimuth-deg 30 --tilt-deg -44:44:0.5 --wavelength-nm 450
+  woven gonio -m microcylinder-silk-shot --azimuth-deg 0,90 -o shot.csv"
 )]
 pub struct GonioArgs {
     /// Absent: the main job (see above).
     #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
-          help = material_help())]
+          help = any_material_help())]
     pub material: Option<MaterialSource>,
 
-    /// Wavelength at which the material is evaluated, in nanometres.
+    /// Wavelength at which a woven material is evaluated, in nanometres (a microcylinder fabric
+    /// has its own refractive indices and ignores it).
     #[arg(long, value_name = "NM", default_value_t = DEFAULT_WAVELENGTH_NM,
           value_parser = parse_finite)]
     pub wavelength_nm: f64,
@@ -113,18 +120,14 @@ pub fn run(args: &GonioArgs) -> Result<()> {
         }
         return default_job::run();
     };
-    let model = MaterialArgs {
-        material: material.clone(),
-        wavelength_nm: args.wavelength_nm,
-    }
-    .build()?;
+    let material = material.load_mono(args.wavelength_nm)?;
     let (azimuths, tilts) = (&args.azimuth_deg.0, &args.tilt_deg.0);
     let bar = Progress::new(
         Some((azimuths.len() * tilts.len()) as u64),
         "readings",
         args.output.is_some() || !std::io::IsTerminal::is_terminal(&std::io::stdout()),
     );
-    let readings = sweep(&model, azimuths, tilts, || bar.inc(1));
+    let readings = sweep(&*material.brdf, azimuths, tilts, || bar.inc(1));
     bar.finish();
     io::write_output(args.output.as_deref(), |out| Ok(write_csv(&readings, out)?))
         .context("writing the goniometer table")

@@ -1,7 +1,10 @@
 //! `woven plot hemisphere`: a material's BRDF over the whole view hemisphere as a false-colour
 //! disc (data in [`woven::figures::hemisphere`]).
 
-use crate::args::{parse_degrees, parse_finite, MaterialArgs};
+use crate::args::{
+    any_material_help, parse_degrees, parse_finite, MaterialKind, MaterialSource,
+    DEFAULT_WAVELENGTH_NM,
+};
 use crate::io;
 use crate::plotting::glyphs::CrispText;
 use crate::plotting::{
@@ -33,6 +36,11 @@ centre, the horizon on the rim, the weft (x) to the right and the warp (y) up. R
 follow the viridis map, linear from 0 (or logarithmic over three decades with --log), with a \
 colour bar in sr⁻¹.
 
+The material is a woven material (a preset or file) or a microcylinder fabric (Sadeghi et al. \
+2013: the microcylinder-* presets, or a file with `model = \"microcylinder\"`). A microcylinder \
+fabric is coloured: the disc shows the luminance (Rec. 709) of its RGB BRDF, as `woven eval` \
+without --rgb writes it, and --wavelength-nm does not apply to it.
+
 The BRDF is evaluated on a grid of --grid × --grid view directions (in parallel) and upsampled \
 bilinearly to the image. The default grid, 128, costs about 13,000 evaluations: about a second \
 for a flat surface or the sateen preset, 5–15 s for the belt-cloth and silk presets on two \
@@ -47,11 +55,19 @@ standard error when it is a terminal and the job is long.";
     after_help = "Examples:
   woven plot hemisphere --material silk -o silk.png
   woven plot hemisphere -m polyester-sateen --theta-i-deg 60 --phi-i-deg 90 -o sateen.png --log
-  woven plot hemisphere -m my-cloth.toml --size 1024 --grid 400 -o big.png"
+  woven plot hemisphere -m my-cloth.toml --size 1024 --grid 400 -o big.png
+  woven plot hemisphere -m microcylinder-satin-charmeuse --theta-i-deg 30 -o charmeuse.png"
 )]
 pub struct HemisphereArgs {
-    #[command(flatten)]
-    pub material: MaterialArgs,
+    #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
+          help = any_material_help())]
+    pub material: MaterialSource,
+
+    /// Wavelength at which a woven material is evaluated, in nanometres (a microcylinder fabric
+    /// has its own refractive indices and ignores it).
+    #[arg(long, value_name = "NM", default_value_t = DEFAULT_WAVELENGTH_NM,
+          value_parser = parse_finite)]
+    pub wavelength_nm: f64,
 
     /// Polar angle θi of the light, degrees, in [0, 90).
     #[arg(long, value_name = "DEGREES", default_value_t = 45.0, allow_hyphen_values = true,
@@ -184,23 +200,23 @@ pub fn run(args: &HemisphereArgs) -> Result<()> {
         );
     }
     io::check_output_dirs(std::slice::from_ref(&args.output))?;
-    let (material, model) = args.material.load_and_build()?;
+    let material = args.material.load_mono(args.wavelength_nm)?;
     let layout = Layout::new(args.size);
     let n = (args.grid as usize).min(layout.diameter as usize).max(8);
     let s = Vec3::from_spherical(args.theta_i_deg.to_radians(), args.phi_i_deg.to_radians());
     let bar = Progress::new(Some(hemisphere::nodes_needed(n)), "directions", true);
-    let grid = hemisphere::evaluate(&model, s, n, |k| bar.inc(k));
+    let grid = hemisphere::evaluate(&*material.brdf, s, n, |k| bar.inc(k));
     bar.finish();
     let words = Words {
-        title: format!(
-            "BRDF over the view hemisphere — {}",
-            args.material.display_name(&material)
-        ),
+        title: format!("BRDF over the view hemisphere — {}", material.name),
         setting: format!(
-            "light at θi = {}°, φi = {}° (dot); mirror direction (ring); λ = {} nm",
+            "light at θi = {}°, φi = {}° (dot); mirror direction (ring); {}",
             short(args.theta_i_deg),
             short(args.phi_i_deg),
-            short(args.material.wavelength_nm)
+            match material.kind {
+                MaterialKind::Woven => format!("λ = {} nm", short(args.wavelength_nm)),
+                MaterialKind::Microcylinder => "luminance (Rec. 709) of its RGB BRDF".into(),
+            }
         ),
         method: format!(
             "seen from above: x = sin θr cos φr, y = sin θr sin φr; rings at θr = 30°, 60°; \
