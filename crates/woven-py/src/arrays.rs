@@ -160,6 +160,40 @@ fn array_like<'py>(
         })
 }
 
+/// The incidences of a directional albedo: `theta_i` (polar angles in `[0, π/2]`) and `phi_i`
+/// (finite azimuths; 0 when `None`), radians, scalars or `(N,)` arrays broadcast together, with
+/// their common length. A `ValueError` names the argument, the index and the valid range.
+pub fn incidences(
+    py: Python<'_>,
+    theta_i: &Bound<'_, PyAny>,
+    phi_i: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Numbers, Numbers, usize)> {
+    let theta = Numbers::extract(theta_i, "theta_i")?;
+    let phi = match phi_i {
+        Some(p) => Numbers::extract(p, "phi_i")?,
+        None => Numbers::extract(&0.0f64.into_pyobject(py)?.into_any(), "phi_i")?,
+    };
+    let n = broadcast(("theta_i", theta.n), ("phi_i", phi.n))?;
+    for (i, &t) in theta.as_slice().iter().enumerate() {
+        if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&t) {
+            return Err(PyValueError::new_err(format!(
+                "`theta_i`[{i}] = {t}: expected a polar angle in [0, π/2] radians"
+            )));
+        }
+    }
+    if let Some((i, p)) = phi
+        .as_slice()
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !p.is_finite())
+    {
+        return Err(PyValueError::new_err(format!(
+            "`phi_i`[{i}] = {p}: expected a finite azimuth in radians"
+        )));
+    }
+    Ok((theta, phi, n))
+}
+
 /// The broadcast length of two batches (`1` broadcasts), or a `ValueError` naming both.
 pub fn broadcast(a: (&str, usize), b: (&str, usize)) -> PyResult<usize> {
     match (a.1, b.1) {

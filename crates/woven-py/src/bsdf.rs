@@ -3,7 +3,7 @@
 //! 2013), `woven.Sheen` and `woven.RoughPlastic` (the baselines). Every value is the library's;
 //! this file converts arrays.
 
-use crate::arrays::{broadcast, map_batch, Dirs, Numbers};
+use crate::arrays::{broadcast, incidences, map_batch, Dirs, Numbers};
 use crate::table::split_columns;
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
@@ -131,29 +131,7 @@ impl PyBsdf {
         theta_i: &Bound<'py, PyAny>,
         phi_i: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let theta = Numbers::extract(theta_i, "theta_i")?;
-        let phi = match phi_i {
-            Some(p) => Numbers::extract(p, "phi_i")?,
-            None => Numbers::extract(&0.0f64.into_pyobject(py)?.into_any(), "phi_i")?,
-        };
-        let n = broadcast(("theta_i", theta.n), ("phi_i", phi.n))?;
-        for (i, &t) in theta.as_slice().iter().enumerate() {
-            if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&t) {
-                return Err(PyValueError::new_err(format!(
-                    "`theta_i`[{i}] = {t}: expected a polar angle in [0, π/2] radians"
-                )));
-            }
-        }
-        if let Some((i, p)) = phi
-            .as_slice()
-            .iter()
-            .enumerate()
-            .find(|(_, p)| !p.is_finite())
-        {
-            return Err(PyValueError::new_err(format!(
-                "`phi_i`[{i}] = {p}: expected a finite azimuth in radians"
-            )));
-        }
+        let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
         let b = &*self.inner;
         let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
         let out = py.detach(|| {

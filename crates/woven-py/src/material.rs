@@ -1,7 +1,7 @@
 //! `woven.Material`, its parameter sections, `woven.Model` (the exact BRDF), `woven.presets`
 //! and `woven.gonio`.
 
-use crate::arrays::{broadcast, map_batch, Dirs, Numbers};
+use crate::arrays::{broadcast, incidences, map_batch, Dirs, Numbers};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyTypeError, PyValueError};
@@ -399,19 +399,7 @@ impl Model {
         theta_i: &Bound<'py, PyAny>,
         phi_i: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let theta = Numbers::extract(theta_i, "theta_i")?;
-        let phi = match phi_i {
-            Some(p) => Numbers::extract(p, "phi_i")?,
-            None => Numbers::extract(&0.0f64.into_pyobject(py)?.into_any(), "phi_i")?,
-        };
-        let n = broadcast(("theta_i", theta.n), ("phi_i", phi.n))?;
-        for (i, &t) in theta.as_slice().iter().enumerate() {
-            if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&t) {
-                return Err(PyValueError::new_err(format!(
-                    "`theta_i`[{i}] = {t}: expected a polar angle in [0, π/2] radians"
-                )));
-            }
-        }
+        let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
         let model = &*self.inner;
         let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
         // Each albedo is a quadrature: parallel from two angles up.
