@@ -20,7 +20,7 @@ use woven::microcylinder::{albedo_quadrature, ALBEDO_PANELS};
 use woven::Vec3;
 
 /// A colour BSDF shared between Python objects.
-type SharedRgb = Arc<dyn woven::bsdf::Bsdf<Value = Rgb>>;
+pub(crate) type SharedRgb = Arc<dyn woven::bsdf::Bsdf<Value = Rgb>>;
 
 /// A reflectance model in colour: `eval`, `pdf`, `sample` and `albedo` of the library's `Bsdf`
 /// trait, per RGB channel. Not made directly: `woven.Microcylinder`, `woven.Sheen` and
@@ -394,15 +394,12 @@ impl RoughPlastic {
         nonlinear: bool,
     ) -> PyResult<PyClassInitializer<RoughPlastic>> {
         let d = RoughPlasticParams::default();
-        let distribution = match distribution {
-            "beckmann" => Distribution::Beckmann,
-            "ggx" => Distribution::Ggx,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "`distribution` = {other:?}: expected \"beckmann\" or \"ggx\""
-                )))
-            }
-        };
+        let distribution = Distribution::parse(distribution).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "`distribution` = {distribution:?}: expected {}",
+                Distribution::NAMES
+            ))
+        })?;
         let params = RoughPlasticParams {
             distribution,
             alpha: alpha.unwrap_or(d.alpha),
@@ -432,39 +429,9 @@ impl RoughPlastic {
     }
 }
 
-/// A shared colour BSDF as a library `Bsdf` (for `woven::catalog::Luminance`: `woven.gonio` of
-/// a `woven.Bsdf`).
-pub(crate) struct Shared(pub(crate) SharedRgb);
-
-impl woven::bsdf::Bsdf for Shared {
-    type Value = Rgb;
-
-    fn lobes(&self) -> LobeFlags {
-        self.0.lobes()
-    }
-
-    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        self.0.eval(wi, wo)
-    }
-
-    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
-        self.0.pdf(wi, wo, mode)
-    }
-
-    fn sample(
-        &self,
-        known: Vec3,
-        uc: f64,
-        u: [f64; 2],
-        mode: Transport,
-    ) -> Option<BsdfSample<Rgb>> {
-        self.0.sample(known, uc, u, mode)
-    }
-}
-
 /// `obj` as a colour BSDF, if it is one.
-pub(crate) fn bsdf_arg(obj: &Bound<'_, PyAny>) -> Option<Shared> {
+pub(crate) fn bsdf_arg(obj: &Bound<'_, PyAny>) -> Option<SharedRgb> {
     obj.cast::<PyBsdf>()
         .ok()
-        .map(|b| Shared(Arc::clone(&b.get().inner)))
+        .map(|b| Arc::clone(&b.get().inner))
 }

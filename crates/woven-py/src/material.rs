@@ -534,7 +534,7 @@ pub fn gonio<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     enum Source {
         Model(Arc<woven::Model>),
-        Colour(woven::catalog::Luminance<crate::bsdf::Shared>),
+        Colour(woven::catalog::Luminance<crate::bsdf::SharedRgb>),
     }
     let source = if let Ok(m) = material.cast::<Model>() {
         Source::Model(Arc::clone(&m.get().inner))

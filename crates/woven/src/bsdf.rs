@@ -23,6 +23,7 @@ use crate::math::Vec3;
 use crate::Model;
 use std::f64::consts::FRAC_1_PI;
 use std::ops::{BitOr, Mul};
+use std::sync::Arc;
 
 /// Which direction a path knows when it samples a BSDF.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -228,35 +229,41 @@ impl Bsdf for Model {
     }
 }
 
-/// A boxed BSDF is a BSDF (front ends choose the material at run time).
-impl<B: Bsdf + ?Sized> Bsdf for Box<B> {
-    type Value = B::Value;
+/// A boxed or shared BSDF is a BSDF (front ends choose the material at run time).
+macro_rules! forward_bsdf {
+    ($($pointer:ident),*) => {$(
+        impl<B: Bsdf + ?Sized> Bsdf for $pointer<B> {
+            type Value = B::Value;
 
-    fn lobes(&self) -> LobeFlags {
-        (**self).lobes()
-    }
+            fn lobes(&self) -> LobeFlags {
+                (**self).lobes()
+            }
 
-    #[inline]
-    fn eval(&self, wi: Vec3, wo: Vec3) -> B::Value {
-        (**self).eval(wi, wo)
-    }
+            #[inline]
+            fn eval(&self, wi: Vec3, wo: Vec3) -> B::Value {
+                (**self).eval(wi, wo)
+            }
 
-    #[inline]
-    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
-        (**self).pdf(wi, wo, mode)
-    }
+            #[inline]
+            fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+                (**self).pdf(wi, wo, mode)
+            }
 
-    fn eval_pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> (B::Value, f64) {
-        (**self).eval_pdf(wi, wo, mode)
-    }
+            fn eval_pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> (B::Value, f64) {
+                (**self).eval_pdf(wi, wo, mode)
+            }
 
-    fn sample(
-        &self,
-        known: Vec3,
-        uc: f64,
-        u: [f64; 2],
-        mode: Transport,
-    ) -> Option<BsdfSample<B::Value>> {
-        (**self).sample(known, uc, u, mode)
-    }
+            fn sample(
+                &self,
+                known: Vec3,
+                uc: f64,
+                u: [f64; 2],
+                mode: Transport,
+            ) -> Option<BsdfSample<B::Value>> {
+                (**self).sample(known, uc, u, mode)
+            }
+        }
+    )*};
 }
+
+forward_bsdf!(Box, Arc);
