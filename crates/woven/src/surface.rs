@@ -916,7 +916,7 @@ impl WovenSurface {
             (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
             _ => Rgb(self.yarn.eval_dyed(a, b, albedos)),
         };
-        let float = self.float;
+        let float = &self.float;
         match lobe.tilt {
             Tilt::Flat => value(wi, wo),
             Tilt::Entering(entry) => {
@@ -942,7 +942,7 @@ impl WovenSurface {
     /// for a flat lobe.
     #[inline]
     fn draw_tilt(&self, lobe: &Lobe, known: Vec3, u: f64) -> (Option<(f64, f64)>, f64) {
-        let float = self.float;
+        let float = &self.float;
         match lobe.tilt {
             Tilt::Flat => (None, u),
             Tilt::Entering(entry) => (Some(float.tilt(float.seen_at(entry, known)).sin_cos()), u),
@@ -979,7 +979,7 @@ impl WovenSurface {
             Tilt::Flat => untilted(k, d),
             Tilt::Entering(_) => tilted(self.draw_tilt(lobe, k, 0.0).0.unwrap_or((0.0, 1.0))),
             Tilt::Float => {
-                let float = self.float;
+                let float = &self.float;
                 (0..TILT_NODES)
                     .map(|i| tilted(float.tilt((i as f64 + 0.5) / TILT_NODES as f64).sin_cos()))
                     .sum::<f64>()

@@ -303,15 +303,13 @@ fn materials(
                 let d = RoughPlasticParams::default();
                 let distribution = match distribution.as_deref() {
                     None => d.distribution,
-                    Some("beckmann") => Distribution::Beckmann,
-                    Some("ggx") => Distribution::Ggx,
-                    Some(other) => {
-                        return Err(c.err(
+                    Some(name) => Distribution::parse(name).ok_or_else(|| {
+                        c.err(
                             &format!("{key}.distribution"),
                             at,
-                            format!("{other:?}: expected \"beckmann\" or \"ggx\""),
-                        ))
-                    }
+                            format!("{name:?}: expected {}", Distribution::NAMES),
+                        )
+                    })?,
                 };
                 let params = RoughPlasticParams {
                     distribution,

@@ -66,6 +66,18 @@ pub enum Distribution {
 }
 
 impl Distribution {
+    /// What [`parse`](Self::parse) accepts, for error messages.
+    pub const NAMES: &'static str = "\"beckmann\" or \"ggx\"";
+
+    /// The distribution Mitsuba names `name` (`"beckmann"`, `"ggx"`), or `None`.
+    pub fn parse(name: &str) -> Option<Distribution> {
+        match name {
+            "beckmann" => Some(Distribution::Beckmann),
+            "ggx" => Some(Distribution::Ggx),
+            _ => None,
+        }
+    }
+
     /// `D(m)` for `cos θm` (0 at or below the horizon), sr⁻¹; `∫ D cos θm dω = 1`.
     #[inline]
     pub fn d(self, cos_theta: f64, alpha: f64) -> f64 {
