@@ -1572,6 +1572,52 @@ fn render_sampler_flag_overrides_the_film_key() {
         .stderr(predicate::str::contains("independent"));
 }
 
+/// `--tonemap` and `--exposure` override `[film] tonemap` and `exposure`; the EXR stays linear
+/// whatever they say.
+#[test]
+fn render_display_flags_override_the_film_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("small.toml"), SMALL_SCENE).unwrap();
+    let keyed = SMALL_SCENE.replace("spp = 4", "spp = 4\ntonemap = \"clamp\"\nexposure = 2");
+    std::fs::write(dir.path().join("keyed.toml"), keyed).unwrap();
+    let render = |args: &[&str]| {
+        woven()
+            .args(args)
+            .current_dir(dir.path())
+            .assert()
+            .success();
+    };
+    render(&["render", "small.toml", "-o", "filmic.png"]);
+    render(&[
+        "render",
+        "small.toml",
+        "-o",
+        "flag.png",
+        "--tonemap",
+        "clamp",
+        "--exposure",
+        "2",
+    ]);
+    render(&["render", "keyed.toml", "-o", "key.png"]);
+    render(&["render", "small.toml", "-o", "plain.exr"]);
+    render(&["render", "keyed.toml", "-o", "keyed.exr"]);
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_eq!(read("flag.png"), read("key.png"));
+    assert_ne!(read("flag.png"), read("filmic.png"));
+    assert_eq!(read("plain.exr"), read("keyed.exr"));
+    for (flag, value, needle) in [
+        ("--tonemap", "aces", "filmic"),
+        ("--exposure", "25", "[-20, 20]"),
+    ] {
+        woven()
+            .args(["render", "small.toml", flag, value])
+            .current_dir(dir.path())
+            .assert()
+            .failure()
+            .stderr(predicate::str::contains(needle));
+    }
+}
+
 #[test]
 fn render_example_prints_a_commented_scene() {
     let assert = woven().args(["render", "--example"]).assert().success();

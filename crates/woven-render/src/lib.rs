@@ -69,6 +69,7 @@ pub mod rng;
 pub mod scene;
 pub mod shapes;
 pub mod sky;
+pub mod tonemap;
 pub mod woven_material;
 
 /// Linear RGB: the library's ([`woven::color`]), which woven surfaces return.

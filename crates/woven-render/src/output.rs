@@ -1,7 +1,9 @@
-//! Writing images: linear OpenEXR (float32 RGB) and sRGB PNG, each atomically (a temporary file
+//! Writing images: linear OpenEXR (float32 RGB) and sRGB PNG (through a [`Display`]: exposure
+//! and tone map), each atomically (a temporary file
 //! in the same folder, renamed into place), so a reader never sees half a file.
 
 use crate::render::Image;
+use crate::tonemap::Display;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -10,7 +12,7 @@ use std::path::{Path, PathBuf};
 pub enum Format {
     /// OpenEXR, linear float32 RGB.
     Exr,
-    /// PNG, 8-bit sRGB after `--exposure`.
+    /// PNG, 8-bit sRGB after the exposure and tone map ([`Display`]).
     Png,
 }
 
@@ -22,15 +24,6 @@ impl Format {
             "png" => Some(Format::Png),
             _ => None,
         }
-    }
-}
-
-/// The sRGB transfer function of a linear value in `[0, 1]`.
-pub fn srgb_encode(x: f64) -> f64 {
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
     }
 }
 
@@ -78,18 +71,15 @@ pub fn write_exr(image: &Image, path: &Path) -> Result<()> {
     finish(&tmp, path, written)
 }
 
-/// Writes `image` as an 8-bit sRGB PNG, scaled by `2^exposure` and clipped to `[0, 1]` first.
+/// Writes `image` as an 8-bit sRGB PNG through `display` (exposure, then tone map).
 ///
 /// # Errors
 /// [`Error::Image`]/[`Error::Io`] when the file cannot be written.
-pub fn write_png(image: &Image, path: &Path, exposure: f64) -> Result<()> {
-    let gain = exposure.exp2();
+pub fn write_png(image: &Image, path: &Path, display: &Display) -> Result<()> {
     let bytes: Vec<u8> = image
         .pixels
         .iter()
-        .flat_map(|p| {
-            p.0.map(|c| (srgb_encode((c * gain).clamp(0.0, 1.0)) * 255.0 + 0.5) as u8)
-        })
+        .flat_map(|p| display.encode(*p))
         .collect();
     let tmp = temp_beside(path);
     let buffer = image::RgbImage::from_raw(image.width as u32, image.height as u32, bytes)
@@ -104,10 +94,10 @@ pub fn write_png(image: &Image, path: &Path, exposure: f64) -> Result<()> {
 ///
 /// # Errors
 /// [`Error::InvalidSetting`] for an extension other than `.exr` or `.png`; as the writers.
-pub fn write(image: &Image, path: &Path, exposure: f64) -> Result<()> {
+pub fn write(image: &Image, path: &Path, display: &Display) -> Result<()> {
     match Format::of(path) {
         Some(Format::Exr) => write_exr(image, path),
-        Some(Format::Png) => write_png(image, path, exposure),
+        Some(Format::Png) => write_png(image, path, display),
         None => Err(Error::InvalidSetting {
             name: "output".into(),
             value: path.display().to_string(),

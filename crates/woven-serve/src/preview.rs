@@ -14,9 +14,9 @@ use std::path::Path;
 use std::time::Instant;
 use woven::material::Material;
 use woven::table::TableOptions;
-use woven_render::output::srgb_encode;
 use woven_render::render::{render, RenderOptions};
 use woven_render::scene::{MaterialDesc, Scene, SceneDescription};
+use woven_render::tonemap::srgb_encode;
 use woven_render::woven_material::{TableGrid, WovenSpec};
 use woven_render::Rgb;
 

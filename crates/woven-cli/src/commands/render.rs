@@ -11,7 +11,8 @@ use woven::table::TableOptions;
 use woven_render::output::{self, Format};
 use woven_render::render::{render_with_progress, RenderOptions};
 use woven_render::rng::SamplerKind;
-use woven_render::scene::{Scene, SceneDescription, EXAMPLE_SCENE, SHOWCASE_SCENE};
+use woven_render::scene::{Scene, SceneDescription, EXAMPLE_SCENE, MAX_EXPOSURE, SHOWCASE_SCENE};
+use woven_render::tonemap::ToneMap;
 use woven_render::woven_material::{TableCache, TableGrid};
 
 /// The folder images go to when `-o` is not given, relative to the current directory.
@@ -85,10 +86,16 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_cache: bool,
 
-    /// Exposure of the PNG in stops: values are scaled by 2^EV before the sRGB curve.
-    #[arg(long, value_name = "EV", default_value_t = 0.0, allow_hyphen_values = true,
-          value_parser = parse_finite)]
-    pub exposure: f64,
+    /// Exposure of the PNG in stops (overrides [film] exposure): values are scaled by 2^EV
+    /// before the tone map.
+    #[arg(long, value_name = "EV", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub exposure: Option<f64>,
+
+    /// How the PNG maps light to display values (overrides [film] tonemap): `filmic` rolls
+    /// highlights off to white in the manner of film (the default), `clamp` clips each channel
+    /// at 1. The EXR stays linear.
+    #[arg(long, value_parser = tonemap_parser())]
+    pub tonemap: Option<ToneMap>,
 }
 
 /// Runs `woven render`.
@@ -123,6 +130,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if let Some(kind) = args.sampler {
         desc.film.sampler = kind;
+    }
+    if let Some(ev) = args.exposure {
+        if ev.abs() > MAX_EXPOSURE {
+            bail!(
+                "--exposure {ev}: expected a number of stops in [-{MAX_EXPOSURE}, {MAX_EXPOSURE}]"
+            );
+        }
+        desc.film.display.exposure = ev;
+    }
+    if let Some(map) = args.tonemap {
+        desc.film.display.tonemap = map;
     }
     let outputs: Vec<PathBuf> = match &args.output {
         Some(path) => {
@@ -205,7 +223,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     )?;
     bar.finish();
     for path in &outputs {
-        output::write(&image, path, args.exposure)?;
+        output::write(&image, path, &desc.film.display)?;
     }
     println!(
         "rendered {} ({}×{}, {} spp) in {:.1} s ({:.2} M samples/s; {:.1} s in all):",
@@ -230,6 +248,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 }
 
 /// `--sampler`'s values, as `[film] sampler` names them.
+fn tonemap_parser() -> impl clap::builder::TypedValueParser<Value = ToneMap> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(ToneMap::NAMES)
+        .map(|s| ToneMap::parse(&s).expect("a listed name"))
+}
+
 fn sampler_parser() -> impl clap::builder::TypedValueParser<Value = SamplerKind> {
     use clap::builder::TypedValueParser;
     clap::builder::PossibleValuesParser::new(["sobol", "independent"]).map(|s| match s.as_str() {

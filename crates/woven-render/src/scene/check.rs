@@ -8,12 +8,13 @@ use super::parse::{
 };
 use super::{
     CameraSpec, Film, IntegratorSettings, LightDesc, MaterialDesc, SceneDescription, ShapeDesc,
-    Strategy, MAX_FILM_SIDE, MAX_GAP, MAX_SPP, MAX_U_MAX_DEG,
+    Strategy, MAX_EXPOSURE, MAX_FILM_SIDE, MAX_GAP, MAX_SPP, MAX_U_MAX_DEG,
 };
 use crate::color::Rgb;
 use crate::rng::SamplerKind;
 use crate::shapes::{Cloth, Drape};
 use crate::sky::{Sky, SkyParams};
+use crate::tonemap::Display;
 use crate::woven_material::WovenSpec;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
@@ -105,6 +106,7 @@ fn film(c: &Checker, raw: Option<Spanned<RawFilm>>) -> Result<Film> {
             seed: 0,
             sampler: SamplerKind::default(),
             first_sample: 0,
+            display: Display::default(),
         },
         Some(f) => {
             let at = f.span().start;
@@ -117,6 +119,10 @@ fn film(c: &Checker, raw: Option<Spanned<RawFilm>>) -> Result<Film> {
                 seed: f.seed,
                 sampler: f.sampler,
                 first_sample: 0,
+                display: Display {
+                    exposure: c.within("film.exposure", at, f.exposure, MAX_EXPOSURE)?,
+                    tonemap: f.tonemap,
+                },
             }
         }
     })
@@ -722,6 +728,19 @@ impl Checker<'_> {
             Ok(x)
         } else {
             Err(self.err(key, at, format!("{x}: expected a finite number > 0")))
+        }
+    }
+
+    /// `x` in `[-max, max]`.
+    fn within(&self, key: &str, at: usize, x: f64, max: f64) -> Result<f64> {
+        if x.is_finite() && x.abs() <= max {
+            Ok(x)
+        } else {
+            Err(self.err(
+                key,
+                at,
+                format!("{x}: expected a number in [-{max}, {max}]"),
+            ))
         }
     }
 

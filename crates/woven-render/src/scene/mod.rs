@@ -20,6 +20,7 @@ use crate::material::SurfaceMaterial;
 use crate::rng::SamplerKind;
 use crate::shapes::{Cloth, Drape};
 use crate::sky::SkyParams;
+use crate::tonemap::Display;
 use crate::woven_material::WovenSpec;
 use crate::{Error, Result};
 use serde::Deserialize;
@@ -42,6 +43,8 @@ pub const MAX_FILM_SIDE: usize = 1 << 14;
 
 /// The most samples per pixel.
 pub const MAX_SPP: usize = 1 << 20;
+/// The largest `[film] exposure`, stops either way.
+pub const MAX_EXPOSURE: f64 = 20.0;
 
 /// The camera as the file gives it.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,6 +76,8 @@ pub struct Film {
     /// renders passes of `spp` samples at 0, `spp`, 2 `spp`, … with one seed, and the passes'
     /// mean is then one render of all their samples (with Sobol points, stratified together).
     pub first_sample: u64,
+    /// How the PNG shows the render: `exposure` (stops) and `tonemap`.
+    pub display: Display,
 }
 
 /// Which sampling strategies the path tracer combines.

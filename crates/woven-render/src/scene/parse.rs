@@ -4,6 +4,7 @@
 use super::Strategy;
 use crate::rng::SamplerKind;
 use crate::sky::SkyParams;
+use crate::tonemap::ToneMap;
 use crate::{Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -69,6 +70,10 @@ pub(super) struct RawFilm {
     pub(super) seed: u64,
     #[serde(default)]
     pub(super) sampler: SamplerKind,
+    #[serde(default)]
+    pub(super) exposure: f64,
+    #[serde(default)]
+    pub(super) tonemap: ToneMap,
 }
 
 fn default_side() -> i64 {

@@ -240,7 +240,12 @@ fn moire_demo_on_a_plane_receding_to_the_horizon() {
             pixels,
             ..unfiltered.clone()
         };
-        woven_render::output::write_png(&strip, &Path::new(&out).join("moire.png"), 0.0).unwrap();
+        woven_render::output::write_png(
+            &strip,
+            &Path::new(&out).join("moire.png"),
+            &woven_render::tonemap::Display::default(),
+        )
+        .unwrap();
     }
 
     // Each pixel's footprint in cells (at its centre), as the material measures it.

@@ -364,3 +364,36 @@ fn sky_lights_a_diffuse_plane_as_its_map_says() {
         );
     }
 }
+
+/// `[film] exposure` and `tonemap`: defaults, values reaching the film, errors naming the key.
+#[test]
+fn film_display_keys() {
+    use woven_render::tonemap::{Display, ToneMap};
+    let parse = |extra: &str| {
+        SceneDescription::from_str(
+            &format!("{MINIMAL}[film]\nwidth = 8\n{extra}"),
+            "scene.toml",
+            Path::new("."),
+        )
+    };
+    assert_eq!(parse("").unwrap().film.display, Display::default());
+    assert_eq!(Display::default().tonemap, ToneMap::Filmic);
+    let film = parse("exposure = -1.5\ntonemap = \"clamp\"\n")
+        .unwrap()
+        .film;
+    assert_eq!(film.display.exposure, -1.5);
+    assert_eq!(film.display.tonemap, ToneMap::Clamp);
+
+    let (_, key, line, message) = error_of(&format!("{MINIMAL}[film]\nwidth = 8\nexposure = 40\n"));
+    assert_eq!((key.as_str(), line), ("film.exposure", Some(6)));
+    assert!(
+        message.contains("40") && message.contains("[-20, 20]"),
+        "{message}"
+    );
+    let (_, key, _, message) = error_of(&format!("{MINIMAL}[film]\ntonemap = \"aces\"\n"));
+    assert!(key.contains("tonemap"), "{key}");
+    assert!(
+        message.contains("filmic") && message.contains("clamp"),
+        "{message}"
+    );
+}
