@@ -11,6 +11,7 @@
 //! point lights are deltas (no MIS, never hit); a rectangle light's surface reflects nothing;
 //! surfaces are one-sided — a ray meeting a back face ends there, black.
 
+use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
 use crate::light::{Emitter, EmitterHit};
@@ -35,8 +36,8 @@ fn spawn(hit: &Hit, d: Vec3) -> Ray {
     }
 }
 
-/// The radiance arriving at the camera along `ray`.
-pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
+/// The radiance arriving at `camera` (the scene's, or its inset's) along `ray`.
+pub fn radiance(scene: &Scene, camera: &Camera, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
     let settings = &scene.integrator;
     let max_depth = settings.max_depth.unwrap_or(u32::MAX);
     let n_lights = scene.lights.len();
@@ -52,7 +53,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
     let mut depth: u32 = 0;
     // The pixel's footprint at the camera vertex, for filtering fine weaves (None: the filter is
     // off, and past the first vertex).
-    let mut footprint = settings.footprint_filter.then(|| scene.camera.footprint());
+    let mut footprint = settings.footprint_filter.then(|| camera.footprint());
 
     loop {
         let hit = scene.accel.intersect(&ray, 0.0, f64::INFINITY);

@@ -4,11 +4,15 @@
 use crate::color::Rgb;
 use crate::integrator;
 use crate::rng::Sampler;
-use crate::scene::Scene;
+use crate::scene::{Scene, View};
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
+
+/// The inset's border ([`InsetSpec`](crate::scene::InsetSpec)), linear: bright enough to show
+/// white under either tone map.
+pub const INSET_BORDER: Rgb = Rgb([4.0, 4.0, 4.0]);
 
 /// Tile side, pixels: small enough to balance the cores, large enough to amortize the overhead.
 pub const TILE: usize = 16;
@@ -125,8 +129,17 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
                             film.first_sample + s as u64,
                         );
                         let (dx, dy) = sampler.next2();
-                        let ray = scene.camera.ray(x as f64 + dx, y as f64 + dy);
-                        let mut l = integrator::radiance(scene, ray, &mut sampler);
+                        let (camera, [px, py]) = match scene.view_at(x, y) {
+                            View::Main => (&scene.camera, [x, y]),
+                            View::Inset(camera, at) => (camera, at),
+                            View::Border => {
+                                sum += INSET_BORDER;
+                                sum_sq += INSET_BORDER * INSET_BORDER;
+                                continue;
+                            }
+                        };
+                        let ray = camera.ray(px as f64 + dx, py as f64 + dy);
+                        let mut l = integrator::radiance(scene, camera, ray, &mut sampler);
                         if !l.is_valid() {
                             // Guard: a NaN, infinite or negative sample counts as black.
                             bad += 1;

@@ -17,6 +17,51 @@ pub const MAX_OBJ_BYTES: u64 = 4 << 30;
 /// A longer line is not a mesh (an endless one would otherwise fill memory).
 pub const MAX_OBJ_LINE_BYTES: usize = 64 << 10;
 
+/// How a scene names a built-in mesh: `file = "builtin:NAME"`.
+pub const BUILTIN_PREFIX: &str = "builtin:";
+
+/// The meshes built into the renderer, by name: the showcase's draped cloths, cushions and
+/// furniture (`scenes/meshes/`, written offline by `scripts/drape/drape.py`: a small cloth
+/// simulation). Each cloth's uv is in metres along its weft (`u`) and warp (`v`), so
+/// `yarns_per_unit` is yarns per metre, and each has a back face and an edge 0.8–1.5 mm thick.
+pub const BUILTIN_MESHES: [(&str, &str); 6] = [
+    (
+        "tablecloth",
+        include_str!("../scenes/meshes/tablecloth.obj"),
+    ),
+    ("table", include_str!("../scenes/meshes/table.obj")),
+    (
+        "satin-drape",
+        include_str!("../scenes/meshes/satin-drape.obj"),
+    ),
+    ("stool", include_str!("../scenes/meshes/stool.obj")),
+    (
+        "cushion-shot-silk",
+        include_str!("../scenes/meshes/cushion-shot-silk.obj"),
+    ),
+    (
+        "cushion-twill",
+        include_str!("../scenes/meshes/cushion-twill.obj"),
+    ),
+];
+
+/// The built-in mesh `name` ([`BUILTIN_MESHES`]), scaled by `scale` then moved by `translate`.
+///
+/// # Errors
+/// [`Error::Scene`] naming `key` for a name not in [`BUILTIN_MESHES`].
+pub fn builtin_mesh(name: &str, scale: f64, translate: Vec3, key: &str) -> Result<Mesh> {
+    let origin = format!("{BUILTIN_PREFIX}{name}");
+    match BUILTIN_MESHES.iter().find(|(n, _)| *n == name) {
+        Some((_, text)) => read_obj(text.as_bytes(), &origin, scale, translate, key),
+        None => Err(Error::Scene {
+            path: origin,
+            key: key.to_string(),
+            line: None,
+            message: "no such built-in mesh".into(),
+        }),
+    }
+}
+
 /// Reads a triangle mesh from a Wavefront OBJ file (all its objects, triangulated), with its
 /// uv (`vt`) and normals (`vn`) where the file has them, scaled by `scale` then moved by
 /// `translate`. The file must be a regular file of at most [`MAX_OBJ_BYTES`] (checked before it

@@ -1,7 +1,9 @@
 //! Building a checked [`SceneDescription`] into a renderable [`Scene`]: materials (woven ones
 //! tabulated), lights, geometry and its BVH.
 
-use super::{LightDesc, MaterialDesc, PrimInfo, Scene, SceneDescription, ShapeDesc};
+use super::{
+    Inset, LightDesc, MaterialDesc, MeshSource, PrimInfo, Scene, SceneDescription, ShapeDesc,
+};
 use crate::accel::Accel;
 use crate::camera::Camera;
 use crate::geometry::{Mesh, Primitive};
@@ -43,14 +45,17 @@ impl Scene {
         on_table: &dyn Fn(&str),
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<Scene> {
-        let camera = Camera::new(
-            desc.camera.origin,
-            desc.camera.target,
-            desc.camera.up,
-            desc.camera.fov_deg,
-            desc.film.width,
-            desc.film.height,
-        );
+        let view = |c: &super::CameraSpec, [w, h]: [usize; 2]| {
+            Camera::new(c.origin, c.target, c.up, c.fov_deg, w, h)
+        };
+        let camera = view(&desc.camera, [desc.film.width, desc.film.height]);
+        let inset = desc.inset.as_ref().map(|i| {
+            let at = i.pixels([desc.film.width, desc.film.height]);
+            Inset {
+                camera: view(&i.camera, at.inner.1),
+                at,
+            }
+        });
         let (materials, index_of) = build_materials(desc, grid, &mut cache, on_table, progress)?;
         let mut geometry = Geometry::default();
         let lights = build_lights(desc, &mut geometry)?;
@@ -62,6 +67,7 @@ impl Scene {
             film: desc.film.clone(),
             integrator,
             camera,
+            inset,
             environment: lights
                 .iter()
                 .position(|l| matches!(l, Light::Environment(_))),
@@ -234,13 +240,19 @@ fn build_shapes(
                 );
             }
             ShapeDesc::Mesh {
-                path,
+                source,
                 scale,
                 translate,
-            } => geometry.add_mesh(
-                shapes::load_obj(path, *scale, *translate, &format!("shape[{k}].file"))?,
-                info,
-            ),
+            } => {
+                let key = format!("shape[{k}].file");
+                let mesh = match source {
+                    MeshSource::File(path) => shapes::load_obj(path, *scale, *translate, &key)?,
+                    MeshSource::Builtin(name) => {
+                        shapes::builtin_mesh(name, *scale, *translate, &key)?
+                    }
+                };
+                geometry.add_mesh(mesh, info)
+            }
             ShapeDesc::Cloth(cloth) => geometry.add_mesh(cloth.mesh(), info),
             ShapeDesc::Drape(drape) => geometry.add_mesh(drape.mesh(), info),
         }

@@ -3,16 +3,17 @@
 //! file, the key, the value and what was expected.
 
 use super::parse::{
-    line_of, RawCamera, RawCloth, RawFilm, RawIntegrator, RawLight, RawMaterial, RawPattern,
-    RawScene, RawShape, RawWif, RawWoven, RawYarns,
+    line_of, RawCamera, RawCloth, RawFilm, RawInset, RawIntegrator, RawLight, RawMaterial,
+    RawPattern, RawScene, RawShape, RawWif, RawWoven, RawYarns,
 };
 use super::{
-    CameraSpec, Film, IntegratorSettings, LightDesc, MaterialDesc, SceneDescription, ShapeDesc,
-    Strategy, MAX_EXPOSURE, MAX_FILM_SIDE, MAX_GAP, MAX_SPP, MAX_U_MAX_DEG,
+    CameraSpec, Film, InsetSpec, IntegratorSettings, LightDesc, MaterialDesc, MeshSource,
+    SceneDescription, ShapeDesc, Strategy, MAX_EXPOSURE, MAX_FILM_SIDE, MAX_GAP, MAX_SPP,
+    MAX_U_MAX_DEG,
 };
 use crate::color::Rgb;
 use crate::rng::SamplerKind;
-use crate::shapes::{Cloth, Drape};
+use crate::shapes::{Cloth, Drape, BUILTIN_MESHES, BUILTIN_PREFIX};
 use crate::sky::{Sky, SkyParams};
 use crate::tonemap::Display;
 use crate::woven_material::WovenSpec;
@@ -43,6 +44,10 @@ pub(super) fn check(
     let c = Checker { origin, text, base };
     let camera = camera(&c, raw.camera)?;
     let film = film(&c, raw.film)?;
+    let inset = match raw.inset {
+        Some(i) => Some(inset(&c, i)?),
+        None => None,
+    };
     let integrator = integrator(&c, raw.integrator)?;
     let (lights, light_weights) = lights(&c, raw.light)?;
     let materials = materials(&c, raw.material)?;
@@ -50,6 +55,7 @@ pub(super) fn check(
     Ok(SceneDescription {
         origin: origin.to_string(),
         camera,
+        inset,
         film,
         integrator,
         lights,
@@ -63,14 +69,27 @@ pub(super) fn check(
 fn camera(c: &Checker, raw: Spanned<RawCamera>) -> Result<CameraSpec> {
     let at = raw.span().start;
     let cam = raw.into_inner();
-    let origin_v = c.vec("camera.origin", at, cam.origin)?;
-    let target = c.vec("camera.target", at, cam.target)?;
-    let up = c.nonzero("camera.up", at, cam.up)?;
+    view(c, "camera", at, cam.origin, cam.target, cam.up, cam.fov_deg)
+}
+
+/// A camera's `origin`, `target`, `up` and `fov_deg`, under the table `table`.
+fn view(
+    c: &Checker,
+    table: &str,
+    at: usize,
+    origin: [f64; 3],
+    target: [f64; 3],
+    up: [f64; 3],
+    fov_deg: f64,
+) -> Result<CameraSpec> {
+    let origin_v = c.vec(&format!("{table}.origin"), at, origin)?;
+    let target = c.vec(&format!("{table}.target"), at, target)?;
+    let up = c.nonzero(&format!("{table}.up"), at, up)?;
     if (target - origin_v).length() <= 0.0 {
         return Err(c.err(
-            "camera.target",
+            &format!("{table}.target"),
             at,
-            "equals camera.origin: nothing to look at",
+            format!("equals {table}.origin: nothing to look at"),
         ));
     }
     if (target - origin_v)
@@ -79,21 +98,80 @@ fn camera(c: &Checker, raw: Spanned<RawCamera>) -> Result<CameraSpec> {
         .length()
         < 1e-9
     {
-        return Err(c.err("camera.up", at, "parallel to the view direction"));
+        return Err(c.err(&format!("{table}.up"), at, "parallel to the view direction"));
     }
-    if !(cam.fov_deg > 0.0 && cam.fov_deg < 180.0) {
+    if !(fov_deg > 0.0 && fov_deg < 180.0) {
         return Err(c.err(
-            "camera.fov_deg",
+            &format!("{table}.fov_deg"),
             at,
-            format!("{}: expected degrees in (0, 180)", cam.fov_deg),
+            format!("{fov_deg}: expected degrees in (0, 180)"),
         ));
     }
     Ok(CameraSpec {
         origin: origin_v,
         target,
         up,
-        fov_deg: cam.fov_deg,
+        fov_deg,
     })
+}
+
+/// `[inset]`: its camera, and a rectangle inside the film (fractions of its sides).
+fn inset(c: &Checker, raw: Spanned<RawInset>) -> Result<InsetSpec> {
+    let at = raw.span().start;
+    let i = raw.into_inner();
+    let camera = view(c, "inset", at, i.origin, i.target, i.up, i.fov_deg)?;
+    let border = c.range("inset.border", at, i.border, 0, 64)?;
+    for k in 0..2 {
+        let (axis, corner, size) = (["x", "y"][k], i.corner[k], i.size[k]);
+        if !(0.0..1.0).contains(&corner) {
+            return Err(c.err(
+                "inset.corner",
+                at,
+                format!("{corner} ({axis}): expected a fraction of the film in [0, 1)"),
+            ));
+        }
+        if !(size > 0.0 && corner + size <= 1.0 + 1e-9) {
+            return Err(c.err(
+                "inset.size",
+                at,
+                format!(
+                    "{size} ({axis}): expected a fraction of the film in (0, {}], so the inset \
+                     ends inside the film",
+                    1.0 - corner
+                ),
+            ));
+        }
+    }
+    Ok(InsetSpec {
+        camera,
+        corner: i.corner,
+        size: i.size,
+        border,
+    })
+}
+
+/// A mesh's `file`: a path against the scene's folder, or `builtin:NAME`.
+fn mesh_source(c: &Checker, key: &str, at: usize, file: &str) -> Result<MeshSource> {
+    let Some(name) = file.strip_prefix(BUILTIN_PREFIX) else {
+        return Ok(MeshSource::File(c.base.join(file)));
+    };
+    match BUILTIN_MESHES.iter().find(|(n, _)| *n == name) {
+        Some((n, _)) => Ok(MeshSource::Builtin(n)),
+        None => {
+            let known: Vec<String> = BUILTIN_MESHES
+                .iter()
+                .map(|(n, _)| format!("{BUILTIN_PREFIX}{n}"))
+                .collect();
+            Err(c.err(
+                key,
+                at,
+                format!(
+                    "`{file}`: no such built-in mesh (there are {})",
+                    known.join(", ")
+                ),
+            ))
+        }
+    }
 }
 
 /// `[film]` (absent: the defaults).
@@ -542,7 +620,7 @@ fn shapes(
                 material,
             } => (
                 ShapeDesc::Mesh {
-                    path: c.base.join(file),
+                    source: mesh_source(c, &format!("{key}.file"), at, &file)?,
                     scale: c.positive(&format!("{key}.scale"), at, scale)?,
                     translate: c.vec(&format!("{key}.translate"), at, translate)?,
                 },

@@ -32,6 +32,16 @@ use woven::Vec3;
 /// A complete, commented scene to start from (`woven render --example`).
 pub const EXAMPLE_SCENE: &str = include_str!("../../scenes/example.toml");
 
+/// Where a mesh's OBJ text comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MeshSource {
+    /// A file (resolved against the scene's folder).
+    File(PathBuf),
+    /// One of the meshes built into the renderer ([`BUILTIN_MESHES`](crate::shapes::BUILTIN_MESHES)),
+    /// by name: `file = "builtin:NAME"`.
+    Builtin(&'static str),
+}
+
 /// The built-in showcase (`woven render` without a file, and bare `woven`).
 pub const SHOWCASE_SCENE: &str = include_str!("../../scenes/showcase.toml");
 
@@ -57,6 +67,49 @@ pub struct CameraSpec {
     pub up: Vec3,
     /// Horizontal field of view, degrees in (0, 180).
     pub fov_deg: f64,
+}
+
+/// `[inset]`: a second camera whose view fills a rectangle of the film, framed by a border (a
+/// close-up beside the whole, as in a figure). Its rays see the same scene and light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InsetSpec {
+    /// Its camera; `fov_deg` spans the inset's width.
+    pub camera: CameraSpec,
+    /// Its top-left corner, border included, as fractions of the film's width and height
+    /// (`[0, 0]` the film's top-left), so it keeps its place when the film is resized.
+    pub corner: [f64; 2],
+    /// Its width and height, border included, as fractions of the film's.
+    pub size: [f64; 2],
+    /// The border's width, pixels, in `[0, 64]` (drawn white).
+    pub border: usize,
+}
+
+impl InsetSpec {
+    /// Its rectangles on a film of `film` pixels: the inner one (its camera's film) and the
+    /// outer one (with the border), each as top-left pixel and size. The border narrows where
+    /// the inset is too small for it.
+    pub fn pixels(&self, film: [usize; 2]) -> Rectangles {
+        let at = |k: usize| {
+            let x0 = ((self.corner[k] * film[k] as f64).round() as usize).min(film[k] - 1);
+            let w = ((self.size[k] * film[k] as f64).round() as usize).clamp(1, film[k] - x0);
+            (x0, w)
+        };
+        let ((x0, w), (y0, h)) = (at(0), at(1));
+        let b = self.border.min((w - 1) / 2).min((h - 1) / 2);
+        Rectangles {
+            inner: ([x0 + b, y0 + b], [w - 2 * b, h - 2 * b]),
+            outer: ([x0, y0], [w, h]),
+        }
+    }
+}
+
+/// An inset's place on the film ([`InsetSpec::pixels`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rectangles {
+    /// Inside the border: top-left film pixel and size.
+    pub inner: ([usize; 2], [usize; 2]),
+    /// With the border.
+    pub outer: ([usize; 2], [usize; 2]),
 }
 
 /// The film.
@@ -139,8 +192,8 @@ pub enum ShapeDesc {
     },
     /// An OBJ mesh.
     Mesh {
-        /// The file (resolved against the scene's folder).
-        path: PathBuf,
+        /// Where the OBJ text comes from.
+        source: MeshSource,
         /// Uniform scale applied first.
         scale: f64,
         /// Translation applied after the scale.
@@ -177,6 +230,8 @@ pub struct SceneDescription {
     pub origin: String,
     /// The camera.
     pub camera: CameraSpec,
+    /// A second view drawn over a rectangle of the film (a close-up), if any.
+    pub inset: Option<InsetSpec>,
     /// The film.
     pub film: Film,
     /// The integrator.
@@ -288,6 +343,8 @@ pub struct Scene {
     pub integrator: IntegratorSettings,
     /// The camera.
     pub camera: Camera,
+    /// The inset's view, if any.
+    pub inset: Option<Inset>,
     /// The lights.
     pub lights: Vec<Light>,
     /// Index of the environment light in `lights`, if any.
@@ -304,6 +361,46 @@ pub struct Scene {
     pub prim_info: Vec<PrimInfo>,
     /// The built materials.
     pub materials: Vec<Box<dyn SurfaceMaterial>>,
+}
+
+/// A built inset ([`InsetSpec`]).
+#[derive(Clone, Debug)]
+pub struct Inset {
+    /// Its camera, over a film of the inset's inner size.
+    pub camera: Camera,
+    /// Where it lies on the film.
+    pub at: Rectangles,
+}
+
+/// Which view a film pixel shows.
+#[derive(Clone, Copy, Debug)]
+pub enum View<'a> {
+    /// The main camera, at the film pixel.
+    Main,
+    /// The inset's camera, at this pixel of the inset's own film.
+    Inset(&'a Camera, [usize; 2]),
+    /// The inset's border.
+    Border,
+}
+
+impl Scene {
+    /// The view film pixel `(x, y)` shows.
+    pub fn view_at(&self, x: usize, y: usize) -> View<'_> {
+        let Some(inset) = &self.inset else {
+            return View::Main;
+        };
+        let inside = |([x0, y0], [w, h]): ([usize; 2], [usize; 2])| {
+            (x0..x0 + w).contains(&x) && (y0..y0 + h).contains(&y)
+        };
+        let at = inset.at;
+        if inside(at.inner) {
+            View::Inset(&inset.camera, [x - at.inner.0[0], y - at.inner.0[1]])
+        } else if inside(at.outer) {
+            View::Border
+        } else {
+            View::Main
+        }
+    }
 }
 
 /// What a primitive is made of.

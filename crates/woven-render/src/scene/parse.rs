@@ -32,6 +32,8 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<RawScene> {
 pub(super) struct RawScene {
     pub(super) camera: Spanned<RawCamera>,
     #[serde(default)]
+    pub(super) inset: Option<Spanned<RawInset>>,
+    #[serde(default)]
     pub(super) film: Option<Spanned<RawFilm>>,
     #[serde(default)]
     pub(super) integrator: Option<Spanned<RawIntegrator>>,
@@ -51,6 +53,24 @@ pub(super) struct RawCamera {
     #[serde(default = "default_up")]
     pub(super) up: [f64; 3],
     pub(super) fov_deg: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawInset {
+    pub(super) origin: [f64; 3],
+    pub(super) target: [f64; 3],
+    #[serde(default = "default_up")]
+    pub(super) up: [f64; 3],
+    pub(super) fov_deg: f64,
+    pub(super) corner: [f64; 2],
+    pub(super) size: [f64; 2],
+    #[serde(default = "default_border")]
+    pub(super) border: i64,
+}
+
+fn default_border() -> i64 {
+    3
 }
 
 fn default_up() -> [f64; 3] {

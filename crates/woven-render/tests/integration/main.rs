@@ -6,6 +6,7 @@ mod detail;
 mod files;
 mod footprint;
 mod furnace;
+mod inset;
 mod robustness;
 mod sampling;
 mod scene_file;

@@ -397,3 +397,56 @@ fn film_display_keys() {
         "{message}"
     );
 }
+
+/// `[inset]` and built-in meshes: values reach the description; errors name the key, the value
+/// and what was expected.
+#[test]
+fn inset_and_builtin_mesh_keys() {
+    let inset = "[inset]\norigin = [1, 1, 1]\ntarget = [0, 0, 0]\nfov_deg = 20\ncorner = [0.6, 0.1]\nsize = [0.3, 0.4]\n";
+    let desc =
+        SceneDescription::from_str(&format!("{MINIMAL}{inset}"), "s.toml", Path::new(".")).unwrap();
+    let i = desc.inset.unwrap();
+    assert_eq!((i.corner, i.size, i.border), ([0.6, 0.1], [0.3, 0.4], 3));
+    let r = i.pixels([100, 50]);
+    assert_eq!(r.outer, ([60, 5], [30, 20]));
+    assert_eq!(r.inner, ([63, 8], [24, 14]));
+    // Too small for its border: the border narrows, the inside keeps a pixel.
+    let tiny = i.pixels([4, 4]);
+    assert!(tiny.inner.1.iter().all(|&s| s >= 1), "{tiny:?}");
+    assert_eq!(tiny.inner, tiny.outer);
+
+    let (_, key, _, message) = error_of(&format!(
+        "{MINIMAL}{}",
+        inset.replace("[0.3, 0.4]", "[0.5, 0.4]")
+    ));
+    assert_eq!(key, "inset.size");
+    assert!(
+        message.contains("0.5") && message.contains("inside the film"),
+        "{message}"
+    );
+    let (_, key, _, message) = error_of(&format!(
+        "{MINIMAL}{}",
+        inset.replace("[0.6, 0.1]", "[1.2, 0.1]")
+    ));
+    assert_eq!(key, "inset.corner");
+    assert!(
+        message.contains("1.2") && message.contains("[0, 1)"),
+        "{message}"
+    );
+    let (_, key, _, _) = error_of(&format!("{MINIMAL}{}", inset.replace("20", "0")));
+    assert_eq!(key, "inset.fov_deg");
+
+    let mesh = |file: &str| {
+        format!(
+            "{MINIMAL}[[shape]]\ntype = \"mesh\"\nfile = \"{file}\"\nmaterial = \"m\"\n[material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n"
+        )
+    };
+    let desc = SceneDescription::from_str(&mesh("builtin:tablecloth"), "s.toml", Path::new("."));
+    assert!(desc.is_ok());
+    let (_, key, _, message) = error_of(&mesh("builtin:sofa"));
+    assert_eq!(key, "shape[0].file");
+    assert!(
+        message.contains("sofa") && message.contains("builtin:tablecloth"),
+        "{message}"
+    );
+}
