@@ -1618,6 +1618,34 @@ fn render_display_flags_override_the_film_keys() {
     }
 }
 
+/// `--denoise` and `--no-denoise` override `[film] denoise`: the flag and the key give the same
+/// file, unlike the raw render, and the run says it denoised.
+#[test]
+fn render_denoise_flags_override_the_film_key() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("small.toml"), SMALL_SCENE).unwrap();
+    let keyed = SMALL_SCENE.replace("spp = 4", "spp = 4\ndenoise = true");
+    assert_ne!(keyed, SMALL_SCENE);
+    std::fs::write(dir.path().join("keyed.toml"), keyed).unwrap();
+    let render = |args: &[&str]| {
+        let out = woven()
+            .args(args)
+            .current_dir(dir.path())
+            .assert()
+            .success();
+        String::from_utf8(out.get_output().stdout.clone()).unwrap()
+    };
+    assert!(render(&["render", "small.toml", "-o", "flag.exr", "--denoise"]).contains("denoised"));
+    render(&["render", "keyed.toml", "-o", "key.exr"]);
+    let raw = render(&["render", "keyed.toml", "-o", "raw.exr", "--no-denoise"]);
+    assert!(!raw.contains("denoised"), "{raw}");
+    render(&["render", "small.toml", "-o", "plain.exr"]);
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_eq!(read("flag.exr"), read("key.exr"));
+    assert_eq!(read("raw.exr"), read("plain.exr"));
+    assert_ne!(read("flag.exr"), read("plain.exr"));
+}
+
 #[test]
 fn render_example_prints_a_commented_scene() {
     let assert = woven().args(["render", "--example"]).assert().success();

@@ -36,8 +36,58 @@ fn spawn(hit: &Hit, d: Vec3) -> Ray {
     }
 }
 
+/// What a camera ray first meets, for the denoiser ([`crate::denoise`]): one sample's
+/// features, averaged over a pixel's samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FirstHit {
+    /// The shading normal (world), facing the camera; zero where the ray escapes.
+    pub normal: Vec3,
+    /// The distance along the ray; [`FirstHit::MISS_DISTANCE`] where it escapes.
+    pub distance: f64,
+    /// The first vertex's BSDF weight `f cos θ / pdf` (each channel at most 1): a one-sample
+    /// estimate of its albedo, so a texture or a weave shows in it. White where no direction is
+    /// drawn there (an emitter, or a path too short to reflect), black where the draw fails.
+    pub albedo: Rgb,
+}
+
+impl FirstHit {
+    /// The distance given to rays that escape: far beyond any scene's extent, so escaped and
+    /// surface pixels never mix.
+    pub const MISS_DISTANCE: f64 = 1e30;
+
+    /// An escaped ray.
+    pub const MISS: FirstHit = FirstHit {
+        normal: Vec3::new(0.0, 0.0, 0.0),
+        distance: Self::MISS_DISTANCE,
+        albedo: Rgb::BLACK,
+    };
+}
+
 /// The radiance arriving at `camera` (the scene's, or its inset's) along `ray`.
-pub fn radiance(scene: &Scene, camera: &Camera, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
+pub fn radiance(scene: &Scene, camera: &Camera, ray: Ray, sampler: &mut Sampler) -> Rgb {
+    trace(scene, camera, ray, sampler, &mut None)
+}
+
+/// [`radiance`], and what the ray first meets.
+pub fn radiance_and_first_hit(
+    scene: &Scene,
+    camera: &Camera,
+    ray: Ray,
+    sampler: &mut Sampler,
+) -> (Rgb, FirstHit) {
+    let mut first = Some(FirstHit::MISS);
+    let l = trace(scene, camera, ray, sampler, &mut first);
+    (l, first.unwrap_or(FirstHit::MISS))
+}
+
+/// The path tracer's loop; `first`, when `Some`, receives what the camera ray meets.
+fn trace(
+    scene: &Scene,
+    camera: &Camera,
+    mut ray: Ray,
+    sampler: &mut Sampler,
+    first: &mut Option<FirstHit>,
+) -> Rgb {
     let settings = &scene.integrator;
     let max_depth = settings.max_depth.unwrap_or(u32::MAX);
     let n_lights = scene.lights.len();
@@ -88,6 +138,15 @@ pub fn radiance(scene: &Scene, camera: &Camera, mut ray: Ray, sampler: &mut Samp
         let cos_front = -ray.d.dot(hit.ng);
         if cos_front <= 0.0 {
             break;
+        }
+        if depth == 0 {
+            if let Some(f) = first {
+                *f = FirstHit {
+                    normal: hit.ns,
+                    distance: hit.t,
+                    albedo: Rgb::WHITE,
+                };
+            }
         }
         let info = scene.prim_info[hit.prim];
         if let Some(li) = info.light {
@@ -155,8 +214,21 @@ pub fn radiance(scene: &Scene, camera: &Camera, mut ray: Ray, sampler: &mut Samp
         let uc = sampler.uniform();
         let (u1, u2) = sampler.next2();
         let Some(s) = material.sample(wo, &at, uc, [u1, u2]) else {
+            if let (0, Some(f)) = (depth, first.as_mut()) {
+                f.albedo = Rgb::BLACK;
+            }
             break;
         };
+        if let (0, Some(f)) = (depth, first.as_mut()) {
+            let w = s.f * (s.wi.z / s.pdf);
+            f.albedo = Rgb(w.0.map(|c| {
+                if c.is_finite() {
+                    c.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                }
+            }));
+        }
         let wi = frame.to_world(s.wi);
         if wi.dot(hit.ng) <= 0.0 || s.pdf.is_nan() || s.pdf <= 0.0 {
             // Below the geometric surface: a one-sided surface transmits nothing.

@@ -57,6 +57,7 @@
 
 pub mod accel;
 pub mod camera;
+pub mod denoise;
 pub mod error;
 pub mod fireflies;
 pub mod geometry;

@@ -2,6 +2,7 @@
 //! a callback (the library draws nothing; the CLI draws a bar).
 
 use crate::color::Rgb;
+use crate::denoise::{self, Guide, GuideSums};
 use crate::integrator;
 use crate::rng::Sampler;
 use crate::scene::{Scene, View};
@@ -41,8 +42,11 @@ pub struct Image {
     pub invalid_samples: u64,
     /// Samples per pixel.
     pub spp: usize,
-    /// Wall time of the render, seconds.
+    /// Wall time of the render, seconds (the denoiser's included).
     pub seconds: f64,
+    /// With `[film] denoise`, the raw means (`pixels` then holds the denoised image, and
+    /// `std_error` stays the raw means' errors); `None` otherwise.
+    pub noisy: Option<Vec<Rgb>>,
 }
 
 impl Image {
@@ -110,7 +114,8 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
     let invalid = AtomicU64::new(0);
     let start = Instant::now();
 
-    let tiles: Vec<Vec<(usize, Rgb, Rgb)>> = (0..tiles_x * tiles_y)
+    let want_guides = film.denoise;
+    let tiles: Vec<Vec<Pixel>> = (0..tiles_x * tiles_y)
         .into_par_iter()
         .map(|t| {
             let (tx, ty) = (t % tiles_x, t / tiles_x);
@@ -121,6 +126,8 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
                     let pixel = (y * w + x) as u64;
                     let mut sum = Rgb::BLACK;
                     let mut sum_sq = Rgb::BLACK;
+                    let mut guide = GuideSums::default();
+                    let view = scene.view_at(x, y);
                     for s in 0..spp {
                         let mut sampler = Sampler::new(
                             film.sampler,
@@ -129,7 +136,7 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
                             film.first_sample + s as u64,
                         );
                         let (dx, dy) = sampler.next2();
-                        let (camera, [px, py]) = match scene.view_at(x, y) {
+                        let (camera, [px, py]) = match view {
                             View::Main => (&scene.camera, [x, y]),
                             View::Inset(camera, at) => (camera, at),
                             View::Border => {
@@ -139,7 +146,18 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
                             }
                         };
                         let ray = camera.ray(px as f64 + dx, py as f64 + dy);
-                        let mut l = integrator::radiance(scene, camera, ray, &mut sampler);
+                        let mut l = if want_guides {
+                            let (l, first) = integrator::radiance_and_first_hit(
+                                scene,
+                                camera,
+                                ray,
+                                &mut sampler,
+                            );
+                            guide.add(&first);
+                            l
+                        } else {
+                            integrator::radiance(scene, camera, ray, &mut sampler)
+                        };
                         if !l.is_valid() {
                             // Guard: a NaN, infinite or negative sample counts as black.
                             bad += 1;
@@ -158,7 +176,17 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
                         Rgb::BLACK
                     };
                     let se = Rgb(var.0.map(|v| (v / n).sqrt()));
-                    out.push((y * w + x, mean, se));
+                    let view = match view {
+                        View::Main => 0,
+                        View::Inset(..) => 1,
+                        View::Border => 2,
+                    };
+                    out.push(Pixel {
+                        index: y * w + x,
+                        mean,
+                        se,
+                        guide: guide.guide(view),
+                    });
                 }
             }
             invalid.fetch_add(bad, Ordering::Relaxed);
@@ -170,10 +198,29 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
 
     let mut pixels = vec![Rgb::BLACK; w * h];
     let mut std_error = vec![Rgb::BLACK; w * h];
-    for (i, mean, se) in tiles.into_iter().flatten() {
-        pixels[i] = mean;
-        std_error[i] = se;
+    let mut guides = Vec::new();
+    if want_guides {
+        guides.resize(w * h, GuideSums::default().guide(0));
     }
+    for p in tiles.into_iter().flatten() {
+        pixels[p.index] = p.mean;
+        std_error[p.index] = p.se;
+        if want_guides {
+            guides[p.index] = p.guide;
+        }
+    }
+    let noisy = want_guides.then(|| {
+        // The luminance's variance, its channels' errors taken as fully correlated.
+        let variance: Vec<f64> = std_error.iter().map(|e| e.luminance().powi(2)).collect();
+        let denoised = denoise::denoise(&denoise::Frame {
+            width: w,
+            height: h,
+            colour: &pixels,
+            variance: &variance,
+            guides: &guides,
+        });
+        std::mem::replace(&mut pixels, denoised)
+    });
     Image {
         width: w,
         height: h,
@@ -182,5 +229,14 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
         invalid_samples: invalid.into_inner(),
         spp,
         seconds: start.elapsed().as_secs_f64(),
+        noisy,
     }
+}
+
+/// One rendered pixel.
+struct Pixel {
+    index: usize,
+    mean: Rgb,
+    se: Rgb,
+    guide: Guide,
 }

@@ -96,6 +96,15 @@ pub struct RenderArgs {
     /// at 1. The EXR stays linear.
     #[arg(long, value_parser = tonemap_parser())]
     pub tonemap: Option<ToneMap>,
+
+    /// Denoise the image before writing it (overrides [film] denoise): an edge-avoiding filter
+    /// guided by each pixel's noise and by what its rays first met (normal, distance, albedo).
+    #[arg(long, overrides_with = "no_denoise")]
+    pub denoise: bool,
+
+    /// Write the raw, noisy estimate (overrides [film] denoise).
+    #[arg(long, overrides_with = "denoise")]
+    pub no_denoise: bool,
 }
 
 /// Runs `woven render`.
@@ -141,6 +150,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if let Some(map) = args.tonemap {
         desc.film.display.tonemap = map;
+    }
+    if args.denoise || args.no_denoise {
+        desc.film.denoise = args.denoise;
     }
     let outputs: Vec<PathBuf> = match &args.output {
         Some(path) => {
@@ -226,11 +238,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         output::write(&image, path, &desc.film.display)?;
     }
     println!(
-        "rendered {} ({}×{}, {} spp) in {:.1} s ({:.2} M samples/s; {:.1} s in all):",
+        "rendered {} ({}×{}, {} spp{}) in {:.1} s ({:.2} M samples/s; {:.1} s in all):",
         desc.origin,
         image.width,
         image.height,
         image.spp,
+        if image.noisy.is_some() {
+            ", denoised"
+        } else {
+            ""
+        },
         image.seconds,
         image.samples_per_second() / 1e6,
         start.elapsed().as_secs_f64()

@@ -185,6 +185,7 @@ fn film(c: &Checker, raw: Option<Spanned<RawFilm>>) -> Result<Film> {
             sampler: SamplerKind::default(),
             first_sample: 0,
             display: Display::default(),
+            denoise: false,
         },
         Some(f) => {
             let at = f.span().start;
@@ -201,6 +202,7 @@ fn film(c: &Checker, raw: Option<Spanned<RawFilm>>) -> Result<Film> {
                     exposure: c.within("film.exposure", at, f.exposure, MAX_EXPOSURE)?,
                     tonemap: f.tonemap,
                 },
+                denoise: f.denoise,
             }
         }
     })

@@ -131,6 +131,8 @@ pub struct Film {
     pub first_sample: u64,
     /// How the PNG shows the render: `exposure` (stops) and `tonemap`.
     pub display: Display,
+    /// Whether the image is denoised ([`crate::denoise`]) before it is written.
+    pub denoise: bool,
 }
 
 /// Which sampling strategies the path tracer combines.

@@ -94,6 +94,8 @@ pub(super) struct RawFilm {
     pub(super) exposure: f64,
     #[serde(default)]
     pub(super) tonemap: ToneMap,
+    #[serde(default)]
+    pub(super) denoise: bool,
 }
 
 fn default_side() -> i64 {

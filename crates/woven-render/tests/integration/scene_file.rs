@@ -396,6 +396,12 @@ fn film_display_keys() {
         message.contains("filmic") && message.contains("clamp"),
         "{message}"
     );
+
+    // Denoising: off unless asked for.
+    assert!(!parse("").unwrap().film.denoise);
+    assert!(parse("denoise = true\n").unwrap().film.denoise);
+    let (_, key, _, _) = error_of(&format!("{MINIMAL}[film]\ndenoise = \"yes\"\n"));
+    assert!(key.contains("denoise"), "{key}");
 }
 
 /// `[inset]` and built-in meshes: values reach the description; errors name the key, the value
