@@ -112,7 +112,7 @@ fn bench(c: &mut Criterion) {
 /// The built-in showcase at its own 960 × 540, one sample a pixel, on the renderer's default
 /// tables (from the user's table cache, built there on the first run): as it is (`detail =
 /// "auto"`), and with every woven material at `"fibers"` and at `"yarns"` — the cost per sample
-/// of resolving yarns in space.
+/// of resolving yarns in space (the denoiser off: samples alone).
 fn detail(c: &mut Criterion) {
     let cache = || match Cache::user() {
         Ok(c) => TableCache::with_disk(c),
@@ -127,6 +127,7 @@ fn detail(c: &mut Criterion) {
         );
         let mut desc = SceneDescription::from_str(&text, "showcase", Path::new(".")).unwrap();
         desc.film.spp = 1;
+        desc.film.denoise = false;
         let scene =
             Scene::build_with(&desc, &TableGrid::Default, cache(), &|_| {}, &|_, _| {}).unwrap();
         group.throughput(Throughput::Elements(

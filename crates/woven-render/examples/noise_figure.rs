@@ -6,7 +6,8 @@
 //! ([`woven_render::denoise`]). The reference is rendered once and kept under
 //! `target/noise-figure/` (delete it to render it anew).
 //!
-//! Two errors are printed, each an RMS over the image:
+//! Two errors are printed, each an RMS over the image, over the main camera's view and over the
+//! inset (with its border):
 //! - **linear**: of the luminance, relative to the reference's mean luminance;
 //! - **display**: of the PNG's 8-bit sRGB values after the showcase's tone map, in levels.
 //!
@@ -16,7 +17,7 @@ use std::path::{Path, PathBuf};
 use woven::color::Rgb;
 use woven::table::cache::Cache;
 use woven_render::render::{render, Image, RenderOptions};
-use woven_render::scene::{Scene, SceneDescription, SHOWCASE_SCENE};
+use woven_render::scene::{Scene, SceneDescription, View, SHOWCASE_SCENE};
 use woven_render::tonemap::Display;
 use woven_render::woven_material::{TableCache, TableGrid};
 
@@ -43,18 +44,35 @@ fn main() {
 
     let reference = reference(&desc, reference_spp);
     desc.film.denoise = true;
-    let image = render(&build(&desc), &RenderOptions::default()).unwrap();
+    let scene = build(&desc);
+    let image = render(&scene, &RenderOptions::default()).unwrap();
     let noisy = image.noisy.as_deref().expect("denoised");
+    // Which pixels show the inset (with its border): reported apart from the main view.
+    let in_inset: Vec<bool> = (0..image.width * image.height)
+        .map(|p| !matches!(scene.view_at(p % image.width, p / image.width), View::Main))
+        .collect();
     println!(
         "showcase at {} × {}, {budget} spp, {:.1} s (denoiser included); reference {reference_spp} spp",
         image.width, image.height, image.seconds
     );
     let own = reference_noise(&reference);
     println!("reference's own noise: linear {:.4}", own);
-    println!("                 linear   display (8-bit levels)");
+    println!("            whole image         main view           inset");
+    println!("            linear  display     linear  display     linear  display");
     for (name, pixels) in [("raw", noisy), ("denoised", &image.pixels[..])] {
-        let (linear, levels) = errors(pixels, &reference.pixels, &display);
-        println!("{name:>10}:   {linear:.4}   {levels:.2}");
+        let mut line = format!("{name:>10}:");
+        for keep in [|_: bool| true, |inset: bool| !inset, |inset: bool| inset] {
+            let pick = |v: &[Rgb]| -> Vec<Rgb> {
+                v.iter()
+                    .zip(&in_inset)
+                    .filter(|(_, &i)| keep(i))
+                    .map(|(p, _)| *p)
+                    .collect()
+            };
+            let (linear, levels) = errors(&pick(pixels), &pick(&reference.pixels), &display);
+            line += &format!("  {linear:.4}  {levels:5.2}    ");
+        }
+        println!("{}", line.trim_end());
     }
 }
 

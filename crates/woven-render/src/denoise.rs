@@ -13,6 +13,9 @@
 //!   gradient of the distance (the smaller side, so that an edge does not widen it);
 //! - **albedo**: `exp(−‖a − a'‖∞ / (0.05 + 2 (σₐ + σₐ')))`, with `a` the first vertex's albedo
 //!   estimate and `σₐ` its standard error, so a weave's yarn colours stay apart;
+//! - **yarn family**: `exp(−|w − w'| / 0.1)`, with `w` the warp's share of the BRDF where the
+//!   rays met the cloth (`SurfaceMaterial::warp_share`), so resolved yarns stay apart even where
+//!   the albedo estimate is too noisy to tell them;
 //! - **colour**: `exp(−|L − L'| / (4 σ_L + ε))`, with `σ_L` the standard error of the pixel's
 //!   luminance, blurred over 3 × 3 pixels, and carried through the passes (a weighted mean's
 //!   variance is `Σ w² σ² / (Σ w)²`): a difference the noise cannot explain is kept. A frame
@@ -40,6 +43,10 @@ const NORMAL_POWER: i32 = 64;
 const SIGMA_DISTANCE: f64 = 2.0;
 /// The albedo difference always tolerated.
 const SIGMA_ALBEDO: f64 = 0.05;
+/// The albedo difference tolerated per standard error of the two estimates.
+const ALBEDO_ERRORS: f64 = 2.0;
+/// The difference of warp shares tolerated.
+const SIGMA_WARP: f64 = 0.1;
 
 /// What a pixel's camera rays first met (means over its samples).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +65,8 @@ pub struct Guide {
     pub albedo: Rgb,
     /// The standard error of `albedo`'s luminance.
     pub albedo_error: f64,
+    /// The mean warp share ([`FirstHit::warp_share`]).
+    pub warp_share: f64,
 }
 
 /// Sums of [`FirstHit`]s over a pixel's samples, to make its [`Guide`].
@@ -69,6 +78,7 @@ pub struct GuideSums {
     distance: f64,
     albedo: Rgb,
     albedo_lum_sq: f64,
+    warp_share: f64,
 }
 
 impl GuideSums {
@@ -81,6 +91,7 @@ impl GuideSums {
             self.distance += first.distance;
         }
         self.albedo += first.albedo;
+        self.warp_share += first.warp_share;
         self.albedo_lum_sq += first.albedo.luminance().powi(2);
     }
 
@@ -110,6 +121,7 @@ impl GuideSums {
             silhouette: self.hits > 0 && self.hits < self.samples,
             albedo,
             albedo_error: (var / n).sqrt(),
+            warp_share: self.warp_share / n,
         }
     }
 }
@@ -255,7 +267,8 @@ fn guide_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> f64 {
         return 0.0;
     }
     let da = (0..3).fold(0.0f64, |m, c| m.max((a.albedo.0[c] - b.albedo.0[c]).abs()));
-    geometric * (-da / (SIGMA_ALBEDO + 2.0 * (a.albedo_error + b.albedo_error))).exp()
+    let albedo = (-da / (SIGMA_ALBEDO + ALBEDO_ERRORS * (a.albedo_error + b.albedo_error))).exp();
+    geometric * albedo * (-(a.warp_share - b.warp_share).abs() / SIGMA_WARP).exp()
 }
 
 /// Each pixel's screen gradient of the distance, `[|∂z/∂x|, |∂z/∂y|]`: per axis the smaller of
@@ -334,6 +347,7 @@ mod tests {
             albedo: Rgb::grey(albedo),
             albedo_error: 0.0,
             silhouette: false,
+            warp_share: 0.0,
         }
     }
 
@@ -418,27 +432,37 @@ mod tests {
     }
 
     #[test]
-    fn a_weave_seen_in_the_albedo_keeps_its_pattern() {
+    fn a_weave_seen_in_the_albedo_or_the_warp_share_keeps_its_pattern() {
         // A checkerboard of dark and light yarns one pixel each, on one flat surface: only the
-        // albedo tells them apart.
+        // albedo tells them apart, or only the warp share (the albedo estimates then alike and
+        // too noisy to tell).
         let light = |p: usize| (p % W + p / W) % 2 == 0;
         let truth: Vec<Rgb> = (0..W * W)
             .map(|p| Rgb::grey(if light(p) { 0.7 } else { 0.1 }))
             .collect();
-        let guides: Vec<Guide> = (0..W * W)
+        let by_albedo: Vec<Guide> = (0..W * W)
             .map(|p| plane(3.0, Vec3::Z, if light(p) { 0.9 } else { 0.15 }))
             .collect();
+        let by_share: Vec<Guide> = (0..W * W)
+            .map(|p| Guide {
+                albedo_error: 0.3,
+                warp_share: if light(p) { 1.0 } else { 0.0 },
+                ..plane(3.0, Vec3::Z, 0.5)
+            })
+            .collect();
         let (colour, variance) = noisy(&truth, 0.05, 3);
-        let frame = Frame {
-            width: W,
-            height: W,
-            colour: &colour,
-            variance: &variance,
-            guides: &guides,
-        };
-        let out = denoise(&frame);
-        let (before, after) = (rms(&colour, &truth), rms(&out, &truth));
-        assert!(after < before / 3.0, "rms {before:.4} → {after:.4}");
+        for guides in [by_albedo, by_share] {
+            let frame = Frame {
+                width: W,
+                height: W,
+                colour: &colour,
+                variance: &variance,
+                guides: &guides,
+            };
+            let out = denoise(&frame);
+            let (before, after) = (rms(&colour, &truth), rms(&out, &truth));
+            assert!(after < before / 3.0, "rms {before:.4} → {after:.4}");
+        }
     }
 
     #[test]
@@ -476,6 +500,7 @@ mod tests {
     fn guides_average_their_samples() {
         let mut sums = GuideSums::default();
         let hit = FirstHit {
+            warp_share: 0.0,
             normal: Vec3::Z,
             distance: 2.0,
             albedo: Rgb::grey(0.4),

@@ -48,6 +48,11 @@ pub struct FirstHit {
     /// estimate of its albedo, so a texture or a weave shows in it. White where no direction is
     /// drawn there (an emitter, or a path too short to reflect), black where the draw fails.
     pub albedo: Rgb,
+    /// The warp's share of the BRDF there ([`SurfaceMaterial::warp_share`]): which yarn the
+    /// ray met, without noise.
+    ///
+    /// [`SurfaceMaterial::warp_share`]: crate::material::SurfaceMaterial::warp_share
+    pub warp_share: f64,
 }
 
 impl FirstHit {
@@ -60,6 +65,7 @@ impl FirstHit {
         normal: Vec3::new(0.0, 0.0, 0.0),
         distance: Self::MISS_DISTANCE,
         albedo: Rgb::BLACK,
+        warp_share: 0.0,
     };
 }
 
@@ -145,6 +151,7 @@ fn trace(
                     normal: hit.ns,
                     distance: hit.t,
                     albedo: Rgb::WHITE,
+                    warp_share: 0.0,
                 };
             }
         }
@@ -220,6 +227,7 @@ fn trace(
             break;
         };
         if let (0, Some(f)) = (depth, first.as_mut()) {
+            f.warp_share = material.warp_share(&at);
             let w = s.f * (s.wi.z / s.pdf);
             f.albedo = Rgb(w.0.map(|c| {
                 if c.is_finite() {

@@ -43,6 +43,12 @@ pub trait SurfaceMaterial: Send + Sync {
     fn uses_footprint(&self) -> bool {
         false
     }
+
+    /// The warp's share of the BRDF at `at`, in `[0, 1]`; 0 for a material without yarns. It
+    /// tells a weave's yarn families apart without noise (the denoiser's guide).
+    fn warp_share(&self, _at: &ShadingPoint) -> f64 {
+        0.0
+    }
 }
 
 /// A Lambertian reflector: `f = ρ/π`.

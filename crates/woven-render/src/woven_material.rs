@@ -172,4 +172,20 @@ impl SurfaceMaterial for WovenMaterial {
     fn uses_footprint(&self) -> bool {
         self.surface.uses_footprint()
     }
+
+    fn warp_share(&self, at: &ShadingPoint) -> f64 {
+        let mix = self.surface.lobes(at);
+        let warp: f64 = mix
+            .lobes()
+            .iter()
+            .filter(|l| l.warp)
+            .map(|l| l.weight)
+            .sum();
+        let total = mix.total();
+        if total > 0.0 {
+            warp / total
+        } else {
+            0.0
+        }
+    }
 }

@@ -258,3 +258,32 @@ fn blended_tilted_gapped_points_sample_with_their_density() {
         "{by_draws} vs {uniform} (se {se})"
     );
 }
+
+/// The denoiser's guide `warp_share`: at the yarn level each point lies on one family (0 or 1)
+/// and a 2/1 twill's points are a third one family, two thirds the other; a macro BRDF of weft
+/// fraction 0.7 is 0.3 warp everywhere.
+#[test]
+fn the_warp_share_tells_the_yarn_families_apart() {
+    let twill = material(Ok(Pattern::from_name("twill-2/1").unwrap()), 0.0, 0.0);
+    // Over the pattern's repeat, 3 × 3 yarns (one a unit of uv).
+    let n = 30;
+    let mut sum = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let uv = [i, j].map(|k| 3.0 * (k as f64 + 0.5) / n as f64);
+            let s = twill.warp_share(&at(uv[0], uv[1]));
+            assert!(s == 0.0 || s == 1.0, "share {s}");
+            sum += s;
+        }
+    }
+    let mean = sum / (n * n) as f64;
+    assert!(
+        (mean - 1.0 / 3.0).abs() < 0.02 || (mean - 2.0 / 3.0).abs() < 0.02,
+        "mean share {mean}"
+    );
+    let macro_cloth = material(Err(0.7), 0.0, 0.0);
+    for uv in [[0.1, 0.2], [0.55, 0.9]] {
+        let s = macro_cloth.warp_share(&at(uv[0], uv[1]));
+        assert!((s - 0.3).abs() < 1e-12, "share {s}");
+    }
+}
