@@ -3,8 +3,8 @@
 //! Renders the built-in showcase at `SCALE` of its size (default 0.5: 480 × 270) with its own
 //! samples per pixel, once, and measures its error against a reference of the same scene at
 //! `REFERENCE_SPP` (default 1024) samples: the raw means and the denoised image
-//! ([`woven_render::denoise`]). The reference is rendered once and kept under
-//! `target/noise-figure/` (delete it to render it anew).
+//! ([`woven_render::denoise`]). The reference is rendered once per version of the scene and
+//! kept under `target/noise-figure/`.
 //!
 //! Two errors are printed, each an RMS over the image, over the main camera's view and over the
 //! inset (with its border):
@@ -13,11 +13,13 @@
 //!
 //! `cargo run --release -p woven-render --example noise_figure -- [SCALE] [REFERENCE_SPP]`
 
+use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 use woven::color::Rgb;
 use woven::table::cache::Cache;
 use woven_render::render::{render, Image, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription, View, SHOWCASE_SCENE};
+use woven_render::shapes::BUILTIN_MESHES;
 use woven_render::tonemap::Display;
 use woven_render::woven_material::{TableCache, TableGrid};
 
@@ -87,15 +89,19 @@ fn build(desc: &SceneDescription) -> Scene {
 
 /// The reference at `spp` samples: read from `target/noise-figure/`, or rendered and kept there.
 fn reference(desc: &SceneDescription, spp: usize) -> Image {
+    // Named by the scene it shows (its text and the built-in meshes), so an edited showcase
+    // never meets a stale reference.
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    (SHOWCASE_SCENE, BUILTIN_MESHES).hash(&mut hasher);
+    let name = format!(
+        "reference-{}x{}-{spp}-{:016x}",
+        desc.film.width,
+        desc.film.height,
+        hasher.finish()
+    );
     let dir = PathBuf::from("target/noise-figure");
-    let path = dir.join(format!(
-        "reference-{}x{}-{spp}.exr",
-        desc.film.width, desc.film.height
-    ));
-    let errors = dir.join(format!(
-        "reference-{}x{}-{spp}-error.exr",
-        desc.film.width, desc.film.height
-    ));
+    let path = dir.join(format!("{name}.exr"));
+    let errors = dir.join(format!("{name}-error.exr"));
     if let (Some(pixels), Some(std_error)) = (read_exr(&path), read_exr(&errors)) {
         eprintln!("reference: {}", path.display());
         return Image {

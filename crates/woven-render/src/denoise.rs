@@ -361,6 +361,17 @@ mod tests {
         (colour, vec![sigma * sigma; truth.len()])
     }
 
+    /// The denoised `W × W` frame.
+    fn run(colour: &[Rgb], variance: &[f64], guides: &[Guide]) -> Vec<Rgb> {
+        denoise(&Frame {
+            width: W,
+            height: W,
+            colour,
+            variance,
+            guides,
+        })
+    }
+
     fn rms(a: &[Rgb], b: &[Rgb]) -> f64 {
         let sum: f64 = a
             .iter()
@@ -375,14 +386,7 @@ mod tests {
         let truth = vec![Rgb::grey(0.5); W * W];
         let guides = vec![plane(3.0, Vec3::Z, 0.5); W * W];
         let (colour, variance) = noisy(&truth, 0.05, 1);
-        let frame = Frame {
-            width: W,
-            height: W,
-            colour: &colour,
-            variance: &variance,
-            guides: &guides,
-        };
-        let out = denoise(&frame);
+        let out = run(&colour, &variance, &guides);
         let (before, after) = (rms(&colour, &truth), rms(&out, &truth));
         assert!(after < before / 8.0, "rms {before:.4} → {after:.4}");
         let mean = out.iter().map(|c| c.luminance()).sum::<f64>() / out.len() as f64;
@@ -409,14 +413,7 @@ mod tests {
             })
             .collect();
         let (colour, variance) = noisy(&truth, 0.02, 2);
-        let frame = Frame {
-            width: W,
-            height: W,
-            colour: &colour,
-            variance: &variance,
-            guides: &guides,
-        };
-        let out = denoise(&frame);
+        let out = run(&colour, &variance, &guides);
         for y in 0..W {
             for x in [W / 2 - 1, W / 2] {
                 let p = y * W + x;
@@ -452,14 +449,7 @@ mod tests {
             .collect();
         let (colour, variance) = noisy(&truth, 0.05, 3);
         for guides in [by_albedo, by_share] {
-            let frame = Frame {
-                width: W,
-                height: W,
-                colour: &colour,
-                variance: &variance,
-                guides: &guides,
-            };
-            let out = denoise(&frame);
+            let out = run(&colour, &variance, &guides);
             let (before, after) = (rms(&colour, &truth), rms(&out, &truth));
             assert!(after < before / 3.0, "rms {before:.4} → {after:.4}");
         }
@@ -480,14 +470,7 @@ mod tests {
             colour[y * W + border] = Rgb::grey(4.0);
         }
         let variance = vec![0.0; W * W];
-        let frame = Frame {
-            width: W,
-            height: W,
-            colour: &colour,
-            variance: &variance,
-            guides: &guides,
-        };
-        let out = denoise(&frame);
+        let out = run(&colour, &variance, &guides);
         for (p, (o, c)) in out.iter().zip(&colour).enumerate() {
             assert!(
                 (o.luminance() - c.luminance()).abs() < 1e-12,
