@@ -391,6 +391,8 @@ fn showcase_noise_with_and_without_the_filter() {
         desc.film.spp = 16;
         // Independent samples: the standard errors below are then the pixels' true errors.
         desc.film.sampler = woven_render::rng::SamplerKind::Independent;
+        // The raw means: their noise is what is measured.
+        desc.film.denoise = false;
         let scene = crate::build_with_user_cache(&desc);
         let image = render(&scene, &RenderOptions::default()).unwrap();
         assert_eq!(image.invalid_samples, 0);

@@ -190,6 +190,8 @@ fn showcase_noise_per_sampler() {
                 desc.film.spp = spp;
                 desc.film.seed = seed;
                 desc.film.sampler = sampler;
+                // The raw means: their noise is what is measured.
+                desc.film.denoise = false;
                 let scene = crate::build_with_user_cache(&desc);
                 let image = render(&scene, &RenderOptions::default()).unwrap();
                 assert_eq!(image.invalid_samples, 0);
