@@ -76,7 +76,10 @@ fn main() {
     let (lo, hi) = hues
         .iter()
         .fold((f64::MAX, f64::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
-    println!("hue over all views: {lo:.1}° to {hi:.1}° ({:.1}° of travel)", hi - lo);
+    println!(
+        "hue over all views: {lo:.1}° to {hi:.1}° ({:.1}° of travel)",
+        hi - lo
+    );
 }
 
 /// The HSV hue of a colour, degrees in `[0, 360)`.
