@@ -21,6 +21,12 @@
 //!   variance is `Σ w² σ² / (Σ w)²`): a difference the noise cannot explain is kept. A frame
 //!   without noise passes unchanged.
 //!
+//! A pixel whose rays met two surfaces (at an edge) is geometrically like none of its
+//! neighbours; left alone it would keep the noise of its coverage and show the edge jagged. Such
+//! a *lonely* pixel (its geometric weights to its eight neighbours summing below one half) takes
+//! from its neighbours by view, albedo, yarn family and colour alone, while they take nothing
+//! from it.
+//!
 //! The filter is biased, as every denoiser is: it trades a little blur across features the
 //! guides do not see for much less noise. `[film] denoise` turns it on; the EXR and PNG then
 //! hold the filtered image ([`Image::noisy`](crate::render::Image::noisy) keeps the raw one).
@@ -45,6 +51,8 @@ const SIGMA_DISTANCE: f64 = 2.0;
 const SIGMA_ALBEDO: f64 = 0.05;
 /// The albedo difference tolerated per standard error of the two estimates.
 const ALBEDO_ERRORS: f64 = 2.0;
+/// Below this sum of its neighbours' guide weights a pixel is lonely ([`lonely_pixels`]).
+const LONELY: f64 = 0.5;
 /// The difference of warp shares tolerated.
 const SIGMA_WARP: f64 = 0.1;
 
@@ -152,6 +160,7 @@ pub fn denoise(frame: &Frame) -> Vec<Rgb> {
         "denoise: buffers of {w}×{h} pixels expected"
     );
     let gradient = distance_gradients(w, h, frame.guides);
+    let lonely = lonely_pixels(w, h, frame.guides, &gradient);
     let mut colour = frame.colour.to_vec();
     let mut variance = frame.variance.to_vec();
     for pass in 0..PASSES {
@@ -174,6 +183,7 @@ pub fn denoise(frame: &Frame) -> Vec<Rgb> {
                         blurred: &blurred,
                         guides: frame.guides,
                         gradient: &gradient,
+                        lonely: &lonely,
                     };
                     (row_c[x], row_v[x]) = level.filter(x, y);
                 }
@@ -194,6 +204,7 @@ struct Level<'a> {
     blurred: &'a [f64],
     guides: &'a [Guide],
     gradient: &'a [[f64; 2]],
+    lonely: &'a [bool],
 }
 
 impl Level<'_> {
@@ -222,6 +233,10 @@ impl Level<'_> {
                 ];
                 let mut wt = if q == p {
                     kernel
+                } else if self.lonely[p] {
+                    let gq = &self.guides[q];
+                    let same_view = gp.view == gq.view && !gq.silhouette;
+                    kernel * f64::from(u8::from(same_view)) * surface_weight(gp, gq)
                 } else {
                     kernel * guide_weight(gp, &self.guides[q], self.gradient[p], offset)
                 };
@@ -245,6 +260,15 @@ impl Level<'_> {
 /// How much like pixel `p` (guide `a`, distance gradient `grad`) its neighbour `offset` pixels
 /// away (guide `b`) is, by view, normal, distance and albedo: in `[0, 1]`, 1 for itself.
 fn guide_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> f64 {
+    let geometric = geometric_weight(a, b, grad, offset);
+    if geometric == 0.0 {
+        return 0.0;
+    }
+    geometric * surface_weight(a, b)
+}
+
+/// The part of [`guide_weight`] that compares where the rays landed: view, normal, distance.
+fn geometric_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> f64 {
     if a.view != b.view || a.silhouette || b.silhouette {
         return 0.0;
     }
@@ -252,7 +276,7 @@ fn guide_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> f64 {
         a.distance >= FirstHit::MISS_DISTANCE,
         b.distance >= FirstHit::MISS_DISTANCE,
     );
-    let geometric = match (miss_a, miss_b) {
+    match (miss_a, miss_b) {
         (true, true) => 1.0,
         (false, false) => {
             let normal = a.normal.dot(b.normal).max(0.0).powi(NORMAL_POWER);
@@ -262,13 +286,42 @@ fn guide_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> f64 {
             normal * (-(a.distance - b.distance).abs() / tolerance).exp()
         }
         _ => 0.0,
-    };
-    if geometric == 0.0 {
-        return 0.0;
     }
+}
+
+/// The part of [`guide_weight`] that compares what the rays met: albedo and yarn family.
+fn surface_weight(a: &Guide, b: &Guide) -> f64 {
     let da = (0..3).fold(0.0f64, |m, c| m.max((a.albedo.0[c] - b.albedo.0[c]).abs()));
     let albedo = (-da / (SIGMA_ALBEDO + ALBEDO_ERRORS * (a.albedo_error + b.albedo_error))).exp();
-    geometric * albedo * (-(a.warp_share - b.warp_share).abs() / SIGMA_WARP).exp()
+    albedo * (-(a.warp_share - b.warp_share).abs() / SIGMA_WARP).exp()
+}
+
+/// The pixels geometrically like none of their eight neighbours (their geometric weights summing
+/// below one half): those whose rays met two surfaces, at an edge. Their mean is the edge's
+/// anti-aliased value but carries its coverage noise, so they take from their neighbours by
+/// colour and surface alone (the neighbours, unlike them, take nothing from them).
+fn lonely_pixels(w: usize, h: usize, guides: &[Guide], gradient: &[[f64; 2]]) -> Vec<bool> {
+    (0..w * h)
+        .map(|p| {
+            let (x, y) = ((p % w) as i64, (p / w) as i64);
+            let g = &guides[p];
+            if g.silhouette {
+                return false;
+            }
+            let mut sum = 0.0;
+            for dy in -1i64..=1 {
+                for dx in -1i64..=1 {
+                    let (qx, qy) = (x + dx, y + dy);
+                    if (dx, dy) == (0, 0) || qx < 0 || qy < 0 || qx >= w as i64 || qy >= h as i64 {
+                        continue;
+                    }
+                    let q = qy as usize * w + qx as usize;
+                    sum += geometric_weight(g, &guides[q], gradient[p], [dx as f64, dy as f64]);
+                }
+            }
+            sum < LONELY
+        })
+        .collect()
 }
 
 /// Each pixel's screen gradient of the distance, `[|∂z/∂x|, |∂z/∂y|]`: per axis the smaller of
@@ -452,6 +505,43 @@ mod tests {
             let out = run(&colour, &variance, &guides);
             let (before, after) = (rms(&colour, &truth), rms(&out, &truth));
             assert!(after < before / 3.0, "rms {before:.4} → {after:.4}");
+        }
+    }
+
+    #[test]
+    fn pixels_on_an_edge_are_smoothed_without_bleeding() {
+        // Two surfaces (0.45 and 0.55) meet at column W/2, whose pixels saw both in shares that
+        // vary along it: each one's normal and distance are its own mix of the two, so it is
+        // like none of its neighbours (lonely). Its noise is still averaged, by colour, while
+        // the surfaces beside it take nothing from it.
+        let tilted = Vec3::new(0.8, 0.0, 0.6);
+        let edge = W / 2;
+        let share = |y: usize| 0.2 + 0.6 * ((y * 37) % W) as f64 / W as f64;
+        let truth: Vec<Rgb> = (0..W * W)
+            .map(|p| Rgb::grey([0.45, 0.5, 0.55][(p % W).cmp(&edge) as usize + 1]))
+            .collect();
+        let guides: Vec<Guide> = (0..W * W)
+            .map(|p| match (p % W).cmp(&edge) {
+                std::cmp::Ordering::Less => plane(3.0, Vec3::Z, 0.5),
+                std::cmp::Ordering::Equal => {
+                    let t = share(p / W);
+                    plane(3.0 + t, (Vec3::Z * (1.0 - t) + tilted * t).normalize(), 0.5)
+                }
+                std::cmp::Ordering::Greater => plane(4.0, tilted, 0.5),
+            })
+            .collect();
+        let (colour, variance) = noisy(&truth, 0.05, 5);
+        let out = run(&colour, &variance, &guides);
+        let column =
+            |img: &[Rgb], x: usize| -> Vec<Rgb> { (0..W).map(|y| img[y * W + x]).collect() };
+        let (before, after) = (
+            rms(&column(&colour, edge), &column(&truth, edge)),
+            rms(&column(&out, edge), &column(&truth, edge)),
+        );
+        assert!(after < before / 2.0, "edge rms {before:.4} → {after:.4}");
+        for x in [edge - 1, edge + 1] {
+            let err = rms(&column(&out, x), &column(&truth, x));
+            assert!(err < 0.01, "column {x}: rms {err:.4}");
         }
     }
 
