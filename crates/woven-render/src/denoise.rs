@@ -166,6 +166,17 @@ pub fn denoise(frame: &Frame) -> Vec<Rgb> {
     for pass in 0..PASSES {
         let blurred = blur3(w, h, &variance);
         let step = 1usize << pass;
+        let level = Level {
+            w,
+            h,
+            step,
+            colour: &colour,
+            variance: &variance,
+            blurred: &blurred,
+            guides: frame.guides,
+            gradient: &gradient,
+            lonely: &lonely,
+        };
         let mut next_colour = vec![Rgb::BLACK; w * h];
         let mut next_variance = vec![0.0; w * h];
         next_colour
@@ -174,17 +185,6 @@ pub fn denoise(frame: &Frame) -> Vec<Rgb> {
             .enumerate()
             .for_each(|(y, (row_c, row_v))| {
                 for x in 0..w {
-                    let level = Level {
-                        w,
-                        h,
-                        step,
-                        colour: &colour,
-                        variance: &variance,
-                        blurred: &blurred,
-                        guides: frame.guides,
-                        gradient: &gradient,
-                        lonely: &lonely,
-                    };
                     (row_c[x], row_v[x]) = level.filter(x, y);
                 }
             });

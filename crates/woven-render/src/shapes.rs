@@ -45,13 +45,18 @@ pub const BUILTIN_MESHES: [(&str, &str); 6] = [
     ),
 ];
 
+/// The entry of [`BUILTIN_MESHES`] named `name`: its name and OBJ text.
+pub fn builtin_obj(name: &str) -> Option<(&'static str, &'static str)> {
+    BUILTIN_MESHES.iter().copied().find(|(n, _)| *n == name)
+}
+
 /// The built-in mesh `name` ([`BUILTIN_MESHES`]), scaled by `scale` then moved by `translate`.
 ///
 /// # Errors
 /// [`Error::Scene`] naming `key` for a name not in [`BUILTIN_MESHES`].
 pub fn builtin_mesh(name: &str, scale: f64, translate: Vec3, key: &str) -> Result<Mesh> {
     let origin = format!("{BUILTIN_PREFIX}{name}");
-    match BUILTIN_MESHES.iter().find(|(n, _)| *n == name) {
+    match builtin_obj(name) {
         Some((_, text)) => read_obj(text.as_bytes(), &origin, scale, translate, key),
         None => Err(Error::Scene {
             path: origin,

@@ -13,7 +13,7 @@ use super::{
 };
 use crate::color::Rgb;
 use crate::rng::SamplerKind;
-use crate::shapes::{Cloth, Drape, BUILTIN_MESHES, BUILTIN_PREFIX};
+use crate::shapes::{builtin_obj, Cloth, Drape, BUILTIN_MESHES, BUILTIN_PREFIX};
 use crate::sky::{Sky, SkyParams};
 use crate::tonemap::Display;
 use crate::woven_material::WovenSpec;
@@ -155,7 +155,7 @@ fn mesh_source(c: &Checker, key: &str, at: usize, file: &str) -> Result<MeshSour
     let Some(name) = file.strip_prefix(BUILTIN_PREFIX) else {
         return Ok(MeshSource::File(c.base.join(file)));
     };
-    match BUILTIN_MESHES.iter().find(|(n, _)| *n == name) {
+    match builtin_obj(name) {
         Some((n, _)) => Ok(MeshSource::Builtin(n)),
         None => {
             let known: Vec<String> = BUILTIN_MESHES
