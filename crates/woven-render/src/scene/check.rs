@@ -137,7 +137,8 @@ fn inset(c: &Checker, raw: Spanned<RawInset>) -> Result<InsetSpec> {
                 format!(
                     "{size} ({axis}): expected a fraction of the film in (0, {}], so the inset \
                      ends inside the film",
-                    1.0 - corner
+                    // Rounded to 1e-9, so that 1 − 0.9 reads 0.1.
+                    ((1.0 - corner) * 1e9).round() / 1e9
                 ),
             ));
         }
