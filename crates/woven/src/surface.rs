@@ -446,6 +446,10 @@ struct Fibers {
     /// drawn per float.
     floats: Vec<FloatPlace>,
     cols: usize,
+    /// How far the strands shift across the weft's and the warp's yarn per cell along it, in
+    /// yarn widths: `tan α` times the cell's length over the yarn's width, `α` the helix angle
+    /// ([`YarnDraws::helix_angle`]), `uv` taken as isotropic.
+    helix: [f64; 2],
 }
 
 impl Fibers {
@@ -544,11 +548,14 @@ impl WovenSurface {
                 Layout::Pattern { pattern, .. } => (pattern.floats(), pattern.cols()),
                 _ => unreachable!("fibres are resolved on patterns only"),
             };
+            let slant = draws.helix_angle().tan() / (1.0 - spec.gap);
+            let [n_u, n_v] = spec.yarns_per_unit;
             Some(Fibers {
                 model: Arc::new(model),
                 draws,
                 floats,
                 cols,
+                helix: [slant * n_v / n_u, slant * n_u / n_v],
             })
         } else {
             None
@@ -882,7 +889,12 @@ impl WovenSurface {
             let family = u64::from(warp);
             let theta_a = f.draws.slope(f.slope_uniform(index, warp, (x, y, cell)));
             let phi = if f.draws.varies_in_azimuth() {
-                let strand = ((across * STRANDS as f64) as i64).min(STRANDS as i64 - 1);
+                // Strands wind about the yarn at its helix angle: across the yarn they shift
+                // by `helix` yarn widths per cell along it (wrapping round), so they show as
+                // diagonal stripes, and every place along the yarn still holds each strand.
+                let along = if warp { y } else { x };
+                let wound = (across + along * f.helix[usize::from(warp)]) * STRANDS as f64;
+                let strand = (wound.floor() as i64).rem_euclid(STRANDS as i64);
                 let fibre = index.wrapping_mul(STRANDS as i64).wrapping_add(strand);
                 f.draws.twist(golden_uniform(fibre, 2 + family))
             } else {

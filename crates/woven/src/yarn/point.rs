@@ -294,7 +294,22 @@ impl YarnDraws {
     pub fn varies_in_azimuth(&self) -> bool {
         !matches!(self.twist, Draw::Constant(_))
     }
+
+    /// The yarn's helix angle, radians: the mean `|φ|` of the fibres' azimuth offsets (the
+    /// twist density's, or `π/4` for isotropic fibres; 0 for aligned ones), by the midpoint rule
+    /// over [`HELIX_NODES`] quantiles. Strands of fibres wind about the yarn at this angle, so a
+    /// close-up shows them as diagonal stripes.
+    pub fn helix_angle(&self) -> f64 {
+        let n = HELIX_NODES as f64;
+        (0..HELIX_NODES)
+            .map(|i| self.twist((i as f64 + 0.5) / n).abs())
+            .sum::<f64>()
+            / n
+    }
 }
+
+/// Quantiles over which [`YarnDraws::helix_angle`] averages.
+pub const HELIX_NODES: usize = 4096;
 
 /// The `index`-th point of the golden-ratio (R1) sequence in `[0, 1)`, offset by `seed`: the
 /// values of consecutive indices spread evenly over `[0, 1)`, so the mean of a function over
