@@ -21,6 +21,7 @@
 //! azimuths follow the twist density) to Eqs. (18)–(22).
 
 use super::profile::{Piece, Profile};
+use super::window::HALF_WIDTH;
 use super::{FiberParts, Orientation, SlopeDistribution, Yarn};
 use crate::fiber::FiberFrame;
 use crate::math::quadrature::GaussLegendre;
@@ -257,15 +258,22 @@ impl YarnDraws {
     /// The draws of `yarn`'s slope distribution and fibre orientation.
     pub fn new(yarn: &Yarn) -> YarnDraws {
         let slopes: &SlopeDistribution = yarn.slopes();
+        // A narrow density is tabulated over its ±8σ window (its mass to rounding), so that
+        // its bins resolve it however small σ is.
         let slope = match slopes.single() {
             Some(theta_a) => Draw::Constant(theta_a),
-            None => Draw::tabulated(0.0, FRAC_PI_2, |t| slopes.density(t)),
+            None => {
+                let (mu, reach) = (slopes.mean(), HALF_WIDTH * slopes.std());
+                let (lo, hi) = ((mu - reach).max(0.0), (mu + reach).min(FRAC_PI_2));
+                Draw::tabulated(lo, hi, |t| slopes.density(t))
+            }
         };
         let twist = match yarn.orientation() {
             Orientation::Aligned => Draw::Constant(0.0),
             Orientation::Twisted(density) => {
                 let d = *density;
-                Draw::tabulated(-FRAC_PI_2, FRAC_PI_2, move |x| d.density(x, 0.0))
+                let reach = (HALF_WIDTH * d.std()).min(FRAC_PI_2);
+                Draw::tabulated(-reach, reach, move |x| d.density(x, 0.0))
             }
             Orientation::Isotropic => Draw::Table {
                 lo: -FRAC_PI_2,
