@@ -15,7 +15,7 @@ use woven::table::{Table, TableOptions};
 use woven::Vec3;
 
 /// A small dyeable table of a preset's yarn alone, built once per preset.
-fn yarn_table(name: &str) -> Arc<Table> {
+pub fn yarn_table(name: &str) -> Arc<Table> {
     static TABLES: OnceLock<Mutex<HashMap<String, Arc<Table>>>> = OnceLock::new();
     let tables = TABLES.get_or_init(|| Mutex::new(HashMap::new()));
     if let Some(t) = tables.lock().unwrap().get(name) {
