@@ -71,6 +71,7 @@ use crate::error::{Error, Result};
 use crate::fiber::Normalization;
 use crate::material::{Material, Weave};
 use crate::math::sampling::cosine_hemisphere;
+use crate::relief::Relief;
 use crate::table::{Albedos, Table};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
 use crate::yarn::float::{from_tilted, into_tilted, FloatProfile};
@@ -211,6 +212,20 @@ impl SurfaceSpec {
             .yarn
             .map_or((0.0, 0.0), |y| (y.float_crest, y.float_flank));
         FloatProfile::shaped(self.u_max.max(f64::MIN_POSITIVE), crest, flank)
+    }
+
+    /// The relief of the surface's weave ([`Relief`]: its floats' hills and its yarns' round
+    /// crowns, laid on its pattern); `None` without a pattern.
+    pub fn relief(&self) -> Option<Relief> {
+        match &self.material.weave {
+            Some(Weave::Pattern { pattern, .. }) => Some(Relief::new(
+                pattern,
+                self.yarns_per_unit,
+                self.float_profile(),
+                self.gap,
+            )),
+            _ => None,
+        }
     }
 
     /// Checks every parameter.
