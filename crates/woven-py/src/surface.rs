@@ -535,6 +535,7 @@ fn along(tilt: Tilt) -> f64 {
     match tilt {
         Tilt::Flat => -1.0,
         Tilt::Entering(t) => t,
+        Tilt::Relief { lean, .. } => lean.tilt.0.asin(),
         Tilt::Float => 2.0,
     }
 }

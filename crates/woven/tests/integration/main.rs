@@ -13,6 +13,7 @@ mod grounded;
 mod masking;
 mod material_files;
 mod microcylinder;
+mod relief;
 mod robustness;
 mod surface;
 mod table;

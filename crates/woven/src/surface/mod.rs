@@ -71,15 +71,19 @@ use crate::error::{Error, Result};
 use crate::fiber::Normalization;
 use crate::material::{Material, Weave};
 use crate::math::sampling::cosine_hemisphere;
-use crate::relief::Relief;
+use crate::relief::{Ground, Lean, Relief};
 use crate::table::{Albedos, Table};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
-use crate::yarn::float::{from_tilted, into_tilted, FloatProfile};
+use crate::yarn::float::FloatProfile;
 use crate::yarn::point::{golden_uniform, hash_uniform, YarnDraws};
 use crate::yarn::Yarn;
 use crate::{Model, Vec3};
 use std::f64::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
+
+mod ratio;
+pub use ratio::{ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG};
+use ratio::ReliefRatio;
 
 /// Footprints (in pattern cells, the larger side of the pixel's footprint) from which the
 /// footprint filter starts blending toward the macro BRDF, and at which it is the macro BRDF.
@@ -313,6 +317,9 @@ pub struct Lobe {
     pub tilt: Tilt,
     /// The lobe's weight in the point's BRDF.
     pub weight: f64,
+    /// A macro lobe scaled by the relief's ratio ([`WovenSurface::relief_ratio`]): the cloth's
+    /// BRDF as its resolved points average.
+    pub resolved: bool,
     /// Where on its yarn the point lies, at fibre level; `None`: the yarn's (or the cloth's)
     /// averaged BRDF.
     pub point: Option<YarnPoint>,
@@ -331,12 +338,22 @@ pub enum Tilt {
     /// A whole tilted float, its points averaged: the macro BRDF's
     /// `(1/1) ∫ f′ cos θ′i cos θ′o / (cos θi cos θo cos ψ) dt` over the part both lit and seen.
     Float,
+    /// A point of the weave's relief ([`Relief`]) that the viewer's ray met: its surface leans
+    /// by `lean` (its float's tilt, its crown's roll), and it is lit where no yarn of the relief
+    /// stands between it and the light.
+    Relief {
+        /// The lean of the surface there, in the lobe's frame.
+        lean: Lean,
+        /// Where the ray met the relief: `x`, `y` in cells and the height in `uv`.
+        at: [f64; 3],
+    },
 }
 
 /// A point on a yarn, resolved to its fibres ([`Detail::Fibers`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct YarnPoint {
-    /// The position across the yarn, in `[0, 1]`: 0 and 1 its edges, 1/2 its crest.
+    /// The position across its strand (one period of the yarn's profile), in `[0, 1]`: 0 and 1
+    /// its edges, 1/2 its crest.
     pub across: f64,
     /// The yarn's lateral slope `θ_a` (drawn per yarn from `P(θ_a)`), radians.
     pub theta_a: f64,
@@ -373,7 +390,7 @@ impl LobeMix {
         if weight > 0.0 {
             if let Some(l) = self.lobes[..self.n]
                 .iter_mut()
-                .find(|l| l.warp == warp && l.tilt == tilt && l.point.is_none())
+                .find(|l| l.warp == warp && l.tilt == tilt && l.point.is_none() && !l.resolved)
             {
                 l.weight += weight;
                 return;
@@ -383,6 +400,7 @@ impl LobeMix {
                 tilt,
                 weight,
                 point: None,
+                resolved: false,
             };
             self.n += 1;
         }
@@ -397,8 +415,16 @@ impl LobeMix {
                 tilt,
                 weight,
                 point: Some(point),
+                resolved: false,
             };
             self.n += 1;
+        }
+    }
+
+    /// Marks every lobe from the `from`-th on as scaled by the relief's ratio.
+    fn resolve_from(&mut self, from: usize) {
+        for l in &mut self.lobes[from..self.n] {
+            l.resolved = true;
         }
     }
 
@@ -450,6 +476,10 @@ pub struct WovenSurface {
     /// The exact yarn and its draws, where fibres are resolved ([`Detail::Auto`] and
     /// [`Detail::Fibers`] on a pattern).
     fibers: Option<Fibers>,
+    /// The weave's relief, where fibres are resolved: the resolved levels' geometry.
+    relief: Option<Relief>,
+    /// The relief's ratio table ([`WovenSurface::relief_ratio`]), built on first use.
+    ratio: std::sync::OnceLock<Arc<ReliefRatio>>,
 }
 
 /// What resolving fibres needs: the exact model of the yarn alone, and its draws.
@@ -586,7 +616,9 @@ impl WovenSurface {
             float: spec.float_profile(),
             gap: spec.gap,
             detail: spec.detail,
+            relief: fibers.as_ref().and_then(|_| spec.relief()),
             fibers,
+            ratio: std::sync::OnceLock::new(),
         })
     }
 
@@ -638,6 +670,8 @@ impl WovenSurface {
             gap: 0.0,
             detail: Detail::Yarns,
             fibers: None,
+            relief: None,
+            ratio: std::sync::OnceLock::new(),
         })
     }
 
@@ -776,7 +810,19 @@ impl WovenSurface {
 
     /// The lobes mixed at `at`. A flat fiber surface has one (its table, for sampling).
     pub fn lobes(&self, at: &SurfacePoint) -> LobeMix {
+        let (mix, entry) = self.split(at);
+        match entry {
+            Some(e) => self.with_relief(mix, &e, Vec3::new(0.0, 0.0, 1.0)),
+            None => mix,
+        }
+    }
+
+    /// The lobes at `at` that do not depend on the view, and, on a relief, where the viewer's
+    /// ray enters it (the rest of the point's lobes: [`with_relief`](Self::with_relief)).
+    #[inline]
+    fn split(&self, at: &SurfacePoint) -> (LobeMix, Option<Entry>) {
         let mut mix = LobeMix::default();
+        let mut entry = None;
         match &self.layout {
             Layout::Flat { .. } | Layout::Whole => mix.push(false, Tilt::Flat, 1.0),
             Layout::Macro { weft_fraction } => self.push_macro(&mut mix, *weft_fraction, 1.0),
@@ -786,23 +832,85 @@ impl WovenSurface {
                 floats,
             } => {
                 let w = self.macro_weight(at);
+                let (x, y) = (
+                    at.uv[0] * self.yarns_per_unit[0],
+                    at.uv[1] * self.yarns_per_unit[1],
+                );
                 if w < 1.0 {
-                    self.push_cell(&mut mix, pattern, floats, at, 1.0 - w);
+                    if self.relief.is_some() && x.is_finite() && y.is_finite() {
+                        entry = Some(Entry {
+                            x,
+                            y,
+                            weight: 1.0 - w,
+                            fibers: self.fiber_weight(at),
+                        });
+                    } else {
+                        self.push_cell(&mut mix, pattern, floats, at, 1.0 - w);
+                    }
                 }
                 if w > 0.0 {
+                    let from = mix.n;
                     self.push_macro(&mut mix, *weft_fraction, w);
+                    if self.relief.is_some() {
+                        mix.resolve_from(from);
+                    }
                 }
             }
         }
+        (mix, entry)
+    }
+
+    /// `mix` with the lobes of the relief point that a ray toward `view` entering at `e` meets:
+    /// its yarn (at fibre level with the share `e.fibers`, at yarn level with the rest), or the
+    /// yarn below in a gap, or nothing in a hole.
+    fn with_relief(&self, mut mix: LobeMix, e: &Entry, view: Vec3) -> LobeMix {
+        let (Some(relief), Some(pattern)) = (&self.relief, self.pattern()) else {
+            return mix;
+        };
+        let hit = relief.hit(e.x, e.y, view);
+        let at = [hit.x, hit.y, hit.z];
+        let cell = pattern.cell_at(hit.x, hit.y);
+        let (warp, lean) = match hit.ground {
+            Ground::Top { warp, t, across } => {
+                let tilt = match t {
+                    Some(t) if self.u_max > 0.0 => self.float.tilt(t),
+                    _ => 0.0,
+                };
+                // In the warp's frame (y turned to x) its +y is the cloth's −x.
+                let roll = Relief::roll(if warp { -across } else { across });
+                let lean = Lean {
+                    tilt: tilt.sin_cos(),
+                    roll: roll.sin_cos(),
+                };
+                (warp, lean)
+            }
+            Ground::Below { warp } => (warp, Lean::FLAT),
+            Ground::Hole => return mix,
+        };
+        let tilt = Tilt::Relief { lean, at };
+        self.push_yarn(&mut mix, warp, tilt, e.weight, e.fibers, (hit.x, hit.y, &cell));
         mix
+    }
+
+    /// The relief's ratio `R_F(s, v)` for the family `warp` (the module `ratio`'s table, built
+    /// on first use): what scales the macro lobes of a resolving surface. 1 without a relief.
+    pub fn relief_ratio(&self, warp: bool, s: Vec3, v: Vec3) -> f64 {
+        if self.relief.is_none() {
+            return 1.0;
+        }
+        self.ratio
+            .get_or_init(|| Arc::new(ReliefRatio::build(self)))
+            .at(warp, s, v)
     }
 
     /// The surface's BSDF at `at`.
     #[inline]
     pub fn at(&self, at: &SurfacePoint) -> PointBsdf<'_> {
+        let (mix, entry) = self.split(at);
         PointBsdf {
             surface: self,
-            mix: self.lobes(at),
+            entry,
+            mix,
             weft: self.weft,
             warp: self.warp,
         }
@@ -903,20 +1011,21 @@ impl WovenSurface {
             let index = (if warp { x } else { y }).floor() as i64;
             let family = u64::from(warp);
             let theta_a = f.draws.slope(f.slope_uniform(index, warp, (x, y, cell)));
+            // The yarn is STRANDS strands side by side, each one period of the yarn's profile
+            // (its fibres' prism). Strands wind about the yarn at its helix angle: across the
+            // yarn they shift by `helix` yarn widths per cell along it (wrapping round), so they
+            // show as diagonal stripes, and every place along the yarn still holds each strand.
+            let along = if warp { y } else { x };
+            let wound = (across + along * f.helix[usize::from(warp)]) * STRANDS as f64;
+            let strand = (wound.floor() as i64).rem_euclid(STRANDS as i64);
             let phi = if f.draws.varies_in_azimuth() {
-                // Strands wind about the yarn at its helix angle: across the yarn they shift
-                // by `helix` yarn widths per cell along it (wrapping round), so they show as
-                // diagonal stripes, and every place along the yarn still holds each strand.
-                let along = if warp { y } else { x };
-                let wound = (across + along * f.helix[usize::from(warp)]) * STRANDS as f64;
-                let strand = (wound.floor() as i64).rem_euclid(STRANDS as i64);
                 let fibre = index.wrapping_mul(STRANDS as i64).wrapping_add(strand);
                 f.draws.twist(golden_uniform(fibre, 2 + family))
             } else {
                 0.0
             };
             let point = YarnPoint {
-                across,
+                across: wound - wound.floor(),
                 theta_a,
                 phi,
                 draws: f.draw_shares(if warp { &self.warp } else { &self.weft }),
@@ -938,12 +1047,36 @@ impl WovenSurface {
     /// (the tilt turns the yarn about its cross axis; the profile runs across it).
     #[inline]
     fn lobe_eval(&self, lobe: &Lobe, albedos: &[Albedos; 3], wi: Vec3, wo: Vec3) -> Rgb {
+        if let (Tilt::Relief { at, .. }, Some(relief)) = (lobe.tilt, &self.relief) {
+            if !relief.sees(at, wi) {
+                return Rgb::BLACK;
+            }
+        }
+        if lobe.resolved {
+            return self.lobe_value(lobe, albedos, wi, wo) * self.relief_ratio(lobe.warp, wi, wo);
+        }
+        self.lobe_value(lobe, albedos, wi, wo)
+    }
+
+    /// [`lobe_eval`](Self::lobe_eval) before the relief: a relief point as if lit, a macro lobe
+    /// unscaled.
+    #[inline]
+    fn lobe_value(&self, lobe: &Lobe, albedos: &[Albedos; 3], wi: Vec3, wo: Vec3) -> Rgb {
         let (wi, wo) = into_lobe_frame(lobe, wi, wo);
         let value = |a: Vec3, b: Vec3| match (&lobe.point, &self.fibers) {
             (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
             _ => Rgb(self.yarn.eval_dyed(a, b, albedos)),
         };
         let float = &self.float;
+        // A leaning facet's radiance for unit irradiance on the cloth: its BRDF in its own
+        // frame, times its incident cosine over the cloth's.
+        let leaning = |lean: Lean| {
+            let (ti, to) = (lean.into_frame(wi), lean.into_frame(wo));
+            if ti.z <= 0.0 || to.z <= 0.0 {
+                return Rgb::BLACK;
+            }
+            value(ti, to) * (ti.z / wi.z)
+        };
         match lobe.tilt {
             Tilt::Flat => value(wi, wo),
             Tilt::Entering(entry) => {
@@ -952,13 +1085,9 @@ impl WovenSurface {
                     Some((lo, hi)) if (lo..=hi).contains(&t) => {}
                     _ => return Rgb::BLACK,
                 }
-                let sc = float.tilt(t).sin_cos();
-                let (ti, to) = (into_tilted(wi, sc), into_tilted(wo, sc));
-                if ti.z <= 0.0 || to.z <= 0.0 {
-                    return Rgb::BLACK;
-                }
-                value(ti, to) * (ti.z / wi.z)
+                leaning(Lean::tilted(float.tilt(t).sin_cos()))
             }
+            Tilt::Relief { lean, .. } => leaning(lean),
             Tilt::Float => float.average(wi, wo, value),
         }
     }
@@ -968,17 +1097,21 @@ impl WovenSurface {
     /// `known`'s ray meets for a point, the [`TILT_NODES`] midpoints of a whole float. `None`
     /// for a flat lobe.
     #[inline]
-    fn draw_tilt(&self, lobe: &Lobe, known: Vec3, u: f64) -> (Option<(f64, f64)>, f64) {
+    fn draw_tilt(&self, lobe: &Lobe, known: Vec3, u: f64) -> (Option<Lean>, f64) {
         let float = &self.float;
         match lobe.tilt {
             Tilt::Flat => (None, u),
-            Tilt::Entering(entry) => (Some(float.tilt(float.seen_at(entry, known)).sin_cos()), u),
+            Tilt::Entering(entry) => {
+                let t = float.seen_at(entry, known);
+                (Some(Lean::tilted(float.tilt(t).sin_cos())), u)
+            }
+            Tilt::Relief { lean, .. } => (Some(lean), u),
             Tilt::Float => {
                 let x = u * TILT_NODES as f64;
                 let i = (x as usize).min(TILT_NODES - 1);
                 let t = (i as f64 + 0.5) / TILT_NODES as f64;
                 (
-                    Some(float.tilt(t).sin_cos()),
+                    Some(Lean::tilted(float.tilt(t).sin_cos())),
                     (x - i as f64).clamp(0.0, 1.0 - f64::EPSILON),
                 )
             }
@@ -994,8 +1127,8 @@ impl WovenSurface {
             (Some(p), Some(f)) => point_pdf(f, p, k, d),
             _ => self.yarn.pdf_direction(k, d),
         };
-        let tilted = |sc: (f64, f64)| {
-            let (k, d) = (into_tilted(k, sc), into_tilted(d, sc));
+        let tilted = |lean: Lean| {
+            let (k, d) = (lean.into_frame(k), lean.into_frame(d));
             if k.z <= 0.0 || d.z <= 0.0 {
                 0.0
             } else {
@@ -1004,11 +1137,16 @@ impl WovenSurface {
         };
         match lobe.tilt {
             Tilt::Flat => untilted(k, d),
-            Tilt::Entering(_) => tilted(self.draw_tilt(lobe, k, 0.0).0.unwrap_or((0.0, 1.0))),
+            Tilt::Entering(_) | Tilt::Relief { .. } => {
+                tilted(self.draw_tilt(lobe, k, 0.0).0.unwrap_or(Lean::FLAT))
+            }
             Tilt::Float => {
                 let float = &self.float;
                 (0..TILT_NODES)
-                    .map(|i| tilted(float.tilt((i as f64 + 0.5) / TILT_NODES as f64).sin_cos()))
+                    .map(|i| {
+                        let t = (i as f64 + 0.5) / TILT_NODES as f64;
+                        tilted(Lean::tilted(float.tilt(t).sin_cos()))
+                    })
                     .sum::<f64>()
                     / TILT_NODES as f64
             }
@@ -1021,9 +1159,9 @@ impl WovenSurface {
     #[inline]
     fn lobe_sample(&self, lobe: &Lobe, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
         let k0 = if lobe.warp { to_warp(known) } else { known };
-        let (sc, u0) = self.draw_tilt(lobe, k0, u[0]);
-        let k = match sc {
-            Some(sc) => into_tilted(k0, sc),
+        let (lean, u0) = self.draw_tilt(lobe, k0, u[0]);
+        let k = match lean {
+            Some(lean) => lean.into_frame(k0),
             None => k0,
         };
         if k.z <= 0.0 {
@@ -1036,8 +1174,8 @@ impl WovenSurface {
         if d.z <= 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        if let Some(sc) = sc {
-            d = from_tilted(d, sc);
+        if let Some(lean) = lean {
+            d = lean.from_frame(d);
         }
         if lobe.warp {
             d = from_warp(d);
@@ -1150,10 +1288,25 @@ fn basis(n: Vec3) -> (Vec3, Vec3) {
     )
 }
 
+/// Where a viewer's ray enters a surface's relief, and the shares of the lobes it meets there.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    /// The entry, in cells.
+    x: f64,
+    y: f64,
+    /// The cell's share of the point's BRDF (the rest is the macro BRDF's).
+    weight: f64,
+    /// The fibre level's share of the cell's.
+    fibers: f64,
+}
+
 /// A woven surface's BSDF at one point: its mixture of lobes.
 #[derive(Clone, Copy, Debug)]
 pub struct PointBsdf<'a> {
     surface: &'a WovenSurface,
+    /// On a relief, where the viewer's ray enters it: the lobes it meets depend on the view.
+    entry: Option<Entry>,
+    /// The lobes that do not depend on the view.
     mix: LobeMix,
     weft: [Albedos; 3],
     warp: [Albedos; 3],
@@ -1161,8 +1314,18 @@ pub struct PointBsdf<'a> {
 
 impl PointBsdf<'_> {
     /// The lobes mixed here.
-    pub fn mix(&self) -> &LobeMix {
-        &self.mix
+    pub fn mix(&self) -> LobeMix {
+        self.mix_seen_from(Vec3::new(0.0, 0.0, 1.0))
+    }
+
+    /// The lobes mixed here for a viewer toward `view` (or, drawing for a known light, toward
+    /// it): on a relief, the yarn that the ray toward `view` meets first.
+    #[inline]
+    pub fn mix_seen_from(&self, view: Vec3) -> LobeMix {
+        match &self.entry {
+            Some(e) => self.surface.with_relief(self.mix, e, view),
+            None => self.mix,
+        }
     }
 
     /// The same point with other dyes where given (a textured colour, read at the point), each
@@ -1177,12 +1340,12 @@ impl PointBsdf<'_> {
         self
     }
 
-    fn pdf_mix(&self, known: Vec3, drawn: Vec3) -> f64 {
+    fn pdf_mix(&self, mix: &LobeMix, known: Vec3, drawn: Vec3) -> f64 {
         let mut p = 0.0;
-        for l in self.mix.lobes() {
+        for l in mix.lobes() {
             p += l.weight * self.surface.lobe_pdf(l, known, drawn);
         }
-        let total = self.mix.total();
+        let total = mix.total();
         if total == 1.0 || total == 0.0 {
             p
         } else {
@@ -1215,7 +1378,7 @@ impl Bsdf for PointBsdf<'_> {
                 .map(|a| affine.at(a.diffuse, a.interreflection).max(0.0)));
         }
         let mut f = Rgb::BLACK;
-        for l in self.mix.lobes() {
+        for l in self.mix_seen_from(wo).lobes() {
             let albedos = if l.warp { &self.warp } else { &self.weft };
             f += self.surface.lobe_eval(l, albedos, wi, wo) * l.weight;
         }
@@ -1227,7 +1390,7 @@ impl Bsdf for PointBsdf<'_> {
             return 0.0;
         }
         let (known, drawn) = known_and_drawn(wi, wo, mode);
-        self.pdf_mix(known, drawn)
+        self.pdf_mix(&self.mix_seen_from(known), known, drawn)
     }
 
     fn sample(
@@ -1241,9 +1404,10 @@ impl Bsdf for PointBsdf<'_> {
             return None;
         }
         // A lobe with probability ∝ its weight; the density is the mixture's.
-        let lobes = self.mix.lobes();
+        let mix = self.mix_seen_from(known);
+        let lobes = mix.lobes();
         let last = lobes.len().checked_sub(1)?;
-        let x = uc * self.mix.total();
+        let x = uc * mix.total();
         let mut before = 0.0;
         let mut pick = 0;
         while pick < last && x >= before + lobes[pick].weight {
@@ -1256,7 +1420,7 @@ impl Bsdf for PointBsdf<'_> {
         let pdf = if lobes.len() == 1 && lobes[pick].tilt != Tilt::Float {
             pdf
         } else {
-            self.pdf_mix(known, drawn)
+            self.pdf_mix(&mix, known, drawn)
         };
         let (wi, wo) = pair_of(known, drawn, mode);
         (pdf > 0.0 && pdf.is_finite()).then(|| BsdfSample {
