@@ -202,6 +202,14 @@ impl Relief {
         self.float.height(t) * f64::from(place.len) * self.cell[1 - i] * self.hill_scale[i]
     }
 
+    /// The tilt of family `warp`'s surface at the fraction `t` along its float, radians: the
+    /// slope of its hill, the float profile's tilt where the hill is not scaled down, less where
+    /// it is (a long float capped at [`THICKNESS`]), so the yarn shades as the relief stands.
+    #[inline]
+    pub fn tilt(&self, warp: bool, t: f64) -> f64 {
+        (self.hill_scale[usize::from(warp)] * self.float.tilt(t).tan()).atan()
+    }
+
     /// The roll of a yarn's surface about its axis at `across ∈ [−1, 1]` ([`Ground::Top`]):
     /// the angle by which its normal leans toward `+across`, radians (`±`[`CROWN_DEG`] at the
     /// edges): on the arc, `sin θ = a sin α`.

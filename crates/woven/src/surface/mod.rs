@@ -873,7 +873,7 @@ impl WovenSurface {
         let (warp, lean) = match hit.ground {
             Ground::Top { warp, t, across } => {
                 let tilt = match t {
-                    Some(t) if self.u_max > 0.0 => self.float.tilt(t),
+                    Some(t) if self.u_max > 0.0 => relief.tilt(warp, t),
                     _ => 0.0,
                 };
                 // In the warp's frame (y turned to x) its +y is the cloth's −x.

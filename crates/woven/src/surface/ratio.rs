@@ -53,6 +53,17 @@ fn node(k: usize) -> Vec3 {
     Vec3::from_spherical(THETA_DEG[k / PHI].to_radians(), phi)
 }
 
+/// Node `k`'s azimuth, radians.
+fn azimuth(k: usize) -> f64 {
+    2.0 * PI * (k % PHI) as f64 / PHI as f64
+}
+
+/// `d` turned by `phi` about the normal.
+fn turned(d: Vec3, phi: f64) -> Vec3 {
+    let (s, c) = phi.sin_cos();
+    Vec3::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z)
+}
+
 /// The nodes about `d` and their weights: two polar nodes by two azimuth nodes.
 fn corners(d: Vec3) -> [(usize, f64); 4] {
     let theta = d.z.clamp(-1.0, 1.0).acos().to_degrees();
@@ -120,12 +131,14 @@ impl ReliefRatio {
                     .collect();
                 (0..NODES)
                     .map(|i| {
-                        let s = node(i);
+                        // Light node i is relative to the view's azimuth.
+                        let s = turned(node(i), azimuth(j));
+                        let toward = (i % PHI + j % PHI) % PHI;
                         let slope = s.z / s.x.hypot(s.y);
                         let mut m = [0.0; 2];
                         let mut p = [0.0; 2];
                         for (mix, horizon) in &seen {
-                            if slope <= horizon[i % PHI] {
+                            if slope <= horizon[toward] {
                                 continue;
                             }
                             for l in mix.lobes() {
@@ -166,8 +179,8 @@ impl ReliefRatio {
     pub(super) fn at(&self, warp: bool, s: Vec3, v: Vec3) -> f64 {
         let table = &self.values[usize::from(warp)];
         let mut r = 0.0;
-        for (i, wi) in corners(s) {
-            for (j, wj) in corners(v) {
+        for (j, wj) in corners(v) {
+            for (i, wi) in corners(turned(s, -azimuth(j))) {
                 r += wi * wj * f64::from(table[i * NODES + j]);
             }
         }

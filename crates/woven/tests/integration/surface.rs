@@ -7,7 +7,7 @@ use std::sync::{Arc, OnceLock};
 use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
 use woven::material::{Material, Weave};
-use woven::surface::{SurfacePoint, SurfaceSpec, Tilt, WovenSurface};
+use woven::surface::{Detail, SurfacePoint, SurfaceSpec, Tilt, WovenSurface};
 use woven::table::{Table, TableOptions};
 use woven::{Error, Vec3};
 
@@ -130,12 +130,16 @@ fn the_mode_says_which_direction_is_known() {
     assert!((i.weight(Transport::Importance) - i.f * i.wo.z / i.pdf).abs() < 1e-12);
 }
 
-/// Without tilt, gaps or a footprint, each point is its cell's yarn alone: the weft where the
-/// pattern says weft, the warp (the table turned 90°) elsewhere, in its dye.
+/// At the paper's yarn level, without tilt, gaps or a footprint, each point is its cell's yarn
+/// alone: the weft where the pattern says weft, the warp (the table turned 90°) elsewhere, in
+/// its dye.
 #[test]
 fn a_point_is_its_cells_yarn() {
     let table = yarn();
-    let s = spec("twill-2/1", 0.0, 0.0);
+    let s = SurfaceSpec {
+        detail: Detail::Yarns,
+        ..spec("twill-2/1", 0.0, 0.0)
+    };
     let surface = WovenSurface::new(&s, Arc::clone(&table)).unwrap();
     let pattern = surface.pattern().unwrap().clone();
     let mut rng = Rng(3);
@@ -169,13 +173,17 @@ fn a_point_is_its_cells_yarn() {
     assert!((mix.total() - 1.0).abs() < 1e-12);
 }
 
-/// With tilt, a point knows where along its float the viewer's ray enters it, from 0 where the
-/// float comes up to 1 where it goes under; in a gap the crossing yarn shows flat, and where
-/// both leave a gap, nothing.
+/// At the paper's yarn level with tilt, a point knows where along its float the viewer's ray
+/// enters it, from 0 where the float comes up to 1 where it goes under; in a gap the crossing
+/// yarn shows flat, and where both leave a gap, nothing.
 #[test]
 fn tilt_runs_along_floats_and_gaps_show_the_yarn_below() {
     let table = yarn();
-    let surface = WovenSurface::new(&spec("satin-5", 40.0, 0.4), Arc::clone(&table)).unwrap();
+    let s = SurfaceSpec {
+        detail: Detail::Yarns,
+        ..spec("satin-5", 40.0, 0.4)
+    };
+    let surface = WovenSurface::new(&s, Arc::clone(&table)).unwrap();
     let at = |x: f64, y: f64| {
         surface.lobes(&SurfacePoint {
             uv: [x / 6.0, y / 4.0],
@@ -343,6 +351,11 @@ fn yarn_draws_average_to_the_models_integrals() {
 /// The preset `name` at fibre level, one cell a unit, on the shared table of its yarn: in its
 /// own weave, or in a weft-only one (every cell the weft, its floats without ends).
 fn at_fibre_level(name: &str, weft_only: bool) -> WovenSurface {
+    at_level(name, weft_only, Detail::Fibers)
+}
+
+/// The preset `name` at `detail`, as [`at_fibre_level`] lays it.
+fn at_level(name: &str, weft_only: bool, detail: Detail) -> WovenSurface {
     let mut material = Material::preset(name).unwrap();
     if weft_only {
         material.weave = Some(Weave::Pattern {
@@ -352,24 +365,26 @@ fn at_fibre_level(name: &str, weft_only: bool) -> WovenSurface {
     }
     let spec = SurfaceSpec {
         yarns_per_unit: [1.0, 1.0],
-        detail: woven::surface::Detail::Fibers,
+        detail,
         ..SurfaceSpec::new(material)
     };
     WovenSurface::new(&spec, crate::energy::yarn_table(name)).unwrap()
 }
 
-/// At fibre level a surface's cells average, over many yarns, to its yarn level: the area mean
-/// of `detail = "fibers"` over a weft-only weave (1 200 picks, 64 points across each) agrees
-/// with the exact yarn BRDF within three standard errors of the per-yarn spread, for each
-/// preset, at a dye.
+/// At fibre level a surface's cells average, over many yarns, to its resolved yarn level: the
+/// area mean of `detail = "fibers"` over a weft-only weave (1 200 picks, 64 points across
+/// each) agrees with that of the yarn's BRDF leaning with the relief at the same points
+/// (`detail = "auto"` without a footprint) within three standard errors of the per-yarn
+/// spread, for each preset.
 #[test]
 fn a_fibre_level_surface_averages_to_the_yarn_brdf() {
     for name in ["polyester-sateen", "belt-cloth"] {
-        let (surface, exact) = (at_fibre_level(name, true), exact_yarn(name));
+        let surface = at_fibre_level(name, true);
+        let resolved = at_level(name, true, Detail::Auto);
         for (s, v) in identity_pairs().into_iter().take(2) {
             let (mean, se) = crate::energy::fibre_mean(&surface, (s, v), (1200, 64), |_| 0.5);
             // 64 points across a yarn: the midpoint rule's error, well under the spread.
-            let want = exact.eval(s, v);
+            let (want, _) = crate::energy::fibre_mean(&resolved, (s, v), (1200, 64), |_| 0.5);
             // Yarns differ (each draws its slope): the level is the fibres', not the table's.
             assert!(se > 1e-3 * want, "{name}: no spread between yarns ({se})");
             assert!(
