@@ -119,16 +119,15 @@ impl Lean {
 pub struct Relief {
     pattern: Pattern,
     floats: Vec<FloatPlace>,
-    float: FloatProfile,
     /// A cell's size in `uv` along `x` and `y`.
     cell: [f64; 2],
     gap: f64,
     floor: f64,
     /// The yarns' depth at their edges below their crown, in `uv`, per family (weft, warp).
     round: [f64; 2],
-    /// Per family, what its floats' hills are scaled by: 1, or less where the tilt would make a
-    /// float dip deeper than the yarn it passes under is thick.
-    hill_scale: [f64; 2],
+    /// Per family (weft, warp), its floats' profile: `float`, or the same shape tilted less where
+    /// `float` would make its longest float dip deeper than the yarn it passes under is thick.
+    floats_of: [FloatProfile; 2],
 }
 
 /// The half-angle of a yarn's crown, degrees: across its width the yarn's top is an arc whose
@@ -157,24 +156,35 @@ impl Relief {
         let mut relief = Relief {
             pattern: pattern.clone(),
             floats,
-            float,
             cell,
             gap,
             floor: 0.0,
             round: [ROUND * (1.0 - gap) * cell[1], ROUND * (1.0 - gap) * cell[0]],
-            hill_scale: [1.0, 1.0],
+            floats_of: [float; 2],
         };
         // A float passes under a crossing yarn THICKNESS of its width thick; its hill may dip
-        // no deeper (the longest float sets the scale).
+        // no deeper: the longest float's tilt is lowered until it fits (by bisection).
         let cols = pattern.cols();
         for warp in [false, true] {
-            let deepest = (0..pattern.rows() * cols)
-                .filter(|&i| pattern.is_weft(i / cols, i % cols) != warp)
-                .map(|i| -relief.hill(warp, relief.floats[i], 0.0))
-                .fold(0.0, f64::max);
+            let deepest = |relief: &Relief| {
+                (0..pattern.rows() * cols)
+                    .filter(|&i| pattern.is_weft(i / cols, i % cols) != warp)
+                    .map(|i| -relief.hill(warp, relief.floats[i], 0.0))
+                    .fold(0.0, f64::max)
+            };
             let crossing = THICKNESS * (1.0 - gap) * cell[usize::from(warp)];
-            if deepest > crossing {
-                relief.hill_scale[usize::from(warp)] = crossing / deepest;
+            if deepest(&relief) > crossing {
+                let (mut lo, mut hi) = (0.0, float.u_max());
+                for _ in 0..50 {
+                    let mid = 0.5 * (lo + hi);
+                    relief.floats_of[usize::from(warp)] = float.with_u_max(mid);
+                    if deepest(&relief) > crossing {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                relief.floats_of[usize::from(warp)] = float.with_u_max(lo.max(f64::MIN_POSITIVE));
             }
         }
         relief.floor = (0..pattern.rows() * cols)
@@ -199,15 +209,20 @@ impl Relief {
             return 0.0;
         }
         let i = usize::from(warp);
-        self.float.height(t) * f64::from(place.len) * self.cell[1 - i] * self.hill_scale[i]
+        self.floats_of[i].height(t) * f64::from(place.len) * self.cell[1 - i]
     }
 
     /// The tilt of family `warp`'s surface at the fraction `t` along its float, radians: the
-    /// slope of its hill, the float profile's tilt where the hill is not scaled down, less where
-    /// it is (a long float capped at [`THICKNESS`]), so the yarn shades as the relief stands.
+    /// slope of its hill ([`float`](Self::float)), so the yarn shades as the relief stands.
     #[inline]
     pub fn tilt(&self, warp: bool, t: f64) -> f64 {
-        (self.hill_scale[usize::from(warp)] * self.float.tilt(t).tan()).atan()
+        self.floats_of[usize::from(warp)].tilt(t)
+    }
+
+    /// Family `warp`'s float profile: the surface's, or the same shape tilted less where the
+    /// surface's would dip a long float deeper than [`THICKNESS`].
+    pub fn float(&self, warp: bool) -> FloatProfile {
+        self.floats_of[usize::from(warp)]
     }
 
     /// The roll of a yarn's surface about its axis at `across ∈ [−1, 1]` ([`Ground::Top`]):

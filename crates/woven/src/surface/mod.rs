@@ -480,6 +480,9 @@ pub struct WovenSurface {
     relief: Option<Relief>,
     /// The relief's ratio table ([`WovenSurface::relief_ratio`]), built on first use.
     ratio: std::sync::OnceLock<Arc<ReliefRatio>>,
+    /// The yarn's table averaged over its crown ([`Table::crowned`]), built on first use: the
+    /// resolved macro lobes' BRDF before the ratio.
+    crowned: std::sync::OnceLock<Arc<Table>>,
 }
 
 /// What resolving fibres needs: the exact model of the yarn alone, and its draws.
@@ -619,6 +622,7 @@ impl WovenSurface {
             relief: fibers.as_ref().and_then(|_| spec.relief()),
             fibers,
             ratio: std::sync::OnceLock::new(),
+            crowned: std::sync::OnceLock::new(),
         })
     }
 
@@ -672,6 +676,7 @@ impl WovenSurface {
             fibers: None,
             relief: None,
             ratio: std::sync::OnceLock::new(),
+            crowned: std::sync::OnceLock::new(),
         })
     }
 
@@ -892,6 +897,12 @@ impl WovenSurface {
         mix
     }
 
+    /// The yarn's table averaged over its crown (built on first use).
+    fn crowned(&self) -> &Table {
+        self.crowned
+            .get_or_init(|| Arc::new(self.yarn.crowned(crate::relief::CROWN_DEG.to_radians())))
+    }
+
     /// The relief's ratio `R_F(s, v)` for the family `warp` (the module `ratio`'s table, built
     /// on first use): what scales the macro lobes of a resolving surface. 1 without a relief.
     pub fn relief_ratio(&self, warp: bool, s: Vec3, v: Vec3) -> f64 {
@@ -1063,11 +1074,15 @@ impl WovenSurface {
     #[inline]
     fn lobe_value(&self, lobe: &Lobe, albedos: &[Albedos; 3], wi: Vec3, wo: Vec3) -> Rgb {
         let (wi, wo) = into_lobe_frame(lobe, wi, wo);
+        // A resolved macro lobe: the crowned yarn on the relief's floats.
+        let (table, float) = match (&self.relief, lobe.resolved) {
+            (Some(relief), true) => (self.crowned(), &relief.float(lobe.warp)),
+            _ => (&*self.yarn, &self.float),
+        };
         let value = |a: Vec3, b: Vec3| match (&lobe.point, &self.fibers) {
             (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
-            _ => Rgb(self.yarn.eval_dyed(a, b, albedos)),
+            _ => Rgb(table.eval_dyed(a, b, albedos)),
         };
-        let float = &self.float;
         // A leaning facet's radiance for unit irradiance on the cloth: its BRDF in its own
         // frame, times its incident cosine over the cloth's.
         let leaning = |lean: Lean| {

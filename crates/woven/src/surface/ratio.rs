@@ -105,7 +105,9 @@ impl ReliefRatio {
             })
             .collect();
         let albedos = [surface.own; 3];
-        let paper = surface.macro_lobes();
+        // The denominator: the macro lobes of the crowned yarn on the relief's floats.
+        let mut paper = surface.macro_lobes();
+        paper.resolve_from(0);
         let relief = surface.relief.as_ref().expect("a ratio needs a relief");
         let mean = |f: Rgb, weight: f64| weight * (f.0[0] + f.0[1] + f.0[2]) / 3.0;
         // Per view node, every light node's pair of ratios.

@@ -373,7 +373,7 @@ fn needed_nodes(theta: Axis, phi: Axis, t: Axis, it: usize, ip: usize) -> Vec<bo
 /// Evaluates both halves at every node they read, rows of `(half, θ, φ)` spread over the current
 /// rayon pool: `row(half, a)` prepares the evaluation for axis direction `a` and returns
 /// `o ↦ f(s, v)` with `(s, v) = half.join(a, o)`.
-fn fill<const K: usize, R: Fn(Vec3) -> [f64; K]>(
+pub(super) fn fill<const K: usize, R: Fn(Vec3) -> [f64; K]>(
     theta: Axis,
     phi: Axis,
     t: Axis,

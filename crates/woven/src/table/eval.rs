@@ -101,10 +101,19 @@ impl Table {
         let Some(colour) = &self.colour else {
             return [self.eval(s, v); N];
         };
-        let [f, body] = self.eval_arrays(s, v, [&self.values, &colour.body]);
+        let (f, body, g) = match &colour.crown {
+            Some(g) => {
+                let [f, body, g] = self.eval_arrays(s, v, [&self.values, &colour.body, g]);
+                (f, body, g)
+            }
+            None => {
+                let [f, body] = self.eval_arrays(s, v, [&self.values, &colour.body]);
+                (f, body, 1.0)
+            }
+        };
         albedos.map(|a| {
             (f + (a.diffuse - colour.own.diffuse) * body
-                + (a.interreflection - colour.own.interreflection) * colour.per_interreflection)
+                + (a.interreflection - colour.own.interreflection) * colour.per_interreflection * g)
                 .max(0.0)
         })
     }

@@ -82,11 +82,26 @@ impl Table {
         out
     }
 
+    /// Refuses a crowned table ([`Table::crowned`]): its interreflection term is a node array no
+    /// file holds.
+    fn check_saveable(&self) -> Result<()> {
+        if self.colour.as_ref().is_some_and(|c| c.crown.is_some()) {
+            return Err(Error::invalid(
+                "table",
+                "a crowned table",
+                "a table built from a material (crowned tables are for rendering only)",
+            ));
+        }
+        Ok(())
+    }
+
     /// Writes the table to `w`.
     ///
     /// # Errors
-    /// [`Error::Io`] if writing fails.
+    /// [`Error::Io`] if writing fails; [`Error::InvalidParameter`] for a crowned table
+    /// ([`Table::crowned`]), which no file holds.
     pub fn write(&self, mut w: impl Write, origin: &Path) -> Result<()> {
+        self.check_saveable()?;
         w.write_all(&self.to_bytes()).map_err(|source| Error::Io {
             path: origin.to_path_buf(),
             source,
@@ -99,6 +114,7 @@ impl Table {
     /// # Errors
     /// [`Error::Io`] if the folder is not writable or the disk is full.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
+        self.check_saveable()?;
         crate::fsutil::atomic_write(path.as_ref(), |w| w.write_all(&self.to_bytes()))
     }
 

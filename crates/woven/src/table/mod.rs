@@ -46,6 +46,7 @@
 
 mod build;
 pub mod cache;
+mod crown;
 mod eval;
 pub mod format;
 pub mod grid;
@@ -259,6 +260,9 @@ pub(crate) struct Colour {
     pub(crate) per_interreflection: f64,
     /// The albedos `values` were built with.
     pub(crate) own: Albedos,
+    /// A crowned table's ([`Table::crowned`]): what `∂f/∂ρ` is multiplied by at every node, the
+    /// crown's average of 1; `None`: 1.
+    pub(crate) crown: Option<Vec<f32>>,
 }
 
 impl Colour {
@@ -271,6 +275,7 @@ impl Colour {
                 .as_ref()
                 .map_or(0.0, |y| y.interreflection * std::f64::consts::FRAC_1_PI),
             own: Albedos::of(material),
+            crown: None,
         }
     }
 }

@@ -81,6 +81,11 @@ pub struct FloatProfile {
 }
 
 impl FloatProfile {
+    /// The same shape (crest and flanks) at the tilt `u_max`.
+    pub fn with_u_max(&self, u_max: f64) -> FloatProfile {
+        FloatProfile::shaped(u_max, self.shape.0, self.shape.1)
+    }
+
     /// The float of tilt `u_max` (radians, in `(0, π/2)`; the surface allows up to 80°), its
     /// tilt falling linearly along it: `ψ(t) = u_max (1 − 2t)`.
     pub fn new(u_max: f64) -> FloatProfile {

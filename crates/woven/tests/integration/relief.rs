@@ -142,6 +142,8 @@ fn explore_nodes() {
         let vm = Vec3::from_spherical(v.z.acos(), v.y.atan2(v.x) + 0.26);
         let y2 = area_mean(&auto, (sm, vm), 64.0, 160_000, 0.0);
         let m2 = area_mean(&auto, (sm, vm), 64.0, 200, 1e6);
+        let r = |s: Vec3, v: Vec3| (auto.relief_ratio(false, s, v), auto.relief_ratio(true, s, v));
+        println!("  R node {:?} shifted {:?}", r(s, v), r(sm, vm));
         println!("node s({a},{b}) v({c},{d}): yarns {y:.4} macro {m:.4} ({:+.1}%); between nodes: yarns {y2:.4} macro {m2:.4} ({:+.1}%)", 100.0 * (m / y - 1.0), 100.0 * (m2 / y2 - 1.0));
     }
 }
