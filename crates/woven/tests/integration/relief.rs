@@ -147,3 +147,20 @@ fn explore_nodes() {
         println!("node s({a},{b}) v({c},{d}): yarns {y:.4} macro {m:.4} ({:+.1}%); between nodes: yarns {y2:.4} macro {m2:.4} ({:+.1}%)", 100.0 * (m / y - 1.0), 100.0 * (m2 / y2 - 1.0));
     }
 }
+
+#[test]
+#[ignore = "exploration"]
+fn explore_mirror() {
+    let name = "satin-charmeuse";
+    let t = table(name);
+    let auto = surface(name, Detail::Auto, &t);
+    let th = 59f64.to_radians();
+    let v = Vec3::from_spherical(th, 270f64.to_radians());
+    for ds in [90.0, 97.5, 105.0, 112.5, 120.0, 135.0, 150.0] {
+        let s = Vec3::from_spherical(th, f64::to_radians(ds));
+        let y = area_mean(&auto, (s, v), 64.0, 160_000, 0.0);
+        let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
+        let r = (auto.relief_ratio(false, s, v), auto.relief_ratio(true, s, v));
+        println!("φs {ds}: yarns {y:.4} macro {m:.4} R {:.3} {:.3}", r.0, r.1);
+    }
+}
