@@ -164,3 +164,26 @@ fn explore_mirror() {
         println!("φs {ds}: yarns {y:.4} macro {m:.4} R {:.3} {:.3}", r.0, r.1);
     }
 }
+
+#[test]
+#[ignore = "exploration"]
+fn explore_mirror_weft_only() {
+    let name = "satin-charmeuse";
+    let t = table(name);
+    let mut material = woven::material::Material::preset(name).unwrap();
+    material.weave = Some(woven::material::Weave::Pattern {
+        spec: woven::material::PatternSpec::Matrix(vec![vec![1]]),
+        pattern: woven::weave::Pattern::from_matrix(vec![vec![1]]).unwrap(),
+    });
+    let spec = SurfaceSpec { detail: Detail::Auto, u_max: 0.0, ..SurfaceSpec::new(material) };
+    let auto = WovenSurface::new(&spec, Arc::clone(&t)).unwrap();
+    let th = 59f64.to_radians();
+    let v = Vec3::from_spherical(th, 270f64.to_radians());
+    for ds in [90.0, 97.5, 105.0, 112.5, 120.0, 135.0, 150.0, 0.0, 45.0] {
+        let s = Vec3::from_spherical(th, f64::to_radians(ds));
+        let y = area_mean(&auto, (s, v), 64.0, 40_000, 0.0);
+        let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
+        let r = auto.relief_ratio(false, s, v);
+        println!("weft-only φs {ds}: yarns {y:.4} macro {m:.4} R {r:.3}");
+    }
+}
