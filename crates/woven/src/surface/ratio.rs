@@ -30,7 +30,7 @@ use std::f64::consts::PI;
 pub const THETA_DEG: [f64; 9] = [0.0, 20.0, 35.0, 48.0, 59.0, 68.0, 76.0, 82.0, 87.0];
 
 /// The table's azimuth nodes, over the whole circle.
-pub const PHI: usize = 12;
+pub const PHI: usize = 24;
 
 /// Entries of a repeat averaged at each node: at least this many, and at least 9 per cell.
 pub const ENTRIES: usize = 576;

@@ -133,13 +133,14 @@ fn explore_nodes() {
     let name = "satin-charmeuse";
     let t = table(name);
     let auto = surface(name, Detail::Auto, &t);
-    let node = |it: usize, ip: usize| Vec3::from_spherical(woven::surface::RATIO_THETA_DEG[it].to_radians(), 2.0 * std::f64::consts::PI * ip as f64 / woven::surface::RATIO_PHI as f64);
+    let node = |it: usize, ip: usize| Vec3::from_spherical(woven::surface::RATIO_THETA_DEG[it].to_radians(), 2.0 * std::f64::consts::PI * ip as f64 / 12.0);
     for (a, b, c, d) in [(4, 0, 3, 6), (4, 3, 4, 9), (3, 1, 5, 7), (5, 2, 2, 8), (4, 0, 4, 6), (4, 6, 4, 0)] {
         let (s, v) = (node(a, b), node(c, d));
         let y = area_mean(&auto, (s, v), 64.0, 160_000, 0.0);
         let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
-        let sm = Vec3::from_spherical(s.z.acos(), s.y.atan2(s.x) + 0.26);
-        let vm = Vec3::from_spherical(v.z.acos(), v.y.atan2(v.x) + 0.26);
+        let half = std::f64::consts::PI / woven::surface::RATIO_PHI as f64;
+        let sm = Vec3::from_spherical(s.z.acos(), s.y.atan2(s.x) + half);
+        let vm = Vec3::from_spherical(v.z.acos(), v.y.atan2(v.x) + half);
         let y2 = area_mean(&auto, (sm, vm), 64.0, 160_000, 0.0);
         let m2 = area_mean(&auto, (sm, vm), 64.0, 200, 1e6);
         let r = |s: Vec3, v: Vec3| (auto.relief_ratio(false, s, v), auto.relief_ratio(true, s, v));
