@@ -142,9 +142,15 @@ impl WovenMaterial {
             TableGrid::Custom(o) => TableOptions { colour: true, ..*o },
         };
         let yarn = cache.table(&yarn_material, &options, &|_| on_build(), progress)?;
-        Ok(WovenMaterial {
-            surface: WovenSurface::new(spec, yarn)?,
-        })
+        let surface = WovenSurface::new(spec, yarn)?;
+        // The resolved levels' tables (a crowned yarn, the relief's ratio, kept on disk).
+        let note = |m: &str| {
+            if let Some(note) = &cache.note {
+                note(m);
+            }
+        };
+        surface.prepare(cache.disk.as_ref().map(|d| d.dir()), &note);
+        Ok(WovenMaterial { surface })
     }
 
     /// The library's surface this material renders.

@@ -110,7 +110,10 @@ impl Lean {
     #[inline]
     pub fn from_frame(&self, d: Vec3) -> Vec3 {
         let (s, c) = self.roll;
-        from_tilted(Vec3::new(d.x, c * d.y + s * d.z, c * d.z - s * d.y), self.tilt)
+        from_tilted(
+            Vec3::new(d.x, c * d.y + s * d.z, c * d.z - s * d.y),
+            self.tilt,
+        )
     }
 }
 
@@ -352,7 +355,9 @@ impl Relief {
             if -z / r <= best {
                 break;
             }
-            let h = self.at(x + r * c / self.cell[0], y + r * s / self.cell[1]).0;
+            let h = self
+                .at(x + r * c / self.cell[0], y + r * s / self.cell[1])
+                .0;
             best = best.max((h - z) / r);
         }
         best
@@ -480,7 +485,9 @@ mod tests {
         // Low on the yarn's flank: in the next yarn's shadow (or its own crown's) under grazing light,
         // lit from higher up.
         let flank = r.hit(0.3, 0.5 + 0.39, dir(0.0, 0.0));
-        assert!(!r.sees(flank.place(), dir(80.0, 90.0)) && !r.sees(flank.place(), dir(80.0, 270.0)));
+        assert!(
+            !r.sees(flank.place(), dir(80.0, 90.0)) && !r.sees(flank.place(), dir(80.0, 270.0))
+        );
         assert!(r.sees(flank.place(), dir(30.0, 90.0)));
     }
 
@@ -513,7 +520,10 @@ mod tests {
                 .fold(f64::NEG_INFINITY, f64::max);
             assert!(skimmed < 0.01, "{k}: stepped past {skimmed} of relief");
         }
-        assert!(grazes * 50 < agree, "{grazes} rays skim a corner, {agree} agree");
+        assert!(
+            grazes * 50 < agree,
+            "{grazes} rays skim a corner, {agree} agree"
+        );
     }
 
     #[test]

@@ -82,8 +82,10 @@ use std::f64::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
 
 mod ratio;
-pub use ratio::{ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG};
 use ratio::ReliefRatio;
+pub use ratio::{
+    ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG,
+};
 
 /// Footprints (in pattern cells, the larger side of the pixel's footprint) from which the
 /// footprint filter starts blending toward the macro BRDF, and at which it is the macro BRDF.
@@ -893,8 +895,33 @@ impl WovenSurface {
             Ground::Hole => return mix,
         };
         let tilt = Tilt::Relief { lean, at };
-        self.push_yarn(&mut mix, warp, tilt, e.weight, e.fibers, (hit.x, hit.y, &cell));
+        self.push_yarn(
+            &mut mix,
+            warp,
+            tilt,
+            e.weight,
+            e.fibers,
+            (hit.x, hit.y, &cell),
+        );
         mix
+    }
+
+    /// Builds now what the resolved levels would build on first use: the crowned yarn table and
+    /// the relief's ratio table, the ratio read from `dir` when it was stored there before (and
+    /// stored there when built). Nothing to do without a relief (`detail` other than `"fibers"`
+    /// and `"auto"`, or no pattern). `note` hears why a stored ratio was not used, or why a built
+    /// one could not be stored (the surface works either way).
+    pub fn prepare(&self, dir: Option<&std::path::Path>, note: &dyn Fn(&str)) {
+        if self.relief.is_none() {
+            return;
+        }
+        let _ = self.crowned();
+        self.ratio.get_or_init(|| {
+            Arc::new(match dir {
+                Some(dir) => ReliefRatio::load_or_build(self, dir, note),
+                None => ReliefRatio::build(self),
+            })
+        });
     }
 
     /// The yarn's table averaged over its crown (built on first use).
@@ -1073,22 +1100,48 @@ impl WovenSurface {
     /// unscaled.
     #[inline]
     fn lobe_value(&self, lobe: &Lobe, albedos: &[Albedos; 3], wi: Vec3, wo: Vec3) -> Rgb {
+        self.lobe_with(lobe, wi, wo, |table, a, b| {
+            match (&lobe.point, &self.fibers) {
+                (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
+                _ => Rgb(table.eval_dyed(a, b, albedos)),
+            }
+        })
+    }
+
+    /// [`lobe_value`](Self::lobe_value) of an averaged lobe (not a fibre point) at the
+    /// material's own albedos, one value (what the relief's ratio is built from).
+    #[inline]
+    fn lobe_value_own(&self, lobe: &Lobe, wi: Vec3, wo: Vec3) -> f64 {
+        debug_assert!(lobe.point.is_none());
+        self.lobe_with(lobe, wi, wo, |table, a, b| table.eval(a, b))
+    }
+
+    /// A lobe's value from `value(table, s′, v′)`, the BRDF of a facet in its own frame read
+    /// from `table`: the yarn's, or for a resolved macro lobe the crowned yarn's on the relief's
+    /// floats.
+    #[inline]
+    fn lobe_with<V>(
+        &self,
+        lobe: &Lobe,
+        wi: Vec3,
+        wo: Vec3,
+        value: impl Fn(&Table, Vec3, Vec3) -> V,
+    ) -> V
+    where
+        V: Default + std::ops::AddAssign + std::ops::Mul<f64, Output = V>,
+    {
         let (wi, wo) = into_lobe_frame(lobe, wi, wo);
-        // A resolved macro lobe: the crowned yarn on the relief's floats.
         let (table, float) = match (&self.relief, lobe.resolved) {
             (Some(relief), true) => (self.crowned(), &relief.float(lobe.warp)),
             _ => (&*self.yarn, &self.float),
         };
-        let value = |a: Vec3, b: Vec3| match (&lobe.point, &self.fibers) {
-            (Some(p), Some(f)) => point_eval(f, p, albedos, a, b),
-            _ => Rgb(table.eval_dyed(a, b, albedos)),
-        };
+        let value = |a: Vec3, b: Vec3| value(table, a, b);
         // A leaning facet's radiance for unit irradiance on the cloth: its BRDF in its own
         // frame, times its incident cosine over the cloth's.
         let leaning = |lean: Lean| {
             let (ti, to) = (lean.into_frame(wi), lean.into_frame(wo));
             if ti.z <= 0.0 || to.z <= 0.0 {
-                return Rgb::BLACK;
+                return V::default();
             }
             value(ti, to) * (ti.z / wi.z)
         };
@@ -1098,7 +1151,7 @@ impl WovenSurface {
                 let t = float.seen_at(entry, wo);
                 match float.lit(wi) {
                     Some((lo, hi)) if (lo..=hi).contains(&t) => {}
-                    _ => return Rgb::BLACK,
+                    _ => return V::default(),
                 }
                 leaning(Lean::tilted(float.tilt(t).sin_cos()))
             }

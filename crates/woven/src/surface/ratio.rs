@@ -20,11 +20,11 @@
 //! direction, interpolated linearly (bilinear in each direction's polar angle and azimuth).
 
 use super::{Entry, LobeMix, Tilt, WovenSurface};
-use crate::color::Rgb;
 use crate::math::Vec3;
 use crate::yarn::point::golden_uniform;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+use std::path::Path;
 
 /// The table's polar nodes, degrees.
 pub const THETA_DEG: [f64; 9] = [0.0, 20.0, 35.0, 48.0, 59.0, 68.0, 76.0, 82.0, 87.0];
@@ -39,6 +39,49 @@ pub const ENTRIES: usize = 576;
 pub const MAX_RATIO: f64 = 8.0;
 
 const NODES: usize = THETA_DEG.len() * PHI;
+
+/// The first bytes of a cached ratio table.
+const MAGIC: &[u8; 4] = b"WRAT";
+
+/// What a build computes, beyond its inputs (part of the file and of its key): a change to the
+/// relief, the crown or the sampling of entries bumps it.
+const REVISION: u32 = 1;
+
+/// The cache key of `surface`'s ratio table: an FNV-1a hash of everything that decides it — the
+/// yarn table's values (and dye derivatives), the pattern, the cells' aspect (the relief scales
+/// with the cells), the gap, the floats' profile and the table's constants.
+fn key(surface: &WovenSurface) -> String {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    let table = &surface.yarn;
+    for x in table.values() {
+        eat(&x.to_le_bytes());
+    }
+    for x in table.dye_body().unwrap_or_default() {
+        eat(&x.to_le_bytes());
+    }
+    let pattern = surface.pattern().expect("a relief lies on a pattern");
+    eat(format!(
+        "{:?}|{}|{}|{:?}|{}|{:?}|{:?}|{}|{}|{}|{}",
+        pattern,
+        surface.yarns_per_unit[1] / surface.yarns_per_unit[0],
+        surface.gap,
+        surface.float,
+        crate::relief::CROWN_DEG,
+        THETA_DEG,
+        PHI,
+        ENTRIES,
+        crate::table::crown::CROWN_NODES,
+        REVISION,
+        surface.own.diffuse,
+    )
+    .as_bytes());
+    format!("{h:016x}")
+}
 
 /// The relief's ratio table of a surface, per family (module docs).
 #[derive(Debug)]
@@ -68,7 +111,10 @@ fn turned(d: Vec3, phi: f64) -> Vec3 {
 fn corners(d: Vec3) -> [(usize, f64); 4] {
     let theta = d.z.clamp(-1.0, 1.0).acos().to_degrees();
     let last = THETA_DEG.len() - 1;
-    let i = THETA_DEG[1..last].iter().take_while(|&&t| t <= theta).count();
+    let i = THETA_DEG[1..last]
+        .iter()
+        .take_while(|&&t| t <= theta)
+        .count();
     let ft = ((theta - THETA_DEG[i]) / (THETA_DEG[i + 1] - THETA_DEG[i])).clamp(0.0, 1.0);
     let p = d.y.atan2(d.x).rem_euclid(2.0 * PI) / (2.0 * PI) * PHI as f64;
     let j = (p.floor() as usize).min(PHI - 1);
@@ -104,12 +150,10 @@ impl ReliefRatio {
                 }
             })
             .collect();
-        let albedos = [surface.own; 3];
         // The denominator: the macro lobes of the crowned yarn on the relief's floats.
         let mut paper = surface.macro_lobes();
         paper.resolve_from(0);
         let relief = surface.relief.as_ref().expect("a ratio needs a relief");
-        let mean = |f: Rgb, weight: f64| weight * (f.0[0] + f.0[1] + f.0[2]) / 3.0;
         // Per view node, every light node's pair of ratios.
         let columns: Vec<Vec<[f32; 2]>> = (0..NODES)
             .into_par_iter()
@@ -122,8 +166,7 @@ impl ReliefRatio {
                     .map(|e| {
                         let mix = surface.with_relief(LobeMix::default(), e, v);
                         let mut horizon = [f64::NEG_INFINITY; PHI];
-                        if let Some(Tilt::Relief { at, .. }) = mix.lobes().first().map(|l| l.tilt)
-                        {
+                        if let Some(Tilt::Relief { at, .. }) = mix.lobes().first().map(|l| l.tilt) {
                             for (k, h) in horizon.iter_mut().enumerate() {
                                 *h = relief.horizon(at, 2.0 * PI * k as f64 / PHI as f64);
                             }
@@ -144,13 +187,12 @@ impl ReliefRatio {
                                 continue;
                             }
                             for l in mix.lobes() {
-                                let f = surface.lobe_value(l, &albedos, s, v);
-                                m[usize::from(l.warp)] += mean(f, l.weight);
+                                m[usize::from(l.warp)] +=
+                                    l.weight * surface.lobe_value_own(l, s, v);
                             }
                         }
                         for l in paper.lobes() {
-                            let f = surface.lobe_value(l, &albedos, s, v);
-                            p[usize::from(l.warp)] += mean(f, l.weight);
+                            p[usize::from(l.warp)] += l.weight * surface.lobe_value_own(l, s, v);
                         }
                         [0, 1].map(|k| {
                             let m = m[k] / n as f64;
@@ -174,6 +216,87 @@ impl ReliefRatio {
             v
         });
         ReliefRatio { values }
+    }
+
+    /// The table as bytes: a magic, the revision and node counts, both families' values, a
+    /// CRC-32 of what precedes it.
+    fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(20 + 8 * NODES * NODES);
+        out.extend_from_slice(MAGIC);
+        for n in [REVISION, THETA_DEG.len() as u32, PHI as u32] {
+            out.extend_from_slice(&n.to_le_bytes());
+        }
+        for family in &self.values {
+            for x in family {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        let crc = crc32fast::hash(&out);
+        out.extend_from_slice(&crc.to_le_bytes());
+        out
+    }
+
+    /// The table [`to_bytes`](Self::to_bytes) wrote, or why `bytes` are not one of this build's.
+    fn from_bytes(bytes: &[u8]) -> std::result::Result<ReliefRatio, &'static str> {
+        let want = 16 + 8 * NODES * NODES + 4;
+        if bytes.len() != want || &bytes[..4] != MAGIC {
+            return Err("not a ratio table of this build's size");
+        }
+        let (body, crc) = bytes.split_at(want - 4);
+        if crc32fast::hash(body).to_le_bytes() != crc {
+            return Err("checksum mismatch");
+        }
+        let word = |i: usize| u32::from_le_bytes(body[4 + 4 * i..8 + 4 * i].try_into().unwrap());
+        if [word(0), word(1), word(2)] != [REVISION, THETA_DEG.len() as u32, PHI as u32] {
+            return Err("another revision or grid");
+        }
+        let floats: Vec<f32> = body[16..]
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        if !floats.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            return Err("values not finite and non-negative");
+        }
+        let (weft, warp) = floats.split_at(NODES * NODES);
+        Ok(ReliefRatio {
+            values: [weft.to_vec(), warp.to_vec()],
+        })
+    }
+
+    /// The table of `surface` from `dir` (a file named by its key), or built and stored there.
+    /// `note` hears why a file was not used or could not be written (the table is then built, or
+    /// kept in memory only).
+    pub(super) fn load_or_build(
+        surface: &WovenSurface,
+        dir: &Path,
+        note: &dyn Fn(&str),
+    ) -> ReliefRatio {
+        let path = dir.join(format!("ratio-{}.wrat", key(surface)));
+        match crate::fsutil::read_regular(&path, (32 + 8 * NODES * NODES) as u64, "ratio table") {
+            Ok(bytes) => match ReliefRatio::from_bytes(&bytes) {
+                Ok(table) => return table,
+                Err(why) => note(&format!(
+                    "not using {} ({why}): rebuilding it",
+                    path.display()
+                )),
+            },
+            Err(_) if !path.exists() => {}
+            Err(e) => note(&format!(
+                "not using {} ({e}): rebuilding it",
+                path.display()
+            )),
+        }
+        let table = ReliefRatio::build(surface);
+        let stored = std::fs::create_dir_all(dir)
+            .map_err(|e| e.to_string())
+            .and_then(|()| {
+                crate::fsutil::atomic_write(&path, |w| w.write_all(&table.to_bytes()))
+                    .map_err(|e| e.to_string())
+            });
+        if let Err(e) = stored {
+            note(&format!("the ratio table could not be cached ({e})"));
+        }
+        table
     }
 
     /// `R_F(s, v)` for the family `warp`, interpolated.

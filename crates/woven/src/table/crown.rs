@@ -90,9 +90,8 @@ struct Crown {
 
 impl Crown {
     fn new(half_angle: f64) -> Crown {
-        let profile = (half_angle > 1e-9).then(|| {
-            Profile::new(half_angle, 0.0).expect("a crown's half-angle is in (0, π/2)")
-        });
+        let profile = (half_angle > 1e-9)
+            .then(|| Profile::new(half_angle, 0.0).expect("a crown's half-angle is in (0, π/2)"));
         Crown {
             profile,
             period: profile.map_or(0.0, |p| p.period()),
@@ -121,9 +120,8 @@ impl Table {
                     let crown = &crown;
                     move |o| {
                         let (s, v) = Half::join(half, a, o);
-                        let ([f, body], g) = average(crown, s, v, |ts, tv| {
-                            self.eval_arrays(ts, tv, base)
-                        });
+                        let ([f, body], g) =
+                            average(crown, s, v, |ts, tv| self.eval_arrays(ts, tv, base));
                         [f.max(0.0), body, g]
                     }
                 });
@@ -187,10 +185,13 @@ mod tests {
         let base = table("belt-cloth");
         let flat = base.crowned(0.0);
         let crowned = base.crowned(30f64.to_radians());
-        let dyes = [Albedos::of(&Material::preset("belt-cloth").unwrap()), Albedos {
-            diffuse: 0.05,
-            interreflection: 0.01,
-        }];
+        let dyes = [
+            Albedos::of(&Material::preset("belt-cloth").unwrap()),
+            Albedos {
+                diffuse: 0.05,
+                interreflection: 0.01,
+            },
+        ];
         let (mut worst_flat, mut worst_crown, mut scale) = (0.0f64, 0.0f64, 0.0f64);
         for (s, v) in crate::table::report::uniform_pairs(200, 11) {
             let b = base.eval_dyed(s, v, &dyes);
@@ -199,7 +200,10 @@ mod tests {
             let crown = Crown::new(30f64.to_radians());
             let (want, _) = average(&crown, s, v, |ts, tv| base.eval_dyed(ts, tv, &dyes));
             if (c[0] - want[0]).abs() > 0.015 {
-                eprintln!("s {s:?} v {v:?}: base {:.4} crowned {:.4} want {:.4} flat {:.4}", b[0], c[0], want[0], f[0]);
+                eprintln!(
+                    "s {s:?} v {v:?}: base {:.4} crowned {:.4} want {:.4} flat {:.4}",
+                    b[0], c[0], want[0], f[0]
+                );
             }
             for k in 0..2 {
                 scale = scale.max(b[k]);
@@ -209,6 +213,9 @@ mod tests {
         }
         eprintln!("flat {worst_flat:.5} crowned {worst_crown:.5} of {scale:.4}");
         assert!(worst_flat <= 0.03 * scale, "flat {worst_flat} of {scale}");
-        assert!(worst_crown <= 0.03 * scale, "crowned {worst_crown} of {scale}");
+        assert!(
+            worst_crown <= 0.03 * scale,
+            "crowned {worst_crown} of {scale}"
+        );
     }
 }

@@ -46,7 +46,7 @@
 
 mod build;
 pub mod cache;
-mod crown;
+pub(crate) mod crown;
 mod eval;
 pub mod format;
 pub mod grid;
@@ -289,6 +289,13 @@ pub struct Provenance {
     pub material: Material,
     /// The wavelength, nm.
     pub wavelength_nm: f64,
+}
+
+impl Table {
+    /// `∂f/∂ρ0` at every node, when the table is dyeable.
+    pub(crate) fn dye_body(&self) -> Option<&[f32]> {
+        self.colour.as_ref().map(|c| c.body.as_slice())
+    }
 }
 
 impl Table {

@@ -33,7 +33,13 @@ pub fn table(name: &str) -> Arc<Table> {
 
 /// The mean (over channels and `n` points spread over `cells` × `cells` cells) of `f(s, v)` at
 /// points with footprint `footprint` (uv per pixel).
-pub fn area_mean(surface: &WovenSurface, (s, v): (Vec3, Vec3), cells: f64, n: usize, footprint: f64) -> f64 {
+pub fn area_mean(
+    surface: &WovenSurface,
+    (s, v): (Vec3, Vec3),
+    cells: f64,
+    n: usize,
+    footprint: f64,
+) -> f64 {
     let mut total = 0.0;
     for k in 0..n {
         let x = woven::yarn::point::golden_uniform(k as i64, 21);
@@ -58,7 +64,12 @@ fn explore_relief_identities() {
         let auto = surface(name, Detail::Auto, &t);
         let paper = surface(name, Detail::Cloth, &t);
         for _ in 0..6 {
-            let d = |rng: &mut Rng| Vec3::from_spherical(rng.uniform().sqrt().asin() * 0.98 + 0.0, rng.range(0.0, 6.283));
+            let d = |rng: &mut Rng| {
+                Vec3::from_spherical(
+                    rng.uniform().sqrt().asin() * 0.98 + 0.0,
+                    rng.range(0.0, 6.283),
+                )
+            };
             let (s, v) = (d(&mut rng), d(&mut rng));
             let f = area_mean(&fib, (s, v), 64.0, 40_000, 0.0);
             let y = area_mean(&auto, (s, v), 64.0, 40_000, 0.0);
@@ -85,14 +96,27 @@ fn explore_local() {
         let n = 4000;
         for k in 0..n {
             let dy = (k as f64 + 0.5) / n as f64 * (2.0 / 16.0) - 1.0 / 16.0;
-            let at = SurfacePoint { uv: [x0, y0 + dy], footprint: [[0.0; 2]; 2] };
+            let at = SurfacePoint {
+                uv: [x0, y0 + dy],
+                footprint: [[0.0; 2]; 2],
+            };
             let f = fib.at(&at).eval(s, v).0;
             fm += f[1] / n as f64;
         }
-        let at = SurfacePoint { uv: [x0, y0], footprint: [[0.0; 2]; 2] };
+        let at = SurfacePoint {
+            uv: [x0, y0],
+            footprint: [[0.0; 2]; 2],
+        };
         let y = auto.at(&at).eval(s, v).0[1];
         let mix = fib.at(&at).mix_seen_from(v);
-        println!("({x0},{y0}): fibres {fm:.4} yarn {y:.4} ({:+.1}%) lobes {:?}", 100.0 * (fm / y - 1.0), mix.lobes().iter().map(|l| (l.warp, l.tilt)).collect::<Vec<_>>());
+        println!(
+            "({x0},{y0}): fibres {fm:.4} yarn {y:.4} ({:+.1}%) lobes {:?}",
+            100.0 * (fm / y - 1.0),
+            mix.lobes()
+                .iter()
+                .map(|l| (l.warp, l.tilt))
+                .collect::<Vec<_>>()
+        );
     }
 }
 
@@ -109,22 +133,45 @@ fn explore_micro() {
     let n = 64;
     for k in 0..n {
         let dy = (k as f64 + 0.5) / n as f64 * (1.0 / 16.0);
-        let at = SurfacePoint { uv: [x0, y0 + dy], footprint: [[0.0; 2]; 2] };
+        let at = SurfacePoint {
+            uv: [x0, y0 + dy],
+            footprint: [[0.0; 2]; 2],
+        };
         let b = fib.at(&at);
         let f = b.eval(s, v).0[1];
         let mix = b.mix_seen_from(v);
         let l = mix.lobes()[0];
         if k % 8 == 0 {
-            println!("dy {dy:.4}: f {f:.4} across {:?} tilt {:?}", l.point.map(|p| (p.across, p.theta_a, p.phi)), l.tilt);
+            println!(
+                "dy {dy:.4}: f {f:.4} across {:?} tilt {:?}",
+                l.point.map(|p| (p.across, p.theta_a, p.phi)),
+                l.tilt
+            );
         }
     }
-    let at = SurfacePoint { uv: [x0, y0], footprint: [[0.0; 2]; 2] };
+    let at = SurfacePoint {
+        uv: [x0, y0],
+        footprint: [[0.0; 2]; 2],
+    };
     println!("yarn {:.4}", auto.at(&at).eval(s, v).0[1]);
     let model = crate::surface::exact_yarn(name);
-    let yarn = match model.structure() { woven::cloth::Structure::Woven { yarn, .. } => yarn, _ => panic!() };
+    let yarn = match model.structure() {
+        woven::cloth::Structure::Woven { yarn, .. } => yarn,
+        _ => panic!(),
+    };
     let theta_a = yarn.slopes().mean();
-    let m: f64 = (0..4000).map(|k| { let p = yarn.point_parts(s, v, 0.0, theta_a, (k as f64 + 0.5) / 4000.0); p[0] + p[1] * 0.3 }).sum::<f64>() / 4000.0;
-    println!("micro mean of parts (ρ0 0.3) {m:.4}; exact yarn {:.4}; profile {:?}", model.eval(s, v), yarn.profile_brdf(s, v, 0.0, theta_a));
+    let m: f64 = (0..4000)
+        .map(|k| {
+            let p = yarn.point_parts(s, v, 0.0, theta_a, (k as f64 + 0.5) / 4000.0);
+            p[0] + p[1] * 0.3
+        })
+        .sum::<f64>()
+        / 4000.0;
+    println!(
+        "micro mean of parts (ρ0 0.3) {m:.4}; exact yarn {:.4}; profile {:?}",
+        model.eval(s, v),
+        yarn.profile_brdf(s, v, 0.0, theta_a)
+    );
 }
 
 #[test]
@@ -133,8 +180,20 @@ fn explore_nodes() {
     let name = "satin-charmeuse";
     let t = table(name);
     let auto = surface(name, Detail::Auto, &t);
-    let node = |it: usize, ip: usize| Vec3::from_spherical(woven::surface::RATIO_THETA_DEG[it].to_radians(), 2.0 * std::f64::consts::PI * ip as f64 / 12.0);
-    for (a, b, c, d) in [(4, 0, 3, 6), (4, 3, 4, 9), (3, 1, 5, 7), (5, 2, 2, 8), (4, 0, 4, 6), (4, 6, 4, 0)] {
+    let node = |it: usize, ip: usize| {
+        Vec3::from_spherical(
+            woven::surface::RATIO_THETA_DEG[it].to_radians(),
+            2.0 * std::f64::consts::PI * ip as f64 / 12.0,
+        )
+    };
+    for (a, b, c, d) in [
+        (4, 0, 3, 6),
+        (4, 3, 4, 9),
+        (3, 1, 5, 7),
+        (5, 2, 2, 8),
+        (4, 0, 4, 6),
+        (4, 6, 4, 0),
+    ] {
         let (s, v) = (node(a, b), node(c, d));
         let y = area_mean(&auto, (s, v), 64.0, 160_000, 0.0);
         let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
@@ -143,7 +202,12 @@ fn explore_nodes() {
         let vm = Vec3::from_spherical(v.z.acos(), v.y.atan2(v.x) + half);
         let y2 = area_mean(&auto, (sm, vm), 64.0, 160_000, 0.0);
         let m2 = area_mean(&auto, (sm, vm), 64.0, 200, 1e6);
-        let r = |s: Vec3, v: Vec3| (auto.relief_ratio(false, s, v), auto.relief_ratio(true, s, v));
+        let r = |s: Vec3, v: Vec3| {
+            (
+                auto.relief_ratio(false, s, v),
+                auto.relief_ratio(true, s, v),
+            )
+        };
         println!("  R node {:?} shifted {:?}", r(s, v), r(sm, vm));
         println!("node s({a},{b}) v({c},{d}): yarns {y:.4} macro {m:.4} ({:+.1}%); between nodes: yarns {y2:.4} macro {m2:.4} ({:+.1}%)", 100.0 * (m / y - 1.0), 100.0 * (m2 / y2 - 1.0));
     }
@@ -161,7 +225,10 @@ fn explore_mirror() {
         let s = Vec3::from_spherical(th, f64::to_radians(ds));
         let y = area_mean(&auto, (s, v), 64.0, 160_000, 0.0);
         let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
-        let r = (auto.relief_ratio(false, s, v), auto.relief_ratio(true, s, v));
+        let r = (
+            auto.relief_ratio(false, s, v),
+            auto.relief_ratio(true, s, v),
+        );
         println!("φs {ds}: yarns {y:.4} macro {m:.4} R {:.3} {:.3}", r.0, r.1);
     }
 }
@@ -176,7 +243,11 @@ fn explore_mirror_weft_only() {
         spec: woven::material::PatternSpec::Matrix(vec![vec![1]]),
         pattern: woven::weave::Pattern::from_matrix(vec![vec![1]]).unwrap(),
     });
-    let spec = SurfaceSpec { detail: Detail::Auto, u_max: 0.0, ..SurfaceSpec::new(material) };
+    let spec = SurfaceSpec {
+        detail: Detail::Auto,
+        u_max: 0.0,
+        ..SurfaceSpec::new(material)
+    };
     let auto = WovenSurface::new(&spec, Arc::clone(&t)).unwrap();
     let th = 59f64.to_radians();
     let v = Vec3::from_spherical(th, 270f64.to_radians());
@@ -187,4 +258,63 @@ fn explore_mirror_weft_only() {
         let r = auto.relief_ratio(false, s, v);
         println!("weft-only φs {ds}: yarns {y:.4} macro {m:.4} R {r:.3}");
     }
+}
+
+/// A resolving surface's ratio table is stored in the folder it is prepared with, read back by
+/// the next surface of the same kind (the same values), and rebuilt, with a note, when the
+/// file is damaged.
+#[test]
+fn the_relief_ratio_is_kept_on_disk() {
+    let name = "belt-cloth";
+    let t = table(name);
+    let dir = std::env::temp_dir().join(format!("woven-ratio-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let notes = std::sync::Mutex::new(Vec::<String>::new());
+    let note = |m: &str| notes.lock().unwrap().push(m.to_string());
+    let first = surface(name, Detail::Auto, &t);
+    first.prepare(Some(&dir), &note);
+    let files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(files.len(), 1, "{files:?}");
+    assert!(files[0].extension().is_some_and(|e| e == "wrat"));
+    let pairs = [
+        (0.3, 0.2, 0.9, 2.5),
+        (1.1, 4.0, 0.4, 0.7),
+        (1.4, 1.0, 1.3, 4.4),
+    ];
+    let ratios = |s: &WovenSurface| {
+        pairs
+            .iter()
+            .map(|&(a, b, c, d)| {
+                let (wi, wo) = (Vec3::from_spherical(a, b), Vec3::from_spherical(c, d));
+                (s.relief_ratio(false, wi, wo), s.relief_ratio(true, wi, wo))
+            })
+            .collect::<Vec<_>>()
+    };
+    let second = surface(name, Detail::Auto, &t);
+    let started = std::time::Instant::now();
+    second.prepare(Some(&dir), &note);
+    let loaded = started.elapsed();
+    assert_eq!(ratios(&first), ratios(&second));
+    assert!(
+        notes.lock().unwrap().is_empty(),
+        "{:?}",
+        notes.lock().unwrap()
+    );
+    // Damaged: rebuilt (the same values), with a note saying why.
+    let mut bytes = std::fs::read(&files[0]).unwrap();
+    bytes[100] ^= 0xff;
+    std::fs::write(&files[0], bytes).unwrap();
+    let third = surface(name, Detail::Auto, &t);
+    third.prepare(Some(&dir), &note);
+    assert_eq!(ratios(&first), ratios(&third));
+    let notes = notes.lock().unwrap();
+    assert!(
+        notes.len() == 1 && notes[0].contains("checksum"),
+        "{notes:?}"
+    );
+    eprintln!("ratio read back in {:.3} s", loaded.as_secs_f64());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
