@@ -85,7 +85,20 @@ impl TableCache {
         if let Some(t) = self.tables.get(&key) {
             return Ok(Arc::clone(t));
         }
+        // A crowned table is its yarn's table averaged over the crown.
+        let base = if options.crown_deg > 0.0 {
+            let plain = TableOptions {
+                crown_deg: 0.0,
+                ..*options
+            };
+            Some(self.table(material, &plain, on_build, progress)?)
+        } else {
+            None
+        };
         let build = || -> woven::Result<Table> {
+            if let Some(base) = &base {
+                return base.crowned_with(options);
+            }
             let model: Model = material.build(WAVELENGTH_NM)?;
             Table::build(&model, material, options, progress)
         };
@@ -142,7 +155,16 @@ impl WovenMaterial {
             TableGrid::Custom(o) => TableOptions { colour: true, ..*o },
         };
         let yarn = cache.table(&yarn_material, &options, &|_| on_build(), progress)?;
-        let surface = WovenSurface::new(spec, yarn)?;
+        let mut surface = WovenSurface::new(spec, yarn)?;
+        if surface.resolves_relief() {
+            // The resolved yarn: the same table averaged over its crown, cached like it.
+            let crowned = TableOptions {
+                crown_deg: woven::relief::CROWN_DEG,
+                ..options
+            };
+            let crowned = cache.table(&yarn_material, &crowned, &|_| on_build(), progress)?;
+            surface = surface.with_crowned(crowned)?;
+        }
         // The resolved levels' tables (a crowned yarn, the relief's ratio, kept on disk).
         let note = |m: &str| {
             if let Some(note) = &cache.note {

@@ -72,7 +72,7 @@ use crate::fiber::Normalization;
 use crate::material::{Material, Weave};
 use crate::math::sampling::cosine_hemisphere;
 use crate::relief::{Ground, Lean, Relief};
-use crate::table::{Albedos, Table};
+use crate::table::{Albedos, Table, TableOptions};
 use crate::weave::{CellPoint, FloatPlace, Pattern};
 use crate::yarn::float::FloatProfile;
 use crate::yarn::point::{golden_uniform, hash_uniform, YarnDraws};
@@ -924,10 +924,44 @@ impl WovenSurface {
         });
     }
 
+    /// Whether the surface resolves its weave's relief (`detail` `"fibers"` or `"auto"` on a
+    /// pattern): then it reads a crowned yarn table ([`with_crowned`](Self::with_crowned)) and
+    /// the relief's ratio ([`prepare`](Self::prepare)).
+    pub fn resolves_relief(&self) -> bool {
+        self.relief.is_some()
+    }
+
+    /// This surface with `crowned` as its crowned yarn table, the yarn's table built with
+    /// [`TableOptions::crown_deg`] = [`CROWN_DEG`](crate::relief::CROWN_DEG) (a renderer keeps it
+    /// in its table cache; without it, the surface builds it from the yarn's table on first use).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `crowned` for a table of another crown.
+    pub fn with_crowned(self, crowned: Arc<Table>) -> Result<WovenSurface> {
+        if crowned.crown_deg() != crate::relief::CROWN_DEG {
+            return Err(Error::InvalidParameter {
+                name: "crowned".into(),
+                value: format!("a table crowned at {}°", crowned.crown_deg()),
+                expected: format!("a table crowned at {}°", crate::relief::CROWN_DEG),
+            });
+        }
+        let _ = self.crowned.set(crowned);
+        Ok(self)
+    }
+
     /// The yarn's table averaged over its crown (built on first use).
     fn crowned(&self) -> &Table {
-        self.crowned
-            .get_or_init(|| Arc::new(self.yarn.crowned(crate::relief::CROWN_DEG.to_radians())))
+        self.crowned.get_or_init(|| {
+            // On the yarn table's grid (an isotropic yarn's: the renderer's azimuths).
+            let (n_theta, n_phi, n_h) = self.yarn.dims();
+            let options = TableOptions {
+                n_theta,
+                n_phi: if n_phi > 1 { n_phi } else { crate::table::N_PHI_RENDER },
+                n_h,
+                ..TableOptions::default()
+            };
+            Arc::new(self.yarn.crowned(crate::relief::CROWN_DEG, &options))
+        })
     }
 
     /// The relief's ratio `R_F(s, v)` for the family `warp` (the module `ratio`'s table, built

@@ -61,7 +61,7 @@ fn key(surface: &WovenSurface) -> String {
     for x in table.values() {
         eat(&x.to_le_bytes());
     }
-    for x in table.dye_body().unwrap_or_default() {
+    for x in table.body_values().unwrap_or_default() {
         eat(&x.to_le_bytes());
     }
     let pattern = surface.pattern().expect("a relief lies on a pattern");

@@ -70,7 +70,7 @@ impl Table {
             (values, None)
         };
         // The sampler is built as the table is assembled, on the same pool.
-        Ok(pool.install(|| {
+        let table = pool.install(|| {
             Table::assemble(
                 symmetry,
                 theta,
@@ -83,7 +83,11 @@ impl Table {
                 colour,
                 options.exact_regions.then_some(model),
             )
-        }))
+        });
+        if options.crown_deg > 0.0 {
+            return Ok(pool.install(|| table.crowned(options.crown_deg, options)));
+        }
+        Ok(table)
     }
 }
 

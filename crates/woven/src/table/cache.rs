@@ -258,6 +258,13 @@ fn mismatch(
             table.wavelength_nm()
         ));
     }
+    if table.crown_deg() != options.crown_deg {
+        return Some(format!(
+            "it is crowned at {}°, not {}°",
+            table.crown_deg(),
+            options.crown_deg
+        ));
+    }
     let grid = grid_of(table.symmetry(), options);
     if table.dims() != grid
         || (table.theta_max_deg() - options.theta_max_deg).abs() > 1e-9

@@ -44,7 +44,7 @@ impl Table {
     /// The table serialized in the `.wtab` format.
     pub fn to_bytes(&self) -> Vec<u8> {
         let header = format!(
-            "symmetry = \"{}\"\nn_theta = {}\ntheta_max = {:?}\nn_phi = {}\nn_h = {}\nwavelength_nm = {:?}\nparts = {}\nexact_regions = {}\nmaterial = {}\n",
+            "symmetry = \"{}\"\nn_theta = {}\ntheta_max = {:?}\nn_phi = {}\nn_h = {}\nwavelength_nm = {:?}\nparts = {}\nexact_regions = {}\ncrown_deg = {:?}\nmaterial = {}\n",
             match self.symmetry {
                 Symmetry::Isotropic => "isotropic",
                 Symmetry::Mirror => "mirror",
@@ -54,8 +54,13 @@ impl Table {
             self.phi.n,
             self.t.n,
             self.wavelength_nm,
-            if self.colour.is_some() { 2 } else { 1 },
+            match (&self.colour, self.crown_values()) {
+                (None, _) => 1,
+                (Some(_), None) => 2,
+                (Some(_), Some(_)) => 3,
+            },
             self.exact.is_some(),
+            self.crown_deg,
             toml_string(
                 &self
                     .material()
@@ -68,8 +73,10 @@ impl Table {
         out.extend_from_slice(&(header.len() as u32).to_le_bytes());
         out.extend_from_slice(header.as_bytes());
         let body = self.body_values().unwrap_or(&[]);
-        out.extend_from_slice(&((self.values.len() + body.len()) as u64).to_le_bytes());
-        for v in self.values.iter().chain(body) {
+        let crown = self.crown_values().unwrap_or(&[]);
+        let count = self.values.len() + body.len() + crown.len();
+        out.extend_from_slice(&(count as u64).to_le_bytes());
+        for v in self.values.iter().chain(body).chain(crown) {
             out.extend_from_slice(&v.to_le_bytes());
         }
         let cells = self.sampler.cell_pdf();
@@ -82,26 +89,11 @@ impl Table {
         out
     }
 
-    /// Refuses a crowned table ([`Table::crowned`]): its interreflection term is a node array no
-    /// file holds.
-    fn check_saveable(&self) -> Result<()> {
-        if self.colour.as_ref().is_some_and(|c| c.crown.is_some()) {
-            return Err(Error::invalid(
-                "table",
-                "a crowned table",
-                "a table built from a material (crowned tables are for rendering only)",
-            ));
-        }
-        Ok(())
-    }
-
     /// Writes the table to `w`.
     ///
     /// # Errors
-    /// [`Error::Io`] if writing fails; [`Error::InvalidParameter`] for a crowned table
-    /// ([`Table::crowned`]), which no file holds.
+    /// [`Error::Io`] if writing fails.
     pub fn write(&self, mut w: impl Write, origin: &Path) -> Result<()> {
-        self.check_saveable()?;
         w.write_all(&self.to_bytes()).map_err(|source| Error::Io {
             path: origin.to_path_buf(),
             source,
@@ -114,7 +106,6 @@ impl Table {
     /// # Errors
     /// [`Error::Io`] if the folder is not writable or the disk is full.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
-        self.check_saveable()?;
         crate::fsutil::atomic_write(path.as_ref(), |w| w.write_all(&self.to_bytes()))
     }
 
@@ -192,6 +183,7 @@ impl Table {
             wavelength_nm,
             parts,
             exact_regions,
+            crown_deg,
         } = header;
         let cell_pdf: Vec<f32> = bytes[values_end + 8..payload_end]
             .chunks_exact(4)
@@ -209,7 +201,8 @@ impl Table {
             .chunks_exact(4)
             .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
             .collect();
-        let body = values.split_off(values.len() / parts);
+        let mut body = values.split_off(values.len() / parts);
+        let crown = (parts == 3).then(|| body.split_off(body.len() / 2));
         if values.iter().any(|v| !v.is_finite()) {
             return Err(err("non-finite values"));
         }
@@ -219,13 +212,16 @@ impl Table {
             .unwrap_or("");
         let material = crate::material::Material::from_toml_str(text, origin)
             .map_err(|e| err(&format!("its recorded material does not parse: {e}")))?;
-        let colour = (parts == 2).then(|| super::Colour::new(&material, body));
+        let colour = (parts >= 2).then(|| super::Colour {
+            crown,
+            ..super::Colour::new(&material, body)
+        });
         // Single-orientation yarns keep the exact model for near-forward pairs
         // (`FORWARD_EXACT`); the material was checked as it parsed, so it builds.
         let model = material
             .build(wavelength_nm)
             .map_err(|e| err(&format!("its recorded material does not build: {e}")))?;
-        let table = Table::assemble(
+        let mut table = Table::assemble(
             symmetry,
             Axis {
                 lo: 0.0,
@@ -245,6 +241,7 @@ impl Table {
             colour,
             exact_regions.then_some(&model),
         );
+        table.crown_deg = crown_deg;
         Ok(table)
     }
 
@@ -331,6 +328,7 @@ struct Header {
     wavelength_nm: f64,
     parts: usize,
     exact_regions: bool,
+    crown_deg: f64,
 }
 
 /// The wavelengths a table may hold, nm: those a fiber can be prepared at (`Fiber::new`).
@@ -393,8 +391,16 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
     // Absent in version 2: `f` only.
     let parts = match header.get("parts") {
         None => 1,
-        Some(_) => int("parts", 1, 2)?,
+        Some(_) => int("parts", 1, 3)?,
     };
+    // Absent before crowned tables: none.
+    let crown_deg = match header.get("crown_deg") {
+        None => 0.0,
+        Some(_) => float("crown_deg", 0.0, super::options::MAX_CROWN_DEG)?,
+    };
+    if parts == 3 && crown_deg == 0.0 {
+        return Err("header key `parts` = 3 (a crown's interreflection factor) without a `crown_deg`".into());
+    }
     // Absent before it was an option: kept (a single-orientation yarn's table then keeps it).
     let exact_regions = match header.get("exact_regions") {
         None => true,
@@ -435,6 +441,7 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
         wavelength_nm,
         parts,
         exact_regions,
+        crown_deg,
     })
 }
 

@@ -163,6 +163,8 @@ pub struct Table {
     sampler: Sampler,
     /// The parts for other albedos ([`Table::eval_dyed`]), when built with them.
     colour: Option<Colour>,
+    /// The crown's half-angle the yarn was averaged over, degrees ([`Table::crowned`]); 0: none.
+    crown_deg: f64,
     /// The exact model, for the near-forward pairs of single-orientation yarns
     /// ([`FORWARD_EXACT`]).
     exact: Option<Exact>,
@@ -292,13 +294,6 @@ pub struct Provenance {
 }
 
 impl Table {
-    /// `∂f/∂ρ0` at every node, when the table is dyeable.
-    pub(crate) fn dye_body(&self) -> Option<&[f32]> {
-        self.colour.as_ref().map(|c| c.body.as_slice())
-    }
-}
-
-impl Table {
     /// A table from its grid and values, keeping `exact` for the pairs no grid holds
     /// ([`FORWARD_EXACT`], [`GRAZING_HALF_EXACT`]) when it is a single-orientation yarn's; the sampler is rebuilt from the
     /// values (the exact ones where the table answers with them), or from stored per-cell
@@ -339,6 +334,7 @@ impl Table {
             wavelength_nm,
             sampler: Sampler::default(),
             colour,
+            crown_deg: 0.0,
             exact: exact.and_then(Exact::of),
         };
         table.sampler = match cell_pdf {
@@ -396,6 +392,17 @@ impl Table {
     /// [`is_dyeable`](Self::is_dyeable).
     pub fn body_values(&self) -> Option<&[f32]> {
         self.colour.as_ref().map(|c| c.body.as_slice())
+    }
+
+    /// The crown's half-angle, degrees, that the table's yarn is averaged over
+    /// ([`TableOptions::crown_deg`]); 0 for a yarn as the paper has it.
+    pub fn crown_deg(&self) -> f64 {
+        self.crown_deg
+    }
+
+    /// A crowned table's `∂f/∂ρ` factor at every node ([`Table::crowned`]), when it is dyeable.
+    pub(crate) fn crown_values(&self) -> Option<&[f32]> {
+        self.colour.as_ref().and_then(|c| c.crown.as_deref())
     }
 
     /// The exact model for `(s, v)` when the pair is near forward scattering or its half vector

@@ -31,7 +31,14 @@ pub struct TableOptions {
     /// table interpolates everywhere: some 2 % of uniform pairs, each an exact evaluation
     /// (~25 µs for the sateen) instead of a look-up, which a renderer's tables skip.
     pub exact_regions: bool,
+    /// Average the yarn over a round crown of this half-angle, degrees, in
+    /// `[0, MAX_CROWN_DEG]`: the resolved yarn of a woven relief ([`Table::crowned`](super::Table::crowned),
+    /// docs/model.md §8). 0 (the default): the yarn as the paper has it.
+    pub crown_deg: f64,
 }
+
+/// The largest [`TableOptions::crown_deg`].
+pub const MAX_CROWN_DEG: f64 = 60.0;
 
 impl Default for TableOptions {
     fn default() -> Self {
@@ -45,6 +52,7 @@ impl Default for TableOptions {
             threads: 0,
             colour: false,
             exact_regions: true,
+            crown_deg: 0.0,
         }
     }
 }
@@ -144,6 +152,7 @@ impl TableOptions {
         int("n_h_isotropic", self.n_h_isotropic, 3, 4097)?;
         int("azimuth_nodes", self.azimuth_nodes, 8, 100_000)?;
         crate::error::check_range("theta_max_deg", self.theta_max_deg, 1.0, 89.9)?;
+        crate::error::check_range("crown_deg", self.crown_deg, 0.0, MAX_CROWN_DEG)?;
         Ok(())
     }
 }
@@ -154,6 +163,12 @@ pub const MAX_VALUES: u64 = 1 << 28;
 
 /// The grid `(n_theta, n_phi, n_h)` a table of `symmetry` has with `options`.
 pub fn grid_of(symmetry: Symmetry, options: &TableOptions) -> (usize, usize, usize) {
+    // A crown breaks isotropy: a crowned table has the mirror grid.
+    let symmetry = if options.crown_deg > 0.0 {
+        Symmetry::Mirror
+    } else {
+        symmetry
+    };
     match symmetry {
         Symmetry::Isotropic => (options.n_theta, 1, options.n_h_isotropic),
         Symmetry::Mirror => (options.n_theta, options.n_phi, options.n_h),
@@ -164,7 +179,11 @@ pub fn grid_of(symmetry: Symmetry, options: &TableOptions) -> (usize, usize, usi
 /// twice that with [`colour`](TableOptions::colour).
 pub fn value_count(symmetry: Symmetry, options: &TableOptions) -> u64 {
     let (n_theta, n_phi, n_h) = grid_of(symmetry, options);
-    let parts = if options.colour { 2 } else { 1 };
+    let parts = match (options.colour, options.crown_deg > 0.0) {
+        (false, _) => 1,
+        (true, false) => 2,
+        (true, true) => 3,
+    };
     parts * 2 * (n_theta * n_phi) as u64 * (n_h * n_h) as u64
 }
 
