@@ -29,6 +29,10 @@ pub const BISECTIONS: usize = 24;
 /// is).
 pub const MAX_STEPS: usize = 4096;
 
+/// How a horizon's steps grow with the distance from its point, beyond [`STEP`] cells: each
+/// this share of the distance already gone.
+pub const HORIZON_GROWTH: f64 = 1.0 / 32.0;
+
 /// What lies at a place of the relief.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Ground {
@@ -349,8 +353,11 @@ impl Relief {
         }
         let (s, c) = phi.sin_cos();
         let step = self.step(Vec3::new(c, s, 0.0));
-        for i in 1..=MAX_STEPS {
-            let r = i as f64 * step;
+        let mut r = 0.0;
+        for _ in 0..MAX_STEPS {
+            // Steps of STEP cells near the point, beyond a cell a fixed share of the distance
+            // ([`HORIZON_GROWTH`]): a distant rise subtends less, and is sampled as coarsely.
+            r += step.max(r * HORIZON_GROWTH);
             // Nothing farther can stand higher than the crests.
             if -z / r <= best {
                 break;
@@ -556,6 +563,47 @@ mod tests {
             }
         }
         assert!(lit > 50 && shadowed > 50, "{lit} lit, {shadowed} shadowed");
+    }
+
+    /// A horizon tells what [`Relief::sees`] would for every elevation of its azimuth: above
+    /// it the way is clear, below it blocked (except within 5 % of its slope).
+    #[test]
+    fn a_horizon_is_where_the_way_out_is_blocked() {
+        let r = relief("twill-2/1", 30.0, 0.1);
+        let (mut clear, mut blocked) = (0, 0);
+        for k in 0..300 {
+            let (x, y) = (0.37 + 0.173 * k as f64, 0.11 + 0.291 * k as f64);
+            let p = r.hit(x, y, dir(35.0, 13.0 * k as f64));
+            let phi = (31.0 * k as f64).to_radians();
+            let h = r.horizon(p.place(), phi);
+            for e in [2.0, 5.0, 10.0, 20.0, 35.0, 60.0] {
+                let slope = f64::to_radians(e).tan();
+                // A wall's top is found to within a step, so the horizon's slope to within a
+                // step over the distance (a few per cent at a few cells).
+                if (slope - h).abs() <= 0.05 * slope {
+                    continue;
+                }
+                let d = Vec3::new(
+                    phi.cos() * e.to_radians().cos(),
+                    phi.sin() * e.to_radians().cos(),
+                    e.to_radians().sin(),
+                );
+                assert_eq!(
+                    r.sees(p.place(), d),
+                    slope > h,
+                    "{k}: elevation {e}°, horizon slope {h}"
+                );
+                if slope > h {
+                    clear += 1
+                } else {
+                    blocked += 1
+                }
+            }
+        }
+        assert!(
+            clear > 100 && blocked > 100,
+            "{clear} clear, {blocked} blocked"
+        );
     }
 
     /// The share of the weft among `n × n` entries of one repeat seen from `v`.

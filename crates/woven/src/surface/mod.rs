@@ -956,7 +956,11 @@ impl WovenSurface {
             let (n_theta, n_phi, n_h) = self.yarn.dims();
             let options = TableOptions {
                 n_theta,
-                n_phi: if n_phi > 1 { n_phi } else { crate::table::N_PHI_RENDER },
+                n_phi: if n_phi > 1 {
+                    n_phi
+                } else {
+                    crate::table::N_PHI_RENDER
+                },
                 n_h,
                 ..TableOptions::default()
             };

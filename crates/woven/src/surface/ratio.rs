@@ -155,9 +155,14 @@ impl ReliefRatio {
         paper.resolve_from(0);
         let relief = surface.relief.as_ref().expect("a ratio needs a relief");
         // Per view node, every light node's pair of ratios.
-        let columns: Vec<Vec<[f32; 2]>> = (0..NODES)
+        // The view nodes straight up (the first PHI) are one direction: its column is built once
+        // (below, each is the first turned by its azimuth).
+        let mut columns: Vec<Vec<[f32; 2]>> = (0..NODES)
             .into_par_iter()
             .map(|j| {
+                if (1..PHI).contains(&j) {
+                    return Vec::new();
+                }
                 let v = node(j);
                 // Each entry's relief point, and its horizon toward every azimuth node: a light
                 // node is lit where it stands above it.
@@ -206,6 +211,12 @@ impl ReliefRatio {
                     .collect()
             })
             .collect();
+        for j in 1..PHI {
+            // Light node (a, k) relative to azimuth j is node (a, k + j) relative to azimuth 0.
+            columns[j] = (0..NODES)
+                .map(|i| columns[0][i - i % PHI + (i % PHI + j) % PHI])
+                .collect();
+        }
         let values = [0, 1].map(|k| {
             let mut v = vec![0.0f32; NODES * NODES];
             for (j, column) in columns.iter().enumerate() {
