@@ -157,6 +157,7 @@ impl Table {
             colour: colour.unwrap_or(base.colour),
             threads,
             exact_regions: base.exact_regions,
+            crown_deg: 0.0,
         };
         let reporter = Reporter::new(progress)?;
         let table = py

@@ -987,6 +987,7 @@ impl WovenSurface {
             surface: self,
             entry,
             mix,
+            seen: std::sync::OnceLock::new(),
             weft: self.weft,
             warp: self.warp,
         }
@@ -1407,13 +1408,15 @@ struct Entry {
 }
 
 /// A woven surface's BSDF at one point: its mixture of lobes.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct PointBsdf<'a> {
     surface: &'a WovenSurface,
     /// On a relief, where the viewer's ray enters it: the lobes it meets depend on the view.
     entry: Option<Entry>,
     /// The lobes that do not depend on the view.
     mix: LobeMix,
+    /// The first view's lobes on a relief ([`mix_seen_from`](Self::mix_seen_from)).
+    seen: std::sync::OnceLock<(Vec3, LobeMix)>,
     weft: [Albedos; 3],
     warp: [Albedos; 3],
 }
@@ -1428,10 +1431,19 @@ impl PointBsdf<'_> {
     /// it): on a relief, the yarn that the ray toward `view` meets first.
     #[inline]
     pub fn mix_seen_from(&self, view: Vec3) -> LobeMix {
-        match &self.entry {
-            Some(e) => self.surface.with_relief(self.mix, e, view),
-            None => self.mix,
+        let Some(e) = &self.entry else {
+            return self.mix;
+        };
+        // A renderer asks for the same view several times at a vertex (eval, sample, pdf): the
+        // first view's march is kept.
+        if let Some((seen, mix)) = self.seen.get() {
+            if *seen == view {
+                return *mix;
+            }
         }
+        let mix = self.surface.with_relief(self.mix, e, view);
+        let _ = self.seen.set((view, mix));
+        mix
     }
 
     /// The same point with other dyes where given (a textured colour, read at the point), each

@@ -314,9 +314,14 @@ impl ReliefRatio {
     #[inline]
     pub(super) fn at(&self, warp: bool, s: Vec3, v: Vec3) -> f64 {
         let table = &self.values[usize::from(warp)];
+        // The light's nodes once: turning it back by a view node's azimuth shifts its azimuth
+        // index by that node's.
+        let light = corners(s);
         let mut r = 0.0;
         for (j, wj) in corners(v) {
-            for (i, wi) in corners(turned(s, -azimuth(j))) {
+            let back = PHI - j % PHI;
+            for &(i, wi) in &light {
+                let i = i - i % PHI + (i % PHI + back) % PHI;
                 r += wi * wj * f64::from(table[i * NODES + j]);
             }
         }
