@@ -968,6 +968,16 @@ impl WovenSurface {
         })
     }
 
+    /// Both families' relief ratios `[R_weft, R_warp]` at `(s, v)` ([`relief_ratio`](Self::relief_ratio)).
+    fn relief_ratios(&self, s: Vec3, v: Vec3) -> [f64; 2] {
+        if self.relief.is_none() {
+            return [1.0; 2];
+        }
+        self.ratio
+            .get_or_init(|| Arc::new(ReliefRatio::build(self)))
+            .pair(s, v)
+    }
+
     /// The relief's ratio `R_F(s, v)` for the family `warp` (the module `ratio`'s table, built
     /// on first use): what scales the macro lobes of a resolving surface. 1 without a relief.
     pub fn relief_ratio(&self, warp: bool, s: Vec3, v: Vec3) -> f64 {
@@ -1123,14 +1133,21 @@ impl WovenSurface {
     /// fibre level the same holds for the point's BRDF, whose profile lies in the tilted frame
     /// (the tilt turns the yarn about its cross axis; the profile runs across it).
     #[inline]
-    fn lobe_eval(&self, lobe: &Lobe, albedos: &[Albedos; 3], wi: Vec3, wo: Vec3) -> Rgb {
+    fn lobe_eval(
+        &self,
+        lobe: &Lobe,
+        albedos: &[Albedos; 3],
+        wi: Vec3,
+        wo: Vec3,
+        ratio: Option<f64>,
+    ) -> Rgb {
         if let (Tilt::Relief { at, .. }, Some(relief)) = (lobe.tilt, &self.relief) {
             if !relief.sees(at, wi) {
                 return Rgb::BLACK;
             }
         }
-        if lobe.resolved {
-            return self.lobe_value(lobe, albedos, wi, wo) * self.relief_ratio(lobe.warp, wi, wo);
+        if let Some(ratio) = ratio {
+            return self.lobe_value(lobe, albedos, wi, wo) * ratio;
         }
         self.lobe_value(lobe, albedos, wi, wo)
     }
@@ -1496,9 +1513,15 @@ impl Bsdf for PointBsdf<'_> {
                 .map(|a| affine.at(a.diffuse, a.interreflection).max(0.0)));
         }
         let mut f = Rgb::BLACK;
+        // Both families' relief ratios in one read, when a resolved macro lobe needs them.
+        let mut ratios = None;
         for l in self.mix_seen_from(wo).lobes() {
             let albedos = if l.warp { &self.warp } else { &self.weft };
-            f += self.surface.lobe_eval(l, albedos, wi, wo) * l.weight;
+            let ratio = l.resolved.then(|| {
+                ratios.get_or_insert_with(|| self.surface.relief_ratios(wi, wo))
+                    [usize::from(l.warp)]
+            });
+            f += self.surface.lobe_eval(l, albedos, wi, wo, ratio) * l.weight;
         }
         f
     }

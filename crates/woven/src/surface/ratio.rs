@@ -313,16 +313,23 @@ impl ReliefRatio {
     /// `R_F(s, v)` for the family `warp`, interpolated.
     #[inline]
     pub(super) fn at(&self, warp: bool, s: Vec3, v: Vec3) -> f64 {
-        let table = &self.values[usize::from(warp)];
+        self.pair(s, v)[usize::from(warp)]
+    }
+
+    /// `[R_weft, R_warp]` at `(s, v)`, interpolated (one location of the nodes for both).
+    #[inline]
+    pub(super) fn pair(&self, s: Vec3, v: Vec3) -> [f64; 2] {
         // The light's nodes once: turning it back by a view node's azimuth shifts its azimuth
         // index by that node's.
         let light = corners(s);
-        let mut r = 0.0;
+        let mut r = [0.0; 2];
         for (j, wj) in corners(v) {
             let back = PHI - j % PHI;
             for &(i, wi) in &light {
-                let i = i - i % PHI + (i % PHI + back) % PHI;
-                r += wi * wj * f64::from(table[i * NODES + j]);
+                let k = (i - i % PHI + (i % PHI + back) % PHI) * NODES + j;
+                for (r, table) in r.iter_mut().zip(&self.values) {
+                    *r += wi * wj * f64::from(table[k]);
+                }
             }
         }
         r
