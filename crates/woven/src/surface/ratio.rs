@@ -33,7 +33,7 @@ pub const THETA_DEG: [f64; 9] = [0.0, 20.0, 35.0, 48.0, 59.0, 68.0, 76.0, 82.0, 
 pub const PHI: usize = 24;
 
 /// Entries of a repeat averaged at each node: at least this many, and at least 9 per cell.
-pub const ENTRIES: usize = 576;
+pub const ENTRIES: usize = 256;
 
 /// The largest ratio kept (where the paper's lobes are all but black and the relief is not).
 pub const MAX_RATIO: f64 = 8.0;
@@ -133,7 +133,7 @@ impl ReliefRatio {
     pub(super) fn build(surface: &WovenSurface) -> ReliefRatio {
         let pattern = surface.pattern().expect("a relief lies on a pattern");
         let (cols, rows) = (pattern.cols(), pattern.rows());
-        let per_side = ((ENTRIES as f64 / (cols * rows) as f64).sqrt().ceil() as usize).max(3);
+        let per_side = ((ENTRIES as f64 / (cols * rows) as f64).sqrt().ceil() as usize).max(2);
         let n = per_side * per_side * cols * rows;
         // Stratified over each cell, jittered by golden-ratio points.
         let entries: Vec<Entry> = (0..n)
