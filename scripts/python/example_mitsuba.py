@@ -3,22 +3,18 @@
 
     python scripts/python/example_mitsuba.py -o docs/img/python-mitsuba.png
 
-The scene is `woven render`'s built-in showcase (crates/woven-render/scenes/showcase.toml),
-rebuilt for Mitsuba: the same draped meshes (their uv in metres along weft and warp), the same
-presets, dyes and thread counts, read by the `woven` BSDF plugin (the satin's and the shot
-silk's floats tilt linearly: the JIT variants do not trace shaped floats yet):
-
-- a satin charmeuse (0.125 mm threads, wine red) thrown over a stool;
-- a linen tablecloth (0.5 mm threads, oatmeal) on a round table;
-- two cushions: shot silk (0.2 mm threads, its own green weft on an orange-red warp) and a
-  denim 3/1 twill (an indigo warp over a white weft, tilted floats and gaps).
+The scene is read from `woven render`'s built-in showcase (crates/woven-render/scenes/
+showcase.toml), its one home: its camera, its shapes (the same draped meshes, their uv in metres
+along weft and warp), and its materials (the same presets, dyes and thread counts, read by the
+`woven` BSDF plugin). A preset with shaped floats (the satin charmeuse, the shot silk) is laid
+with linear floats at its own tilt: the JIT variants do not trace shaped floats yet.
 
 The threads are far below a pixel, so each cloth shows its macro BRDF (`detail = "cloth"`: the
 plugin's JIT variants shade a pixel with the yarn its sample lands on, and Mitsuba's stock
-`path` integrator gives no footprint to filter it by). The light is a directional sun 25° up on
-the camera's right with a sky gradient (an environment map written here): the showcase's sun
-and sky, approximately. Mitsuba's `path` integrator in `llvm_ad_rgb`; the PNG is Mitsuba's sRGB
-(clipped), `--exr` writes the linear image too.
+`path` integrator gives no footprint to filter it by). The light is a directional sun where the
+showcase's sky puts it, with a sky gradient (an environment map written here): the showcase's
+sun and sky, approximately. Mitsuba's `path` integrator in `llvm_ad_rgb`; the PNG is Mitsuba's
+sRGB (clipped), `--exr` writes the linear image too.
 """
 
 from __future__ import annotations
@@ -27,16 +23,17 @@ import argparse
 import math
 import tempfile
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 MESHES = REPO / "crates" / "woven-render" / "scenes" / "meshes"
+SHOWCASE = REPO / "crates" / "woven-render" / "scenes" / "showcase.toml"
 
-# The sun: 25° above the horizon, at azimuth −60° from +x (z up): low, on the camera's right.
-SUN_ELEVATION_DEG = 25.0
-SUN_AZIMUTH_DEG = -60.0
+# The sun's irradiance, chosen by eye to expose like the showcase (Mitsuba has no Preetham sky).
+SUN_IRRADIANCE = [2.6, 2.4, 2.1]
 
 
 def sky(path: Path, width=256, height=128):
@@ -54,43 +51,66 @@ def sky(path: Path, width=256, height=128):
     mi.Bitmap(image.astype(np.float32)).write(str(path))
 
 
-def woven(material: str, yarns: str, **keys) -> dict:
-    """A `woven` BSDF of `material` at `yarns` per metre, as its macro BRDF."""
-    bsdf = {"type": "woven", "material": material, "yarns_per_unit": yarns, "detail": "cloth"}
-    for key, value in keys.items():
-        bsdf[key] = {"type": "rgb", "value": value} if key.endswith("_color") else value
+def woven_bsdf(material: dict, tmp: Path) -> dict:
+    """The plugin's `woven` BSDF for a showcase material table, as its macro BRDF. A preset whose
+    floats are shaped (crest and flanks, which the JIT variants do not trace yet) is written to a
+    material file with linear floats at its own `u_max_deg`."""
+    import woven
+
+    name = material["material"]
+    preset = woven.Material.preset(name)
+    yarn = preset.to_dict().get("yarn", {})
+    if yarn.get("float_crest") or yarn.get("float_flank"):
+        path = tmp / f"{name}.toml"
+        path.write_text(preset.replace({"yarn.float_crest": None, "yarn.float_flank": None}).to_toml())
+        name = str(path)
+    bsdf = {
+        "type": "woven",
+        "material": name,
+        "yarns_per_unit": ", ".join(str(n) for n in material["yarns_per_unit"]),
+        "detail": "cloth",
+    }
+    for key in ("weft_color", "warp_color"):
+        if key in material:
+            bsdf[key] = {"type": "rgb", "value": material[key]}
+    for key in ("pattern", "u_max_deg", "gap"):
+        if key in material:
+            bsdf[key] = material[key]
     return bsdf
 
 
-def linear_floats(preset: str, tmp: Path) -> str:
-    """A material file of `preset` whose floats tilt linearly (its `u_max_deg`, without the
-    crest and flanks of its shaped floats, which the JIT variants do not trace yet)."""
-    import woven
+def rectangle_to_world(shape: dict):
+    """Mitsuba's rectangle ([-1, 1]² in x, y, normal +z) onto a showcase rectangle (a corner and
+    two edges, normal along edge_u × edge_v)."""
+    import mitsuba as mi
 
-    material = woven.Material.preset(preset)
-    material = material.replace({"yarn.float_crest": None, "yarn.float_flank": None})
-    path = tmp / f"{preset}.toml"
-    path.write_text(material.to_toml())
-    return str(path)
+    corner, u, v = (np.array(shape[k], dtype=float) for k in ("corner", "edge_u", "edge_v"))
+    n = np.cross(u, v)
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2] = u / 2, v / 2, n / np.linalg.norm(n)
+    m[:3, 3] = corner + (u + v) / 2
+    return mi.ScalarTransform4f(m.tolist())
 
 
 def scene_dict(env: Path, tmp: Path, width: int, height: int) -> dict:
+    """The showcase (SHOWCASE) as a Mitsuba scene dict, at `width` × `height`, lit by `env` (the
+    sky without its sun) and a directional sun where the showcase's sky puts it."""
     import mitsuba as mi
 
+    showcase = tomllib.loads(SHOWCASE.read_text())
+    camera, sky_light = showcase["camera"], showcase["light"][0]
+    materials = showcase["material"]
     T = mi.ScalarTransform4f
-    diffuse = lambda rgb: {"type": "diffuse", "reflectance": {"type": "rgb", "value": rgb}}
-    mesh = lambda name, bsdf: {"type": "obj", "filename": str(MESHES / f"{name}.obj"), "bsdf": bsdf}
-    rectangle = lambda to_world, bsdf: {"type": "rectangle", "to_world": to_world, "bsdf": bsdf}
-    el, az = math.radians(SUN_ELEVATION_DEG), math.radians(SUN_AZIMUTH_DEG)
+    el, az = (math.radians(sky_light[k]) for k in ("sun_elevation_deg", "sun_azimuth_deg"))
     toward_sun = [math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)]
-    return {
+    scene = {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 4},
         "sensor": {
             "type": "perspective",
-            "fov": 45,
+            "fov": camera["fov_deg"],
             "fov_axis": "x",
-            "to_world": T().look_at(origin=[0, -4.0, 1.2], target=[0.05, -0.55, 0.36], up=[0, 0, 1]),
+            "to_world": T().look_at(origin=camera["origin"], target=camera["target"], up=camera["up"]),
             "film": {"type": "hdrfilm", "width": width, "height": height},
         },
         # The envmap's +y is turned onto the world's +z.
@@ -98,47 +118,22 @@ def scene_dict(env: Path, tmp: Path, width: int, height: int) -> dict:
         "sun": {
             "type": "directional",
             "direction": [-c for c in toward_sun],
-            "irradiance": {"type": "rgb", "value": [2.6, 2.4, 2.1]},
+            "irradiance": {"type": "rgb", "value": SUN_IRRADIANCE},
         },
-        # The floor, the back wall and its skirting board (rectangles span [-1, 1]² in x, y).
-        "floor": rectangle(T().scale([40, 40, 1]), diffuse([0.3, 0.22, 0.15])),
-        "wall": rectangle(
-            T().translate([0, 1.6, 1.5]).rotate([1, 0, 0], 90).scale([6, 1.5, 1]),
-            diffuse([0.62, 0.6, 0.56]),
-        ),
-        "skirting": rectangle(
-            T().translate([0, 1.585, 0.045]).rotate([1, 0, 0], 90).scale([6, 0.045, 1]),
-            diffuse([0.75, 0.74, 0.7]),
-        ),
-        "table": mesh("table", diffuse([0.25, 0.15, 0.08])),
-        "stool": mesh("stool", diffuse([0.25, 0.15, 0.08])),
-        "tablecloth": mesh(
-            "tablecloth",
-            woven("linen-plain", "2000", weft_color=[0.62, 0.58, 0.5], warp_color=[0.6, 0.56, 0.48]),
-        ),
-        "satin": mesh(
-            "satin-drape",
-            woven(
-                linear_floats("satin-charmeuse", tmp),
-                "8000",
-                weft_color=[0.3, 0.02, 0.05],
-                warp_color=[0.3, 0.02, 0.05],
-            ),
-        ),
-        "shot-silk": mesh("cushion-shot-silk", woven(linear_floats("silk-shot", tmp), "5000")),
-        "twill": mesh(
-            "cushion-twill",
-            woven(
-                "belt-cloth",
-                "2500, 2000",
-                pattern="twill-3/1",
-                weft_color=[0.5, 0.48, 0.44],
-                warp_color=[0.025, 0.045, 0.11],
-                u_max_deg=25.0,
-                gap=0.08,
-            ),
-        ),
     }
+    for k, shape in enumerate(showcase["shape"]):
+        material = materials[shape["material"]]
+        if material["type"] == "diffuse":
+            bsdf = {"type": "diffuse", "reflectance": {"type": "rgb", "value": material["reflectance"]}}
+        else:
+            bsdf = woven_bsdf(material, tmp)
+        if shape["type"] == "rectangle":
+            entry = {"type": "rectangle", "to_world": rectangle_to_world(shape)}
+        else:
+            mesh = shape["file"].removeprefix("builtin:")
+            entry = {"type": "obj", "filename": str(MESHES / f"{mesh}.obj")}
+        scene[f"shape-{k}"] = {**entry, "bsdf": bsdf}
+    return scene
 
 
 def main():
