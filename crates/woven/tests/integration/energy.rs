@@ -169,7 +169,7 @@ fn no_point_reflects_more_than_it_receives_exhaustive() {
 
 /// A weft-only weave (every cell the weft) of a preset at one cell a unit, at `detail`, in the
 /// material's own colour, on the shared table.
-fn weft_only(name: &str, detail: Detail) -> WovenSurface {
+pub fn weft_only(name: &str, detail: Detail) -> WovenSurface {
     let mut material = Material::preset(name).unwrap();
     material.weave = Some(Weave::Pattern {
         spec: woven::material::PatternSpec::Matrix(vec![vec![1]]),

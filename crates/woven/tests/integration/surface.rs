@@ -348,25 +348,12 @@ fn yarn_draws_average_to_the_models_integrals() {
     }
 }
 
-/// The preset `name` at fibre level, one cell a unit, on the shared table of its yarn: in its
-/// own weave, or in a weft-only one (every cell the weft, its floats without ends).
-fn at_fibre_level(name: &str, weft_only: bool) -> WovenSurface {
-    at_level(name, weft_only, Detail::Fibers)
-}
-
-/// The preset `name` at `detail`, as [`at_fibre_level`] lays it.
-fn at_level(name: &str, weft_only: bool, detail: Detail) -> WovenSurface {
-    let mut material = Material::preset(name).unwrap();
-    if weft_only {
-        material.weave = Some(Weave::Pattern {
-            spec: woven::material::PatternSpec::Matrix(vec![vec![1]]),
-            pattern: woven::weave::Pattern::from_matrix(vec![vec![1]]).unwrap(),
-        });
-    }
+/// The preset `name` in its own weave at fibre level, one cell a unit, on the shared table of
+/// its yarn.
+fn at_fibre_level(name: &str) -> WovenSurface {
     let spec = SurfaceSpec {
-        yarns_per_unit: [1.0, 1.0],
-        detail,
-        ..SurfaceSpec::new(material)
+        detail: Detail::Fibers,
+        ..SurfaceSpec::new(Material::preset(name).unwrap())
     };
     WovenSurface::new(&spec, crate::energy::yarn_table(name)).unwrap()
 }
@@ -379,8 +366,8 @@ fn at_level(name: &str, weft_only: bool, detail: Detail) -> WovenSurface {
 #[test]
 fn a_fibre_level_surface_averages_to_the_yarn_brdf() {
     for name in ["polyester-sateen", "belt-cloth"] {
-        let surface = at_fibre_level(name, true);
-        let resolved = at_level(name, true, Detail::Auto);
+        let surface = crate::energy::weft_only(name, Detail::Fibers);
+        let resolved = crate::energy::weft_only(name, Detail::Auto);
         for (s, v) in identity_pairs().into_iter().take(2) {
             let (mean, se) = crate::energy::fibre_mean(&surface, (s, v), (1200, 64), |_| 0.5);
             // 64 points across a yarn: the midpoint rule's error, well under the spread.
@@ -504,7 +491,8 @@ fn striation_change(surface: &WovenSurface, pairs: &[(Vec3, Vec3)], k: f64, n: u
 /// `cargo test --release -p woven --test integration striation -- --nocapture`
 #[test]
 fn twisted_strands_run_diagonally_at_the_helix_angle() {
-    let (surface, model) = (at_fibre_level("belt-cloth", true), exact_yarn("belt-cloth"));
+    let surface = crate::energy::weft_only("belt-cloth", Detail::Fibers);
+    let model = exact_yarn("belt-cloth");
     let helix = woven::yarn::point::YarnDraws::new(yarn_of(&model)).helix_angle();
     // Oblique light and view across the yarn: the fibres' azimuths matter most.
     let pairs = [identity_pairs()[2]];
@@ -594,7 +582,7 @@ fn along_float_profile(
 /// `cargo test --release -p woven --test integration crossings -- --nocapture`
 #[test]
 fn crossings_are_shadowed_on_the_side_away_from_a_raking_light() {
-    let surface = at_fibre_level("satin-charmeuse", false);
+    let surface = at_fibre_level("satin-charmeuse");
     let d = |t: f64, p: f64| Vec3::from_spherical(t.to_radians(), p.to_radians());
     let bins = 10;
     let mut report = Vec::new();
