@@ -4,7 +4,7 @@
 
 use crate::arrays::{map_batch, Dirs, Numbers};
 use crate::material::{material_arg, Material};
-use crate::table::{cached_table, split_columns, Table};
+use crate::table::{cached_table, prepared, split_columns, Table};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -304,6 +304,7 @@ impl Surface {
             }
         };
         let surface = WovenSurface::new(&spec, yarn).py_err()?;
+        let surface = prepared(py, surface, &spec.table_material(), wavelength_nm, "render")?;
         Ok(Surface {
             inner: Arc::new(surface),
             material: Some(spec.material),

@@ -540,3 +540,38 @@ pub(crate) fn cached_table(
     reporter.finish()?;
     Ok(Arc::new(table))
 }
+
+/// `surface` with what its resolved levels read, from the table cache `woven render` shares or
+/// built and kept there: its yarn's table averaged over the crown and the relief's ratio table.
+/// A surface that does not resolve the relief is returned as it is.
+pub(crate) fn prepared(
+    py: Python<'_>,
+    surface: woven::surface::WovenSurface,
+    material: &woven::material::Material,
+    wavelength_nm: f64,
+    grid: &str,
+) -> PyResult<woven::surface::WovenSurface> {
+    if !surface.resolves_relief() {
+        return Ok(surface);
+    }
+    let model = py.detach(|| material.build(wavelength_nm)).py_err()?;
+    let options = TableOptions {
+        crown_deg: woven::relief::CROWN_DEG,
+        ..grid_options(grid, &model)?
+    };
+    let cache = woven::table::cache::Cache::user().py_err()?;
+    py.detach(|| {
+        let base = Arc::clone(surface.table());
+        let crowned = cache.load_or_build(
+            material,
+            wavelength_nm,
+            &options,
+            || base.crowned_with(&options),
+            &|_| {},
+        )?;
+        let surface = surface.with_crowned(Arc::new(crowned))?;
+        surface.prepare(Some(cache.dir()), &|_| {});
+        Ok(surface)
+    })
+    .py_err()
+}

@@ -226,7 +226,7 @@ pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f
 /// Renders the white plane of every preset at fibre, auto and yarn level, flat and tilted with
 /// gaps, at 16 cells and at 128 (many yarns, whose drawn slopes average out);
 /// asserts no pixel above 1 by more than its noise and, at 128 cells, the fibre level's mean
-/// within 2 % of the yarn level's; prints the figures.
+/// within 2 % of the resolved yarn level's (`auto`, far away); prints the figures.
 fn white_planes(presets: &[&str], px: usize, spp: usize) {
     for preset in presets.iter().copied() {
         for (u_max, gap) in [(0.0, 0.0), (60.0, 0.3)] {
@@ -250,12 +250,15 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
                     );
                     means.push(mean);
                 }
+                // Far away `auto` is the resolved yarns' cell average (the ratio-scaled macro
+                // lobes): the fibres keep its mean. (The paper's yarns, unshadowed by their
+                // neighbours, are brighter: printed, not held.)
                 if cells == 128 {
                     assert!(
-                        (means[0] - means[2]).abs() <= 0.02 * means[2],
-                        "{preset} u_max {u_max}° gap {gap}: fibres' mean {} vs yarns' {}",
+                        (means[0] - means[1]).abs() <= 0.02 * means[1],
+                        "{preset} u_max {u_max}° gap {gap}: fibres' mean {} vs resolved yarns' {}",
                         means[0],
-                        means[2]
+                        means[1]
                     );
                 }
             }
@@ -265,7 +268,7 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
 
 /// A white woven plane in a furnace is nowhere brighter than the sky, at every level of detail,
 /// with and without tilt and gaps (the sateen; every preset in the `#[ignore]`d run
-/// below); the fibre level keeps the yarn level's mean.
+/// below); the fibre level keeps the resolved yarn level's mean.
 #[test]
 fn a_white_woven_plane_is_nowhere_brighter_than_the_furnace() {
     white_planes(&["polyester-sateen"], 24, 64);

@@ -13,11 +13,16 @@
 //! ```
 //!
 //! `M_F` the mean over a repeat's entries of the yarn-level BRDF of the relief points of family
-//! `F` met from `v` (each lit or not from `s`), `P_F` the paper's macro lobes of `F`, both for the
-//! material's own albedos: the mean of what a close-up shows, so `auto` keeps its mean as it
-//! blends from yarns to the macro BRDF. `R_F` varies with the geometry only (shares and shadows,
-//! not the sheen's sharp lobes), so a coarse table of it serves: [`THETA_DEG`] × [`PHI`] nodes per
-//! direction, interpolated linearly (bilinear in each direction's polar angle and azimuth).
+//! `F` met from `v` (each lit or not from `s`), `P_F` that family's whole-float average of the
+//! crowned yarn (`Table::crowned`) on the relief's floats, both for the material's own albedos:
+//! the mean of what a close-up shows, so `auto` keeps its mean as it blends from yarns to the
+//! macro lobes. `P_F` carries the sheen's lobes, so `R_F` carries what varies slowly: the share of
+//! each family seen along the view, and the shadowing and masking between neighbouring yarns. A
+//! coarse table of it serves: [`THETA_DEG`] × [`PHI`] nodes per direction, the light's azimuth
+//! taken relative to the view's node, interpolated linearly (bilinear in each direction's polar
+//! angle and azimuth), over at least [`ENTRIES`] entries a repeat, stratified over its cells.
+//! A build takes seconds per surface, so the table is kept on disk next to the yarn tables
+//! ([`WovenSurface::prepare`]).
 
 use super::{Entry, LobeMix, Tilt, WovenSurface};
 use crate::math::Vec3;
@@ -32,7 +37,7 @@ pub const THETA_DEG: [f64; 9] = [0.0, 20.0, 35.0, 48.0, 59.0, 68.0, 76.0, 82.0, 
 /// The table's azimuth nodes, over the whole circle.
 pub const PHI: usize = 24;
 
-/// Entries of a repeat averaged at each node: at least this many, and at least 9 per cell.
+/// Entries of a repeat averaged at each node: at least this many, and at least 4 per cell.
 pub const ENTRIES: usize = 256;
 
 /// The largest ratio kept (where the paper's lobes are all but black and the relief is not).

@@ -200,22 +200,22 @@ mod tests {
         crown_deg: 0.0,
     };
 
-    fn table(name: &str, crown_deg: f64) -> Table {
-        let m = Material::preset(name).unwrap().yarn_family();
-        let options = TableOptions {
-            crown_deg,
-            ..OPTIONS
-        };
-        Table::build(&m.build(550.0).unwrap(), &m, &options, &|_, _| {}).unwrap()
+    /// The silk's plain table on [`OPTIONS`]' grid, built once for the module's tests.
+    fn silk() -> &'static Table {
+        static SILK: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
+        SILK.get_or_init(|| {
+            let m = Material::preset("silk").unwrap().yarn_family();
+            Table::build(&m.build(550.0).unwrap(), &m, &OPTIONS, &|_, _| {}).unwrap()
+        })
     }
 
     /// No crown is the base table; a crown is the mean of the base's rolled look-ups, at any
     /// dye, over 200 uniform pairs (within the interpolation of the crowned grid).
     #[test]
     fn a_crowned_table_is_its_base_rolled_and_averaged() {
-        let base = table("silk", 0.0);
+        let base = silk();
         let flat = base.crowned(0.0, &OPTIONS);
-        let crowned = table("silk", 30.0);
+        let crowned = base.crowned(30.0, &OPTIONS);
         assert_eq!((flat.crown_deg(), crowned.crown_deg()), (0.0, 30.0));
         let dyes = [
             Albedos::of(&Material::preset("silk").unwrap()),
@@ -252,7 +252,7 @@ mod tests {
     /// `.wtab` file keeps it exactly: its crown, and the interreflection factor it dyes with.
     #[test]
     fn a_crowned_table_is_built_once_and_saved_whole() {
-        let base = table("silk", 0.0);
+        let base = silk();
         let options = TableOptions {
             crown_deg: 30.0,
             ..OPTIONS

@@ -54,210 +54,152 @@ pub fn area_mean(
     total / n as f64
 }
 
-#[test]
-#[ignore = "exploration"]
-fn explore_relief_identities() {
-    let mut rng = Rng(3);
-    for name in ["satin-charmeuse"] {
-        let t = table(name);
-        let fib = surface(name, Detail::Fibers, &t);
-        let auto = surface(name, Detail::Auto, &t);
-        let paper = surface(name, Detail::Cloth, &t);
-        for _ in 0..6 {
-            let d = |rng: &mut Rng| {
-                Vec3::from_spherical(
-                    rng.uniform().sqrt().asin() * 0.98 + 0.0,
-                    rng.range(0.0, 6.283),
-                )
-            };
-            let (s, v) = (d(&mut rng), d(&mut rng));
-            let f = area_mean(&fib, (s, v), 64.0, 40_000, 0.0);
-            let y = area_mean(&auto, (s, v), 64.0, 40_000, 0.0);
-            let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
-            let p = area_mean(&paper, (s, v), 64.0, 200, 0.0);
-            println!("{name}: θs {:.0} θv {:.0}: fibres {f:.4} yarns {y:.4} macro {m:.4} paper {p:.4}; fib/yarn {:+.1}% macro/yarn {:+.1}% paper/yarn {:+.1}%",
-                s.z.acos().to_degrees(), v.z.acos().to_degrees(), 100.0*(f/y-1.0), 100.0*(m/y-1.0), 100.0*(p/y-1.0));
-        }
-    }
+/// Random pairs `(s, v)` over the hemisphere up to 80° (cosine-weighted, seeded).
+fn pairs(seed: u64, n: usize) -> Vec<(Vec3, Vec3)> {
+    let mut rng = Rng(seed);
+    let d = |rng: &mut Rng| {
+        Vec3::from_spherical(
+            rng.uniform().sqrt().asin() * 0.98,
+            rng.range(0.0, std::f64::consts::TAU),
+        )
+    };
+    (0..n).map(|_| (d(&mut rng), d(&mut rng))).collect()
 }
 
-#[test]
-#[ignore = "exploration"]
-fn explore_local() {
-    let name = "silk-shot";
-    let t = table(name);
-    let fib = surface(name, Detail::Fibers, &t);
-    let auto = surface(name, Detail::Auto, &t);
-    let s = Vec3::from_spherical(0.5, 0.3);
-    let v = Vec3::from_spherical(0.7, 2.5);
-    // Cell (0,1): which family? scan across y in the weft cell of row 0 col 0.
-    for (x0, y0) in [(0.5, 0.5), (1.5, 0.5), (0.5, 0.3), (0.2, 0.5), (10.5, 20.5)] {
-        let mut fm = 0.0;
-        let n = 4000;
-        for k in 0..n {
-            let dy = (k as f64 + 0.5) / n as f64 * (2.0 / 16.0) - 1.0 / 16.0;
-            let at = SurfacePoint {
-                uv: [x0, y0 + dy],
-                footprint: [[0.0; 2]; 2],
-            };
-            let f = fib.at(&at).eval(s, v).0;
-            fm += f[1] / n as f64;
-        }
-        let at = SurfacePoint {
-            uv: [x0, y0],
-            footprint: [[0.0; 2]; 2],
-        };
-        let y = auto.at(&at).eval(s, v).0[1];
-        let mix = fib.at(&at).mix_seen_from(v);
-        println!(
-            "({x0},{y0}): fibres {fm:.4} yarn {y:.4} ({:+.1}%) lobes {:?}",
-            100.0 * (fm / y - 1.0),
-            mix.lobes()
-                .iter()
-                .map(|l| (l.warp, l.tilt))
-                .collect::<Vec<_>>()
-        );
-    }
+/// `(resolved yarns, ratio-scaled macro)`: the area mean of `detail = "auto"` without a
+/// footprint over 64 × 64 cells (`points` points), and with a footprint of a million cells.
+fn resolved_and_macro(auto: &WovenSurface, (s, v): (Vec3, Vec3), points: usize) -> (f64, f64) {
+    let y = area_mean(auto, (s, v), 64.0, points, 0.0);
+    let m = area_mean(auto, (s, v), 64.0, 200, 1e6);
+    (y, m)
 }
 
+/// The far level of a resolving surface is its resolved yarn level's average: the crowned
+/// float average scaled by the relief's ratio agrees with the area mean of the yarns at the
+/// relief's points, for random pairs, within 4 % for the plain weaves and the twill (measured
+/// ≤ 2.4 %). Slow (a ratio table a preset): run in CI with the ignored tests.
+///
+/// `cargo test --release -p woven --test integration resolved_yarns_average -- --ignored --nocapture`
 #[test]
-#[ignore = "exploration"]
-fn explore_micro() {
-    let name = "silk-shot";
-    let t = table(name);
-    let fib = surface(name, Detail::Fibers, &t);
-    let auto = surface(name, Detail::Auto, &t);
-    let s = Vec3::from_spherical(0.5, 0.3);
-    let v = Vec3::from_spherical(0.7, 2.5);
-    let (x0, y0) = (1.5, 0.5);
-    let n = 64;
-    for k in 0..n {
-        let dy = (k as f64 + 0.5) / n as f64 * (1.0 / 16.0);
-        let at = SurfacePoint {
-            uv: [x0, y0 + dy],
-            footprint: [[0.0; 2]; 2],
-        };
-        let b = fib.at(&at);
-        let f = b.eval(s, v).0[1];
-        let mix = b.mix_seen_from(v);
-        let l = mix.lobes()[0];
-        if k % 8 == 0 {
-            println!(
-                "dy {dy:.4}: f {f:.4} across {:?} tilt {:?}",
-                l.point.map(|p| (p.across, p.theta_a, p.phi)),
-                l.tilt
+#[ignore = "slow: builds a ratio table per preset (~10 s each on 2 cores)"]
+fn resolved_yarns_average_to_the_ratio_scaled_macro() {
+    for name in ["linen-plain", "silk-shot", "belt-cloth"] {
+        let auto = surface(name, Detail::Auto, &table(name));
+        for (s, v) in pairs(3, 4) {
+            let (y, m) = resolved_and_macro(&auto, (s, v), 40_000);
+            eprintln!(
+                "{name}: θs {:.0}° θv {:.0}°: yarns {y:.4} macro {m:.4} ({:+.1} %)",
+                s.z.acos().to_degrees(),
+                v.z.acos().to_degrees(),
+                100.0 * (m / y - 1.0)
+            );
+            assert!(
+                (m - y).abs() <= 0.04 * y + 1e-4,
+                "{name}: macro {m} vs yarns {y}"
             );
         }
     }
-    let at = SurfacePoint {
-        uv: [x0, y0],
-        footprint: [[0.0; 2]; 2],
-    };
-    println!("yarn {:.4}", auto.at(&at).eval(s, v).0[1]);
-    let model = crate::surface::exact_yarn(name);
-    let yarn = match model.structure() {
-        woven::cloth::Structure::Woven { yarn, .. } => yarn,
-        _ => panic!(),
-    };
-    let theta_a = yarn.slopes().mean();
-    let m: f64 = (0..4000)
-        .map(|k| {
-            let p = yarn.point_parts(s, v, 0.0, theta_a, (k as f64 + 0.5) / 4000.0);
-            p[0] + p[1] * 0.3
-        })
-        .sum::<f64>()
-        / 4000.0;
-    println!(
-        "micro mean of parts (ρ0 0.3) {m:.4}; exact yarn {:.4}; profile {:?}",
-        model.eval(s, v),
-        yarn.profile_brdf(s, v, 0.0, theta_a)
-    );
 }
 
+/// The satin's ratio is sharp where the relief moves its highlight, so it is held at the
+/// ratio's nodes (within 6 %, measured ≤ 4.6 %) and halfway between two view azimuths (within
+/// 10 %, measured −7.7 to +5.5 %): six pairs about the sheen, the light's azimuth a node
+/// relative to the view's.
 #[test]
-#[ignore = "exploration"]
-fn explore_nodes() {
+#[ignore = "slow: builds the satin's ratio table and samples 160 000 points a pair"]
+fn the_satins_far_level_follows_its_resolved_yarns_at_and_between_nodes() {
     let name = "satin-charmeuse";
-    let t = table(name);
-    let auto = surface(name, Detail::Auto, &t);
-    let node = |it: usize, ip: usize| {
+    let auto = surface(name, Detail::Auto, &table(name));
+    let step = 2.0 * std::f64::consts::PI / woven::surface::RATIO_PHI as f64;
+    let node = |it: usize, ip: usize, shift: f64| {
         Vec3::from_spherical(
             woven::surface::RATIO_THETA_DEG[it].to_radians(),
-            2.0 * std::f64::consts::PI * ip as f64 / 12.0,
+            step * ip as f64 + shift,
         )
     };
-    for (a, b, c, d) in [
-        (4, 0, 3, 6),
-        (4, 3, 4, 9),
-        (3, 1, 5, 7),
-        (5, 2, 2, 8),
-        (4, 0, 4, 6),
-        (4, 6, 4, 0),
-    ] {
-        let (s, v) = (node(a, b), node(c, d));
-        let y = area_mean(&auto, (s, v), 64.0, 160_000, 0.0);
-        let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
-        let half = std::f64::consts::PI / woven::surface::RATIO_PHI as f64;
-        let sm = Vec3::from_spherical(s.z.acos(), s.y.atan2(s.x) + half);
-        let vm = Vec3::from_spherical(v.z.acos(), v.y.atan2(v.x) + half);
-        let y2 = area_mean(&auto, (sm, vm), 64.0, 160_000, 0.0);
-        let m2 = area_mean(&auto, (sm, vm), 64.0, 200, 1e6);
-        let r = |s: Vec3, v: Vec3| {
-            (
-                auto.relief_ratio(false, s, v),
-                auto.relief_ratio(true, s, v),
-            )
-        };
-        println!("  R node {:?} shifted {:?}", r(s, v), r(sm, vm));
-        println!("node s({a},{b}) v({c},{d}): yarns {y:.4} macro {m:.4} ({:+.1}%); between nodes: yarns {y2:.4} macro {m2:.4} ({:+.1}%)", 100.0 * (m / y - 1.0), 100.0 * (m2 / y2 - 1.0));
+    let configs = [
+        (4, 0, 3, 12),
+        (4, 6, 4, 18),
+        (3, 2, 5, 14),
+        (5, 4, 2, 16),
+        (4, 0, 4, 12),
+        (4, 12, 4, 0),
+    ];
+    for (a, b, c, d) in configs {
+        for (shift, tolerance) in [(0.0, 0.06), (0.5 * step, 0.10)] {
+            let (s, v) = (node(a, b, shift), node(c, d, shift));
+            let (y, m) = resolved_and_macro(&auto, (s, v), 160_000);
+            eprintln!("satin s({a},{b}) v({c},{d}) shifted {shift:.3}: yarns {y:.4} macro {m:.4} ({:+.1} %)", 100.0 * (m / y - 1.0));
+            assert!(
+                (m - y).abs() <= tolerance * y + 1e-4,
+                "satin: macro {m} vs yarns {y}"
+            );
+        }
     }
 }
 
-#[test]
-#[ignore = "exploration"]
-fn explore_mirror() {
-    let name = "satin-charmeuse";
-    let t = table(name);
-    let auto = surface(name, Detail::Auto, &t);
-    let th = 59f64.to_radians();
-    let v = Vec3::from_spherical(th, 270f64.to_radians());
-    for ds in [90.0, 97.5, 105.0, 112.5, 120.0, 135.0, 150.0] {
-        let s = Vec3::from_spherical(th, f64::to_radians(ds));
-        let y = area_mean(&auto, (s, v), 64.0, 160_000, 0.0);
-        let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
-        let r = (
-            auto.relief_ratio(false, s, v),
-            auto.relief_ratio(true, s, v),
-        );
-        println!("φs {ds}: yarns {y:.4} macro {m:.4} R {:.3} {:.3}", r.0, r.1);
-    }
-}
-
-#[test]
-#[ignore = "exploration"]
-fn explore_mirror_weft_only() {
-    let name = "satin-charmeuse";
-    let t = table(name);
-    let mut material = woven::material::Material::preset(name).unwrap();
-    material.weave = Some(woven::material::Weave::Pattern {
-        spec: woven::material::PatternSpec::Matrix(vec![vec![1]]),
-        pattern: woven::weave::Pattern::from_matrix(vec![vec![1]]).unwrap(),
-    });
-    let spec = SurfaceSpec {
-        detail: Detail::Auto,
-        u_max: 0.0,
-        ..SurfaceSpec::new(material)
+/// The share of a repeat's entries (96 × 96, stratified) whose ray toward the viewer `v` meets
+/// a weft yarn first.
+fn weft_share(name: &str, v: Vec3) -> f64 {
+    let spec = SurfaceSpec::new(Material::preset(name).unwrap());
+    let (Some(relief), Some(woven::material::Weave::Pattern { pattern, .. })) =
+        (spec.relief(), &spec.material.weave)
+    else {
+        panic!("{name} has no relief");
     };
-    let auto = WovenSurface::new(&spec, Arc::clone(&t)).unwrap();
-    let th = 59f64.to_radians();
-    let v = Vec3::from_spherical(th, 270f64.to_radians());
-    for ds in [90.0, 97.5, 105.0, 112.5, 120.0, 135.0, 150.0, 0.0, 45.0] {
-        let s = Vec3::from_spherical(th, f64::to_radians(ds));
-        let y = area_mean(&auto, (s, v), 64.0, 40_000, 0.0);
-        let m = area_mean(&auto, (s, v), 64.0, 200, 1e6);
-        let r = auto.relief_ratio(false, s, v);
-        println!("weft-only φs {ds}: yarns {y:.4} macro {m:.4} R {r:.3}");
+    let (cols, rows) = (pattern.cols() as f64, pattern.rows() as f64);
+    let n = 96;
+    let mut weft = 0;
+    for i in 0..n {
+        for j in 0..n {
+            let x = cols * (i as f64 + 0.5) / n as f64;
+            let y = rows * (j as f64 + 0.5) / n as f64;
+            let hit = relief.hit(x, y, v);
+            if matches!(hit.ground, woven::relief::Ground::Top { warp: false, .. }) {
+                weft += 1;
+            }
+        }
     }
+    weft as f64 / (n * n) as f64
+}
+
+/// The visible share of each family changes with the view: seen from above it is the weave's
+/// own (the satin's weft 7/8), and toward grazing along the weft the standing crossing yarns
+/// hide the floats between them (the satin's weft share falls below 0.7; the shot silk's moves
+/// by more than 2 %, which is what changes its colour across a fold).
+///
+/// `cargo test --release -p woven --test integration visible_share -- --nocapture` prints the
+/// shares by view.
+#[test]
+fn the_visible_share_of_weft_and_warp_changes_with_the_view() {
+    let thetas = [0.0f64, 30.0, 50.0, 60.0, 70.0, 80.0, 85.0];
+    let mut table = std::collections::BTreeMap::new();
+    for name in ["satin-charmeuse", "silk-shot", "linen-plain", "belt-cloth"] {
+        for phi in [0.0f64, 90.0] {
+            let shares = thetas
+                .map(|t| weft_share(name, Vec3::from_spherical(t.to_radians(), phi.to_radians())));
+            eprintln!(
+                "{name} φ {phi:.0}°: {}",
+                shares.map(|s| format!("{s:.3}")).join(" ")
+            );
+            table.insert((name, phi as i64), shares);
+        }
+    }
+    let satin = table[&("satin-charmeuse", 0)];
+    assert!(
+        (satin[0] - 0.875).abs() < 0.02,
+        "satin from above: {}",
+        satin[0]
+    );
+    assert!(satin[6] < 0.7, "satin at 85° along the weft: {}", satin[6]);
+    let silk = table[&("silk-shot", 0)];
+    assert!(
+        (silk[0] - 0.5).abs() < 0.03,
+        "shot silk from above: {}",
+        silk[0]
+    );
+    let moved = silk.iter().map(|s| (s - silk[0]).abs()).fold(0.0, f64::max);
+    assert!(moved > 0.02, "shot silk's share with the view: {silk:?}");
 }
 
 /// A resolving surface's ratio table is stored in the folder it is prepared with, read back by
