@@ -32,8 +32,9 @@ pub struct TableOptions {
     /// (~25 µs for the sateen) instead of a look-up, which a renderer's tables skip.
     pub exact_regions: bool,
     /// Average the yarn over a round crown of this half-angle, degrees, in
-    /// `[0, MAX_CROWN_DEG]`: the resolved yarn of a woven relief ([`Table::crowned`](super::Table::crowned),
-    /// docs/model.md §8). 0 (the default): the yarn as the paper has it.
+    /// `[0, MAX_CROWN_DEG]`: the resolved yarn of a woven relief
+    /// ([`Table::crowned_with`](super::Table::crowned_with), docs/model.md §8). 0 (the
+    /// default): the yarn as the paper has it.
     pub crown_deg: f64,
 }
 
