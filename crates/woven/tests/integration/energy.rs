@@ -314,13 +314,6 @@ fn fibres_average_to_yarns_over_the_hemisphere() {
     fibre_identity(8, 85.0, 5);
 }
 
-/// The same over 24 pairs per preset.
-#[test]
-#[ignore = "exhaustive: a few minutes"]
-fn fibres_average_to_yarns_over_the_hemisphere_exhaustive() {
-    fibre_identity(24, 85.0, 55);
-}
-
 /// Over `pairs` random pairs (up to `max_deg`) per preset, tilt and gap: a tilted surface's
 /// points at yarn level, averaged over its pattern (a stratified `n × n` grid of one repeat),
 /// against its own macro BRDF (`detail = "cloth"`); the worst relative deviation.
