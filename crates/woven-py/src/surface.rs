@@ -15,7 +15,8 @@ use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
 use woven::material::Weave;
 use woven::surface::{
-    Detail, Lobe, PointBsdf, SurfacePoint, SurfaceSpec, Tilt, WovenSurface, FILTER_CELLS, MAX_LOBES,
+    Detail, Irregularity, Lobe, PointBsdf, SurfacePoint, SurfaceSpec, Tilt, WovenSurface,
+    FILTER_CELLS, MAX_LOBES,
 };
 
 /// A woven surface: what a woven material means at each point of a surface (the `woven`
@@ -33,7 +34,10 @@ use woven::surface::{
 /// each float, degrees in [0, 80]; default the material's `[yarn] u_max_deg`, 0 for the paper's),
 /// `gap` (fraction of each cell between yarns, in [0, 0.95]), `wavelength_nm` (of the table
 /// built, default 550), `detail` ("auto", "fibers", "yarns" or "cloth": how finely the weave is
-/// resolved; see docs/render.md). Raises ValueError naming a parameter that is out of range.
+/// resolved; see docs/render.md), `irregularity` (the spread of the log of each yarn's dye
+/// along its length, in [0, 1]: a number or `(weft, warp)`, default 0; needs a pattern) and
+/// `irregularity_length` (pattern cells over which it changes, default 24). Raises ValueError
+/// naming a parameter that is out of range.
 ///
 /// Points: `uv` (N, 2) surface parameters; `footprint` (N, 4) the pixel's footprint in uv,
 /// `(du/dx, dv/dx, du/dy, dv/dy)` (None: a point, no filtering). Directions in the surface's
@@ -46,8 +50,18 @@ pub struct Surface {
 
 /// `yarns_per_unit` as `[n_u, n_v]`: a number or a pair.
 fn yarns_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<[f64; 2]> {
+    pair_arg(obj, "yarns_per_unit", "(n_u, n_v)", [1.0, 1.0])
+}
+
+/// A number for both, or a pair (`pair` says of what); `default` when not given.
+fn pair_arg(
+    obj: Option<&Bound<'_, PyAny>>,
+    name: &str,
+    pair: &str,
+    default: [f64; 2],
+) -> PyResult<[f64; 2]> {
     let Some(obj) = obj else {
-        return Ok([1.0, 1.0]);
+        return Ok(default);
     };
     if let Ok(n) = obj.extract::<f64>() {
         return Ok([n, n]);
@@ -58,7 +72,7 @@ fn yarns_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<[f64; 2]> {
         }
     }
     Err(PyValueError::new_err(format!(
-        "`yarns_per_unit` = {obj}: expected a number or a pair (n_u, n_v)"
+        "`{name}` = {obj}: expected a number or a pair {pair}"
     )))
 }
 
@@ -216,7 +230,8 @@ impl Surface {
     #[new]
     #[pyo3(signature = (material = None, *, table = None, pattern = None, weft_fraction = None,
         yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = None, gap = 0.0,
-        detail = "auto", wavelength_nm = 550.0, progress = None))]
+        detail = "auto", irregularity = None, irregularity_length = None, wavelength_nm = 550.0,
+        progress = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -230,10 +245,17 @@ impl Surface {
         u_max_deg: Option<f64>,
         gap: f64,
         detail: &str,
+        irregularity: Option<&Bound<'_, PyAny>>,
+        irregularity_length: Option<f64>,
         wavelength_nm: f64,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Surface> {
         let detail = Detail::from_name(detail).py_err()?;
+        let plain = Irregularity::default();
+        let irregularity = Irregularity {
+            spread: pair_arg(irregularity, "irregularity", "(weft, warp)", plain.spread)?,
+            length: irregularity_length.unwrap_or(plain.length),
+        };
         let (weft_color, warp_color) = (
             color_arg(weft_color, "weft_color")?,
             color_arg(warp_color, "warp_color")?,
@@ -247,6 +269,7 @@ impl Surface {
                 u_max: u_max_deg.map_or(own.u_max, f64::to_radians),
                 gap,
                 detail,
+                irregularity,
                 ..own
             }
         };

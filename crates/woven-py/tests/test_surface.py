@@ -91,12 +91,34 @@ def test_draws_have_the_density_pdf_reports(yarn, mode, detail):
         ({"weft_color": [1.5, 0.0, 0.0]}, "weft_color"),
         ({"pattern": "twill-0/1"}, "twill"),
         ({"detail": "threads"}, "detail"),
+        ({"irregularity": 1.5}, "irregularity"),
+        ({"irregularity": (0.2, 0.3, 0.4)}, "irregularity"),
+        ({"irregularity": 0.2, "irregularity_length": 0.0}, "irregularity_length"),
     ],
 )
 def test_bad_parameters_are_refused_by_name(yarn, kwargs, name):
     args = {"pattern": "plain", **kwargs}
     with pytest.raises(ValueError, match=name):
         woven.Surface(table=yarn, **args)
+
+
+def test_irregular_yarns_vary_but_average_to_the_uniform_cloth(yarn):
+    """Each yarn's dye varies along it (the library's `Irregularity`): points differ from the
+    uniform cloth's, their mean does not (dyes dark enough that no factor meets a cap)."""
+    args = dict(table=yarn, pattern="twill-2/1", yarns_per_unit=(6, 4), detail="yarns",
+                weft_color=[0.05, 0.025, 0.01], warp_color=[0.01, 0.025, 0.05])
+    plain = woven.Surface(**args)
+    uneven = woven.Surface(**args, irregularity=(0.3, 0.3), irregularity_length=8.0)
+    rng = np.random.default_rng(5)
+    n = 20000
+    uv = rng.uniform(-40, 40, (n, 2))
+    wi = np.tile([0.3, 0.1, 0.95], (n, 1)) / np.linalg.norm([0.3, 0.1, 0.95])
+    wo = np.tile([-0.5, 0.4, 0.77], (n, 1)) / np.linalg.norm([-0.5, 0.4, 0.77])
+    a, b = plain.eval(uv, wi, wo), uneven.eval(uv, wi, wo)
+    d = b - a
+    assert np.mean(np.abs(d) > 1e-6 * a) > 0.9
+    se = d.std(axis=0) / np.sqrt(n)
+    assert np.all(np.abs(d.mean(axis=0)) < 4 * se), (d.mean(axis=0), se)
 
 
 def test_a_table_alone_takes_no_weave_options(yarn):

@@ -190,6 +190,8 @@ class Surface:
         u_max_deg: Optional[float] = None,
         gap: float = 0.0,
         detail: str = "auto",
+        irregularity: Union[float, Tuple[float, float], None] = None,
+        irregularity_length: Optional[float] = None,
         wavelength_nm: float = 550.0,
         progress: Any = None,
     ) -> None: ...

@@ -25,7 +25,7 @@ use woven::baseline::{Distribution, RoughPlastic, RoughPlasticParams, Sheen, She
 use woven::fsutil::check_regular;
 use woven::material::{Material, PatternSpec, Weave, MAX_FILE_BYTES};
 use woven::microcylinder::Microcylinder;
-use woven::surface::Detail;
+use woven::surface::{Detail, Irregularity};
 use woven::weave::{Pattern, MAX_WIF_BYTES};
 use woven::Vec3;
 
@@ -452,6 +452,8 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
         u_max_deg,
         gap,
         detail,
+        irregularity,
+        irregularity_length,
     } = raw;
     let mkey = format!("{key}.material");
     let mut woven = if Material::preset_toml(&material).is_some() {
@@ -524,6 +526,7 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
             )
         })?,
     };
+    let irregularity = irregularity_of(c, key, at, &woven, irregularity, irregularity_length)?;
     let dye = woven.dye;
     Ok(WovenSpec {
         detail,
@@ -541,7 +544,45 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
         warp_color: color("warp_color", warp_color)?.or(dye.warp),
         u_max: u_max_deg.to_radians(),
         gap,
+        irregularity,
     })
+}
+
+/// A woven material's `irregularity` and `irregularity_length` at `key` (the library's
+/// defaults where not given), checked by the library: both in range, and a pattern to vary.
+fn irregularity_of(
+    c: &Checker,
+    key: &str,
+    at: usize,
+    material: &Material,
+    spread: Option<RawYarns>,
+    length: Option<f64>,
+) -> Result<Irregularity> {
+    let d = Irregularity::default();
+    let irregularity = Irregularity {
+        spread: match spread {
+            None => d.spread,
+            Some(RawYarns::Same(s)) => [s, s],
+            Some(RawYarns::PerAxis(p)) => p,
+        },
+        length: length.unwrap_or(d.length),
+    };
+    irregularity.validate().map_err(|e| {
+        // The library names the parameter as the scene does.
+        let name = match &e {
+            woven::Error::InvalidParameter { name, .. } => name.as_str(),
+            _ => "irregularity",
+        };
+        c.err(&format!("{key}.{name}"), at, e.to_string())
+    })?;
+    if irregularity.is_active() && !matches!(material.weave, Some(Weave::Pattern { .. })) {
+        return Err(c.err(
+            &format!("{key}.irregularity"),
+            at,
+            "yarns vary one by one only on a weave pattern: give `pattern`, or remove `irregularity`",
+        ));
+    }
+    Ok(irregularity)
 }
 
 /// A `type = "microcylinder"` material at `key`: a preset's name or a file beside the scene.

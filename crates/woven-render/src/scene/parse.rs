@@ -308,6 +308,8 @@ pub(super) struct RawWoven {
     #[serde(default)]
     pub(super) gap: f64,
     pub(super) detail: Option<String>,
+    pub(super) irregularity: Option<RawYarns>,
+    pub(super) irregularity_length: Option<f64>,
 }
 
 fn default_yarns() -> RawYarns {

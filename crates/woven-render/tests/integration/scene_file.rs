@@ -171,6 +171,51 @@ fn yarn_tilt_gap_and_filter_keys() {
     assert!(!desc.integrator.footprint_filter);
 }
 
+/// `irregularity` and `irregularity_length`: out of range, or without a pattern, they name the
+/// key and the range; in range (one number or one per family) they reach the material.
+#[test]
+fn irregularity_keys() {
+    let woven = |extra: &str| {
+        format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"silk\"\n{extra}\n")
+    };
+    for (extra, key, needle) in [
+        ("irregularity = 1.5", "material.m.irregularity", "[0, 1]"),
+        (
+            "irregularity = [0.2, -1]",
+            "material.m.irregularity",
+            "[0, 1]",
+        ),
+        (
+            "irregularity = 0.2\nirregularity_length = 0.5",
+            "material.m.irregularity_length",
+            "[1, 1e6]",
+        ),
+    ] {
+        let (_, k, _, message) = error_of(&woven(extra));
+        assert_eq!(k, key, "{message}");
+        assert!(message.contains(needle), "{message}");
+    }
+    // The sateen preset is a weft fraction, no pattern: no yarns to vary one by one.
+    let sateen = format!(
+        "{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"polyester-sateen\"\nirregularity = 0.2\n"
+    );
+    let (_, k, _, message) = error_of(&sateen);
+    assert_eq!(k, "material.m.irregularity", "{message}");
+    assert!(message.contains("pattern"), "{message}");
+
+    let desc = SceneDescription::from_str(
+        &woven("irregularity = [0.1, 0.4]\nirregularity_length = 60"),
+        "scene.toml",
+        Path::new("."),
+    )
+    .unwrap();
+    let Some(woven_render::scene::MaterialDesc::Woven(spec)) = desc.materials.get("m") else {
+        panic!("no woven material");
+    };
+    assert_eq!(spec.irregularity.spread, [0.1, 0.4]);
+    assert_eq!(spec.irregularity.length, 60.0);
+}
+
 /// A cloth draped over a sphere: `drape = "sphere"` needs `center` and `radius`; they are errors
 /// on a folded cloth, as is an unknown drape.
 #[test]

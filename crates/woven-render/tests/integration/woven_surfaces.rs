@@ -132,6 +132,7 @@ fn pattern_cells_average_to_the_macro_brdf() {
             warp_color: None,
             u_max: 0.0,
             gap: 0.0,
+            irregularity: Default::default(),
         };
         WovenMaterial::build(&spec, &grid, cache, &|| {}, &|_, _| {}).unwrap()
     };
@@ -178,6 +179,7 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
         warp_color: None,
         u_max: 0.0,
         gap: 0.0,
+        irregularity: Default::default(),
     };
     let mut spec = spec;
     spec.material.weave = Some(Weave::Pattern {
@@ -328,6 +330,7 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
         warp_color: Some(woven_render::color::Rgb(blue)),
         u_max: 0.0,
         gap: 0.0,
+        irregularity: Default::default(),
     };
     let m = WovenMaterial::build(
         &spec,
@@ -391,6 +394,7 @@ fn tables_are_kept_on_disk_between_runs() {
         warp_color: None,
         u_max: 0.0,
         gap: 0.0,
+        irregularity: Default::default(),
     };
     let builds = std::sync::atomic::AtomicUsize::new(0);
     for _ in 0..2 {

@@ -81,7 +81,9 @@ use crate::{Model, Vec3};
 use std::f64::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
 
+pub mod irregular;
 mod ratio;
+pub use irregular::Irregularity;
 use ratio::ReliefRatio;
 pub use ratio::{
     ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG,
@@ -184,6 +186,9 @@ pub struct SurfaceSpec {
     pub gap: f64,
     /// How finely the weave is resolved ([`Detail::Auto`] by default).
     pub detail: Detail,
+    /// How unevenly each yarn is dyed along its length ([`Irregularity`]; by default not at
+    /// all). Needs a pattern.
+    pub irregularity: Irregularity,
 }
 
 impl SurfaceSpec {
@@ -200,6 +205,7 @@ impl SurfaceSpec {
             u_max,
             gap: 0.0,
             detail: Detail::Auto,
+            irregularity: Irregularity::default(),
         }
     }
 
@@ -238,7 +244,8 @@ impl SurfaceSpec {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first offending one (`yarns_per_unit`,
-    /// `weft_color`, `warp_color`, `u_max`, `gap`), its value and the valid range.
+    /// `weft_color`, `warp_color`, `u_max`, `gap`, `irregularity`, `irregularity_length`), its
+    /// value and the valid range.
     pub fn validate(&self) -> Result<()> {
         let invalid = |name: &str, value: String, expected: &str| {
             Err(Error::InvalidParameter {
@@ -291,6 +298,15 @@ impl SurfaceSpec {
                     if name == "gap" { self.gap } else { self.u_max }
                 ),
                 "0: a flat fiber surface (no [yarn]) has no yarns to tilt or space",
+            );
+        }
+        self.irregularity.validate()?;
+        let patterned = matches!(self.material.weave, Some(Weave::Pattern { .. }));
+        if self.irregularity.is_active() && !patterned {
+            return invalid(
+                "irregularity",
+                format!("{:?} without a weave pattern", self.irregularity.spread),
+                "0: yarns are laid out (and can vary one by one) only on a pattern",
             );
         }
         Ok(())
@@ -475,6 +491,7 @@ pub struct WovenSurface {
     float: FloatProfile,
     gap: f64,
     detail: Detail,
+    irregularity: Irregularity,
     /// The exact yarn and its draws, where fibres are resolved ([`Detail::Auto`] and
     /// [`Detail::Fibers`] on a pattern).
     fibers: Option<Fibers>,
@@ -621,6 +638,7 @@ impl WovenSurface {
             float: spec.float_profile(),
             gap: spec.gap,
             detail: spec.detail,
+            irregularity: spec.irregularity,
             relief: fibers.as_ref().and_then(|_| spec.relief()),
             fibers,
             ratio: std::sync::OnceLock::new(),
@@ -675,6 +693,7 @@ impl WovenSurface {
             float: FloatProfile::new(f64::MIN_POSITIVE),
             gap: 0.0,
             detail: Detail::Yarns,
+            irregularity: Irregularity::default(),
             fibers: None,
             relief: None,
             ratio: std::sync::OnceLock::new(),
@@ -993,14 +1012,34 @@ impl WovenSurface {
     #[inline]
     pub fn at(&self, at: &SurfacePoint) -> PointBsdf<'_> {
         let (mix, entry) = self.split(at);
+        let factors = self.dye_factors(at);
         PointBsdf {
             surface: self,
             entry,
             mix,
             seen: std::sync::OnceLock::new(),
-            weft: self.weft,
-            warp: self.warp,
+            weft: scaled(self.weft, factors[0]),
+            warp: scaled(self.warp, factors[1]),
+            factors,
         }
+    }
+
+    /// The weft's and the warp's dye factors at `at` ([`Irregularity::factor`] of the yarns
+    /// through the point); 1 and 1 without irregularity.
+    pub fn dye_factors(&self, at: &SurfacePoint) -> [f64; 2] {
+        if !self.irregularity.is_active() || !matches!(self.layout, Layout::Pattern { .. }) {
+            return [1.0, 1.0];
+        }
+        let x = at.uv[0] * self.yarns_per_unit[0];
+        let y = at.uv[1] * self.yarns_per_unit[1];
+        if !(x.is_finite() && y.is_finite()) {
+            return [1.0, 1.0];
+        }
+        // The weft runs along x: its yarns are the rows, its length x; the warp the other way.
+        [
+            self.irregularity.factor(y.floor() as i64, false, x),
+            self.irregularity.factor(x.floor() as i64, true, y),
+        ]
     }
 
     /// The lobes of a macro BRDF with weft fraction `g`, scaled by `scale`: each family on top
@@ -1424,6 +1463,18 @@ struct Entry {
     fibers: f64,
 }
 
+/// `albedos` with the body scaled by `factor` (an [`Irregularity`]'s), each kept in its range
+/// (`ρ0 ≤ 0.999`, `ρ ≤ 1`, as [`Albedos::dyed`] keeps them).
+fn scaled(albedos: [Albedos; 3], factor: f64) -> [Albedos; 3] {
+    if factor == 1.0 {
+        return albedos;
+    }
+    albedos.map(|a| Albedos {
+        diffuse: (a.diffuse * factor).min(0.999),
+        interreflection: (a.interreflection * factor).min(1.0),
+    })
+}
+
 /// A woven surface's BSDF at one point: its mixture of lobes.
 #[derive(Clone, Debug)]
 pub struct PointBsdf<'a> {
@@ -1436,6 +1487,8 @@ pub struct PointBsdf<'a> {
     seen: std::sync::OnceLock<(Vec3, LobeMix)>,
     weft: [Albedos; 3],
     warp: [Albedos; 3],
+    /// The weft's and the warp's dye factors here ([`WovenSurface::dye_factors`]).
+    factors: [f64; 2],
 }
 
 impl PointBsdf<'_> {
@@ -1464,13 +1517,13 @@ impl PointBsdf<'_> {
     }
 
     /// The same point with other dyes where given (a textured colour, read at the point), each
-    /// channel clamped to `[0, 1]`.
+    /// channel clamped to `[0, 1]`, and varied along the yarns as the surface's are.
     pub fn dyed(mut self, weft_color: Option<Rgb>, warp_color: Option<Rgb>) -> Self {
         if weft_color.is_some() {
-            self.weft = self.surface.own.dyed(weft_color);
+            self.weft = scaled(self.surface.own.dyed(weft_color), self.factors[0]);
         }
         if warp_color.is_some() {
-            self.warp = self.surface.own.dyed(warp_color);
+            self.warp = scaled(self.surface.own.dyed(warp_color), self.factors[1]);
         }
         self
     }
