@@ -17,7 +17,7 @@ Each mesh is written with:
 - thickness: a back sheet offset by the cloth's thickness and a strip joining the two along the
   edges, so the cloth's edge shows as a hem rather than a razor-thin sheet.
 
-    python3 scripts/drape/drape.py [OUT_DIR]     (needs numpy; about 3 minutes on one core)
+    python3 scripts/drape/drape.py [OUT_DIR]     (needs numpy; about 2 minutes on one core)
 
 Default OUT_DIR: crates/woven-render/scenes/meshes. The simulation is deterministic.
 """
@@ -190,18 +190,24 @@ def write_obj(path, cloth, thickness, note):
     _write(path, positions, uv, np.concatenate([vn, -vn]), faces, note)
 
 
-def pillow(size, thickness, n, centre, turn_deg):
+def pillow(size, thickness, n, centre, turn_deg, folds, fold_depth):
     """A cushion resting on the floor: a top sheet bulging from a seam round a `size` square,
-    `thickness` through its middle with shallow creases running in from the corners, and a
-    flatter bottom sheet (it sags onto the floor). uv is in metres along the surface (the arc
-    length along each grid line from the middle)."""
+    `thickness` through its middle, and a flatter bottom sheet (it sags onto the floor). The
+    cover is cut a little larger than its stuffing, so it gathers into `folds` uneven folds
+    running in from the seam, `fold_depth` deep at the seam and gone by the middle. uv is in
+    metres along the surface (the arc length along each grid line from the middle)."""
     a = np.linspace(-1.0, 1.0, n)
     ua, vb = np.meshgrid(a, a, indexing="ij")
     bulge = (1.0 - ua**2) ** 0.45 * (1.0 - vb**2) ** 0.45
-    # The corners pull in, as a stuffed cushion's do, and crease toward the middle.
+    # The corners pull in, as a stuffed cushion's do.
     pinch = 1.0 - 0.07 * (ua**2 * vb**2)
+    # The folds: two waves round the seam (the second breaks the first's regularity), sharpened
+    # toward creases, fading from the seam to nothing at 0.35 of the way out from the middle.
     angle = np.arctan2(vb, ua)
-    crease = 0.004 * np.sin(4.0 * angle) ** 8 * np.hypot(ua, vb) * bulge
+    wave = np.sin(folds * angle + 0.7 * np.sin(3.0 * angle + 1.0))
+    wave += 0.5 * np.sin((folds + 5) * angle + 2.0)
+    reach = np.clip((np.hypot(ua, vb) - 0.35) / 0.5, 0.0, 1.0) ** 2
+    crease = fold_depth * np.sign(wave) * np.abs(wave) ** 0.7 * reach * np.sqrt(bulge)
     half = size / 2.0
     top = np.stack([half * ua * pinch, half * vb * pinch, thickness * 0.62 * bulge - crease], -1)
     bottom = np.stack([half * ua * pinch, half * vb * pinch, -thickness * 0.38 * bulge], -1)
@@ -354,13 +360,14 @@ def main():
         os.path.join(out, "stool.obj"), stool[0], stool[1] - 0.012, stool[2] - 0.008, 0.04, "The stool."
     )
     # Two cushions on the floor, side by side. The shot silk's is turned so that the sun of the
-    # showcase lies near its weft's plane, where its two dyes part most across its slopes.
-    n = 49
-    for name, size, thick, centre, turn in [
-        ("cushion-shot-silk", 0.45, 0.14, (0.62, -1.05, 0.0), 110.0),
-        ("cushion-twill", 0.42, 0.13, (1.05, -0.62, 0.0), -12.0),
+    # showcase lies between its weft's and its warp's planes: its folds, turning either way,
+    # swing between its two dyes. Taffeta is crisp and gathers into deeper folds than denim.
+    n = 73
+    for name, size, thick, centre, turn, folds, depth in [
+        ("cushion-shot-silk", 0.45, 0.14, (0.62, -1.05, 0.0), 65.0, 9, 0.012),
+        ("cushion-twill", 0.42, 0.13, (1.05, -0.62, 0.0), -12.0, 7, 0.007),
     ]:
-        sheets, uvs = pillow(size, thick, n, centre, turn)
+        sheets, uvs = pillow(size, thick, n, centre, turn, folds, depth)
         write_pillow(os.path.join(out, f"{name}.obj"), sheets, uvs, n, f"A {size} m cushion.")
 
 

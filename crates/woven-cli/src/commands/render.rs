@@ -27,9 +27,10 @@ commented one; docs/render.md describes the format) with a path tracer: next-eve
 and BSDF sampling combined by MIS, woven materials tabulated from the model at 550 nm, the weave \
 pattern deciding at every point whether the weft or the warp is on top.
 
-Without a scene file it renders the built-in showcase: a filament satin draped over a ball \
-close up (its yarns resolved), a belt-cloth twill cylinder, a shot-silk sphere and a \
-polyester-sateen ground to the horizon, under a sun and sky (960×540, 16 spp).
+Without a scene file it renders the built-in showcase: at real thread counts, a satin \
+charmeuse thrown over a stool, a linen tablecloth on a round table, a shot-silk cushion and a \
+denim twill cushion, under a low sun and a clear sky, with the twill's yarns resolved in a \
+close-up inset (960×540, 12 spp, denoised; `woven render --example` prints another scene).
 
 Writes a linear float32 OpenEXR and an sRGB PNG: by default both, as woven-out/<scene>.exr and \
 .png; with -o, the one format its extension names (.exr or .png). Files are written atomically.",
