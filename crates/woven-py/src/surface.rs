@@ -4,7 +4,7 @@
 
 use crate::arrays::{map_batch, Dirs, Numbers};
 use crate::material::{material_arg, Material};
-use crate::table::{cached_table, prepared, split_columns, Table};
+use crate::table::{cached_table, prepared, split_columns, Table, UserTables};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -274,7 +274,7 @@ impl Surface {
             }
         };
         let yarns = yarns_arg(yarns_per_unit)?;
-        let (spec, yarn) = match (material, table) {
+        let (spec, yarn, user) = match (material, table) {
             (Some(m), None) => {
                 let m = with_weave(material_arg(m)?.inner, pattern, weft_fraction)?;
                 let spec = SurfaceSpec {
@@ -282,14 +282,16 @@ impl Surface {
                     ..layout(m)
                 };
                 spec.validate().py_err()?;
-                let t = cached_table(
+                let mut user = UserTables::open()?;
+                let (t, options) = cached_table(
                     py,
+                    &mut user,
                     &spec.table_material(),
                     wavelength_nm,
                     "render",
                     progress,
                 )?;
-                (spec, t)
+                (spec, t, Some((user, options)))
             }
             (None, Some(t)) => {
                 let t = Arc::clone(&t.get().inner);
@@ -318,7 +320,7 @@ impl Surface {
                     yarns_per_unit: yarns,
                     ..layout(m)
                 };
-                (spec, t)
+                (spec, t, None)
             }
             _ => {
                 return Err(PyValueError::new_err(
@@ -326,8 +328,35 @@ impl Surface {
                 ))
             }
         };
+        let base = Arc::clone(&yarn);
         let surface = WovenSurface::new(&spec, yarn).py_err()?;
-        let surface = prepared(py, surface, &spec.table_material(), wavelength_nm, "render")?;
+        let yarn_material = spec.table_material();
+        // A table of the caller's own: its crowned table and the relief's ratio are built from
+        // it for this surface alone, never stored where another table's would be.
+        let tables = match user {
+            Some(user) => Some(user),
+            None if surface.resolves_relief() => {
+                let model = py.detach(|| yarn_material.build(wavelength_nm)).py_err()?;
+                let options = woven::table::TableOptions::for_render(&model);
+                let mut session = UserTables::session();
+                session
+                    .tables
+                    .insert(&yarn_material, wavelength_nm, &options, base);
+                Some((session, options))
+            }
+            None => None,
+        };
+        let surface = match tables {
+            Some((mut user, options)) => prepared(
+                py,
+                &mut user,
+                surface,
+                &yarn_material,
+                wavelength_nm,
+                &options,
+            )?,
+            None => surface,
+        };
         Ok(Surface {
             inner: Arc::new(surface),
             material: Some(spec.material),

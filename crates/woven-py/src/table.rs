@@ -189,9 +189,16 @@ impl Table {
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Table> {
         let material = material_arg(material)?;
-        Ok(Table {
-            inner: cached_table(py, &material.inner, wavelength_nm, grid, progress)?,
-        })
+        let mut user = UserTables::open()?;
+        let (table, _) = cached_table(
+            py,
+            &mut user,
+            &material.inner,
+            wavelength_nm,
+            grid,
+            progress,
+        )?;
+        Ok(Table { inner: table })
     }
 
     /// A table file (`.wtab`, from `Table.save` or `woven tabulate`).
@@ -509,69 +516,105 @@ pub fn export_merl(
     .py_err()
 }
 
-/// The table of `material` on `grid` from the user's table cache (shared with `woven render`),
-/// or built there: [`Table::cached`] and `woven.Surface`.
+/// The user's table cache (shared with `woven render`) for one call, as the library's
+/// [`Tables`](woven::table::cache::Tables); its notes (a damaged file rebuilt, a table that could
+/// not be stored) become Python warnings.
+pub(crate) struct UserTables {
+    pub(crate) tables: woven::table::cache::Tables,
+    notes: Arc<Mutex<Vec<String>>>,
+}
+
+impl UserTables {
+    /// Over the user's cache folder.
+    pub(crate) fn open() -> PyResult<UserTables> {
+        let notes = Arc::new(Mutex::new(Vec::new()));
+        let heard = Arc::clone(&notes);
+        let tables =
+            woven::table::cache::Tables::with_disk(woven::table::cache::Cache::user().py_err()?)
+                .with_notes(move |m| {
+                    heard
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .push(m.into())
+                });
+        Ok(UserTables { tables, notes })
+    }
+
+    /// Tables for this call alone, kept nowhere.
+    pub(crate) fn session() -> UserTables {
+        UserTables {
+            tables: woven::table::cache::Tables::default(),
+            notes: Arc::new(Mutex::new(Vec::new())),
+        }
+    }
+
+    /// Raises each note heard so far as a `UserWarning`.
+    pub(crate) fn warn(&self, py: Python<'_>) -> PyResult<()> {
+        let notes = std::mem::take(&mut *self.notes.lock().unwrap_or_else(|e| e.into_inner()));
+        for note in notes {
+            let message =
+                std::ffi::CString::new(format!("woven table cache: {note}")).unwrap_or_default();
+            PyErr::warn(
+                py,
+                &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+                &message,
+                1,
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// The table of `material` on `grid` from the user's table cache, or built there, and the grid's
+/// options: [`Table::cached`] and `woven.Surface`.
 pub(crate) fn cached_table(
     py: Python<'_>,
+    user: &mut UserTables,
     material: &woven::material::Material,
     wavelength_nm: f64,
     grid: &str,
     progress: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Arc<woven::table::Table>> {
+) -> PyResult<(Arc<woven::table::Table>, TableOptions)> {
     let model = py.detach(|| material.build(wavelength_nm)).py_err()?;
     let options = grid_options(grid, &model)?;
-    let cache = woven::table::cache::Cache::user().py_err()?;
     let reporter = Reporter::new(progress)?;
+    let tables = &mut user.tables;
     let table = py
         .detach(|| {
-            cache.load_or_build(
-                material,
-                wavelength_nm,
-                &options,
-                || {
-                    woven::table::Table::build(&model, material, &options, &|d, t| {
-                        reporter.report(d, t)
-                    })
-                },
-                &|_| {},
-            )
+            tables.table(material, wavelength_nm, &options, &|_| {}, &|d, t| {
+                reporter.report(d, t)
+            })
         })
         .py_err()?;
     reporter.finish()?;
-    Ok(Arc::new(table))
+    user.warn(py)?;
+    Ok((table, options))
 }
 
-/// `surface` with what its resolved levels read, from the table cache `woven render` shares or
-/// built and kept there: its yarn's table averaged over the crown and the relief's ratio table.
-/// A surface that does not resolve the relief is returned as it is.
+/// `surface` with what its resolved levels read, from `user`'s tables (the cache `woven render`
+/// shares, or the session's own): its yarn's table averaged over the crown and the relief's ratio
+/// table. A surface that does not resolve the relief is returned as it is.
 pub(crate) fn prepared(
     py: Python<'_>,
+    user: &mut UserTables,
     surface: woven::surface::WovenSurface,
     material: &woven::material::Material,
     wavelength_nm: f64,
-    grid: &str,
+    options: &TableOptions,
 ) -> PyResult<woven::surface::WovenSurface> {
-    if !surface.resolves_relief() {
-        return Ok(surface);
-    }
-    let model = py.detach(|| material.build(wavelength_nm)).py_err()?;
-    let options = TableOptions {
-        crown_deg: woven::relief::CROWN_DEG,
-        ..grid_options(grid, &model)?
-    };
-    let cache = woven::table::cache::Cache::user().py_err()?;
-    py.detach(|| {
-        let base = Arc::clone(surface.table());
-        let crowned = cache.load_or_build(
-            material,
-            wavelength_nm,
-            &options,
-            || base.crowned_with(&options),
-            &|_| {},
-        )?;
-        let surface = surface.with_crowned(Arc::new(crowned))?;
-        surface.prepare(Some(cache.dir()), &|_| {});
-        Ok(surface)
-    })
-    .py_err()
+    let tables = &mut user.tables;
+    let surface = py
+        .detach(|| {
+            surface.prepared_from(
+                tables,
+                material,
+                wavelength_nm,
+                options,
+                &|_| {},
+                &|_, _| {},
+            )
+        })
+        .py_err()?;
+    user.warn(py)?;
+    Ok(surface)
 }

@@ -181,3 +181,22 @@ def test_export_merl_is_the_clis(cli, tmp_path, flat):
     with pytest.raises(ValueError, match="φ_h|isotropic"):
         woven.export_merl(woven.Material.preset("polyester-sateen").build(), tmp_path / "x.binary")
     assert not (tmp_path / "x.binary").exists()
+
+
+def test_the_cache_notes_a_damaged_table_as_a_warning(tmp_path, monkeypatch):
+    """`Table.cached` goes through the library's table cache: a second call loads the file the
+    first stored; a damaged file is rebuilt, and the cache's note reaches Python as a
+    UserWarning."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    yarn = woven.Material.preset("polyester-sateen").yarn_family()
+    first = woven.Table.cached(yarn)
+    files = list((tmp_path / "woven").glob("*.wtab"))
+    assert len(files) == 1
+    data = bytearray(files[0].read_bytes())
+    data[len(data) // 2] ^= 0x40
+    files[0].write_bytes(bytes(data))
+    with pytest.warns(UserWarning, match="not using the cached table"):
+        again = woven.Table.cached(yarn)
+    wi = np.array([[0.3, 0.1, 0.95]]) / np.linalg.norm([0.3, 0.1, 0.95])
+    wo = np.array([[-0.5, 0.4, 0.77]]) / np.linalg.norm([-0.5, 0.4, 0.77])
+    np.testing.assert_array_equal(first.eval(wi, wo), again.eval(wi, wo))

@@ -943,6 +943,39 @@ impl WovenSurface {
         });
     }
 
+    /// This surface ready for its resolved levels, from `tables`: its yarn's crowned table
+    /// (`options` crowned at [`CROWN_DEG`](crate::relief::CROWN_DEG): from memory, from disk, or
+    /// built from the yarn's table on `options`) and the relief's ratio, kept in the tables'
+    /// folder ([`prepare`](Self::prepare)). A surface that does not resolve the relief is
+    /// returned as it is. `material` is the yarn tabulated ([`SurfaceSpec::table_material`]),
+    /// `on_build` and `progress` as [`Tables::table`](crate::table::cache::Tables::table) has
+    /// them; the tables' notes hear why a stored file was not used.
+    ///
+    /// # Errors
+    /// An invalid material or options.
+    pub fn prepared_from(
+        self,
+        tables: &mut crate::table::cache::Tables,
+        material: &Material,
+        wavelength_nm: f64,
+        options: &TableOptions,
+        on_build: &dyn Fn(Option<&std::path::Path>),
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<WovenSurface> {
+        if !self.resolves_relief() {
+            return Ok(self);
+        }
+        let crowned = TableOptions {
+            crown_deg: crate::relief::CROWN_DEG,
+            ..*options
+        };
+        let crowned = tables.table(material, wavelength_nm, &crowned, on_build, progress)?;
+        let surface = self.with_crowned(crowned)?;
+        let dir = tables.disk().map(|d| d.dir().to_path_buf());
+        surface.prepare(dir.as_deref(), &|m| tables.note(m));
+        Ok(surface)
+    }
+
     /// Whether the surface resolves its weave's relief (`detail` `"fibers"` or `"auto"` on a
     /// pattern): then it reads a crowned yarn table ([`with_crowned`](Self::with_crowned)) and
     /// the relief's ratio ([`prepare`](Self::prepare)).

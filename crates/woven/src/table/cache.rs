@@ -14,7 +14,9 @@
 use super::{grid_of, Table, TableOptions};
 use crate::error::{Error, Result};
 use crate::material::Material;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A folder of cached tables.
 #[derive(Clone, Debug)]
@@ -216,6 +218,144 @@ pub enum Notice<'a> {
     },
 }
 
+/// The tables a front end has had so far, by material, wavelength and grid (materials that share
+/// a yarn share its table), over an optional [`Cache`] folder: the one place that knows how a
+/// table is had. A crowned table ([`TableOptions::crown_deg`] > 0) is built from the plain table
+/// of the same grid (itself had the same way); any other from the material's exact model.
+#[derive(Default)]
+pub struct Tables {
+    memory: HashMap<String, Arc<Table>>,
+    disk: Option<Cache>,
+    note: Option<Note>,
+}
+
+/// A listener for [`Tables`]' notes, in words.
+type Note = Box<dyn Fn(&str) + Send + Sync>;
+
+impl std::fmt::Debug for Tables {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Tables")
+            .field("tables", &self.memory.len())
+            .field("disk", &self.disk)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Tables {
+    /// Tables also kept in `disk` (e.g. [`Cache::user`]): a table built once is loaded on later
+    /// runs; a damaged or foreign file is rebuilt.
+    pub fn with_disk(disk: Cache) -> Tables {
+        Tables {
+            disk: Some(disk),
+            ..Tables::default()
+        }
+    }
+
+    /// `note` hears, in words, why a cached file was not used (it is rebuilt) and why a built
+    /// table (or a surface's ratio table) could not be stored (the work goes on).
+    pub fn with_notes(mut self, note: impl Fn(&str) + Send + Sync + 'static) -> Tables {
+        self.note = Some(Box::new(note));
+        self
+    }
+
+    /// The folder tables are kept in, if any.
+    pub fn disk(&self) -> Option<&Cache> {
+        self.disk.as_ref()
+    }
+
+    /// Tells the notes' listener, if any.
+    pub fn note(&self, message: &str) {
+        if let Some(note) = &self.note {
+            note(message);
+        }
+    }
+
+    /// Holds `table` as the table of `material` at `wavelength_nm` on `options` (for this
+    /// session only: it is not stored on disk): a table a caller built its own way, from which
+    /// crowned tables are then built.
+    pub fn insert(
+        &mut self,
+        material: &Material,
+        wavelength_nm: f64,
+        options: &TableOptions,
+        table: Arc<Table>,
+    ) {
+        self.memory
+            .insert(memory_key(material, wavelength_nm, options), table);
+    }
+
+    /// The table of `material` at `wavelength_nm` on `options`: from memory, from disk, or built
+    /// (`on_build` is called first, with the file it will be kept in, if any; `progress` gets
+    /// `(done, total)` rows).
+    ///
+    /// # Errors
+    /// An invalid material or options.
+    pub fn table(
+        &mut self,
+        material: &Material,
+        wavelength_nm: f64,
+        options: &TableOptions,
+        on_build: &dyn Fn(Option<&Path>),
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Arc<Table>> {
+        let key = memory_key(material, wavelength_nm, options);
+        if let Some(t) = self.memory.get(&key) {
+            return Ok(Arc::clone(t));
+        }
+        let base = if options.crown_deg > 0.0 {
+            let plain = TableOptions {
+                crown_deg: 0.0,
+                ..*options
+            };
+            Some(self.table(material, wavelength_nm, &plain, on_build, progress)?)
+        } else {
+            None
+        };
+        let build = || -> Result<Table> {
+            match &base {
+                Some(base) => base.crowned_with(options),
+                None => Table::build(&material.build(wavelength_nm)?, material, options, progress),
+            }
+        };
+        let table = match &self.disk {
+            None => {
+                on_build(None);
+                build()?
+            }
+            Some(disk) => {
+                disk.load_or_build(material, wavelength_nm, options, build, &|n| match n {
+                    Notice::Building { path, reason } => {
+                        if let Some(r) = reason {
+                            self.note(&format!("not using the cached table ({r})"));
+                        }
+                        on_build(Some(path));
+                    }
+                    Notice::NotStored { error } => {
+                        self.note(&format!("the table could not be cached ({error})"));
+                    }
+                    Notice::Loaded { .. } => {}
+                })?
+            }
+        };
+        let table = Arc::new(table);
+        self.memory.insert(key, Arc::clone(&table));
+        Ok(table)
+    }
+}
+
+/// The in-memory key: everything that decides a table's values, as text.
+fn memory_key(material: &Material, wavelength_nm: f64, options: &TableOptions) -> String {
+    let grid = TableOptions {
+        threads: 0,
+        ..*options
+    };
+    format!(
+        "{grid:?}\n{}\n{}",
+        wavelength_nm.to_bits(),
+        material.to_self_contained_toml_string()
+    )
+}
+
 /// The cache key: a 64-bit FNV-1a hash, in hex, of everything that decides a table's values.
 fn key(material: &Material, wavelength_nm: f64, options: &TableOptions) -> String {
     let grid = TableOptions {
@@ -301,6 +441,69 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("woven-cache-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         dir
+    }
+
+    /// `Tables`: one table per material and grid in memory; a crowned table built from its yarn's
+    /// plain table (the same values as `Table::build` with the crown); both kept on disk, so a
+    /// second session builds nothing; a damaged file is rebuilt and the notes say why.
+    #[test]
+    fn tables_share_build_crowned_tables_from_plain_ones_and_keep_both() {
+        let dir = scratch("tables");
+        let m = Material::preset("silk-crepe-de-chine")
+            .unwrap()
+            .yarn_family();
+        let plain = tiny();
+        let crowned = TableOptions {
+            crown_deg: crate::relief::CROWN_DEG,
+            colour: true,
+            ..plain
+        };
+        let builds = std::sync::atomic::AtomicUsize::new(0);
+        let on_build = |_: Option<&Path>| {
+            builds.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        };
+        let quiet = |_: usize, _: usize| {};
+        let heard = Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+        let sink = Arc::clone(&heard);
+        let mut tables = Tables::with_disk(Cache::new(&dir))
+            .with_notes(move |m| sink.lock().unwrap().push(m.into()));
+        let c = tables
+            .table(&m, 550.0, &crowned, &on_build, &quiet)
+            .unwrap();
+        // The crowned table and its plain base: two builds, two files.
+        assert_eq!(builds.load(std::sync::atomic::Ordering::Relaxed), 2);
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+        let again = tables
+            .table(&m, 550.0, &crowned, &on_build, &quiet)
+            .unwrap();
+        assert!(
+            Arc::ptr_eq(&c, &again),
+            "a second request is served from memory"
+        );
+        let direct = Table::build(&m.build(550.0).unwrap(), &m, &crowned, &|_, _| {}).unwrap();
+        assert_eq!(c.values(), direct.values());
+
+        // A new session loads both; a damaged crowned file is rebuilt from the loaded base.
+        let path = Cache::new(&dir).path(&m, 550.0, &crowned);
+        let mut bytes = std::fs::read(&path).unwrap();
+        let at = bytes.len() / 2;
+        bytes[at] ^= 0x40;
+        std::fs::write(&path, &bytes).unwrap();
+        let mut tables = Tables::with_disk(Cache::new(&dir)).with_notes({
+            let sink = Arc::clone(&heard);
+            move |m| sink.lock().unwrap().push(m.into())
+        });
+        let reloaded = tables
+            .table(&m, 550.0, &crowned, &on_build, &quiet)
+            .unwrap();
+        assert_eq!(builds.load(std::sync::atomic::Ordering::Relaxed), 3);
+        assert_eq!(reloaded.values(), direct.values());
+        let notes = heard.lock().unwrap().clone();
+        assert!(
+            notes.len() == 1 && notes[0].contains("checksum"),
+            "{notes:?}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
