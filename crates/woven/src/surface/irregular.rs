@@ -28,8 +28,8 @@ pub const MAX_SPREAD: f64 = 1.0;
 /// The range of [`Irregularity::length`], in pattern cells.
 pub const LENGTH_RANGE: [f64; 2] = [1.0, 1.0e6];
 
-/// How unevenly a surface's yarns are dyed along their length ([`SurfaceSpec::irregularity`]
-/// (crate::surface::SurfaceSpec::irregularity)).
+/// How unevenly a surface's yarns are dyed along their length
+/// ([`SurfaceSpec::irregularity`](crate::surface::SurfaceSpec::irregularity)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Irregularity {
     /// `σ` of the weft and of the warp, the spread of the log of each yarn's dye factor, each in
