@@ -549,7 +549,8 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
 }
 
 /// A woven material's `irregularity` and `irregularity_length` at `key` (the library's
-/// defaults where not given), checked by the library: both in range, and a pattern to vary.
+/// defaults where not given), checked by the library: both in range, and a pattern to vary
+/// ([`Irregularity::validate_for`]).
 fn irregularity_of(
     c: &Checker,
     key: &str,
@@ -567,7 +568,7 @@ fn irregularity_of(
         },
         length: length.unwrap_or(d.length),
     };
-    irregularity.validate().map_err(|e| {
+    irregularity.validate_for(material).map_err(|e| {
         // The library names the parameter as the scene does.
         let name = match &e {
             woven::Error::InvalidParameter { name, .. } => name.as_str(),
@@ -575,13 +576,6 @@ fn irregularity_of(
         };
         c.err(&format!("{key}.{name}"), at, e.to_string())
     })?;
-    if irregularity.is_active() && !matches!(material.weave, Some(Weave::Pattern { .. })) {
-        return Err(c.err(
-            &format!("{key}.irregularity"),
-            at,
-            "yarns vary one by one only on a weave pattern: give `pattern`, or remove `irregularity`",
-        ));
-    }
     Ok(irregularity)
 }
 

@@ -19,6 +19,7 @@
 //! albedos' caps, `ρ0 < 1`, `ρ ≤ 1`). The sheen is the fibres' surface and stays as it is.
 
 use crate::error::{Error, Result};
+use crate::material::{Material, Weave};
 use crate::yarn::point::hash_uniform;
 use std::f64::consts::TAU;
 
@@ -75,6 +76,24 @@ impl Irregularity {
                 name: "irregularity_length".into(),
                 value: self.length.to_string(),
                 expected: format!("pattern cells in [{lo}, {hi:e}]"),
+            });
+        }
+        Ok(())
+    }
+
+    /// [`validate`](Self::validate), and that `material` lays its yarns out on a weave pattern
+    /// when any yarn varies (yarns vary one by one only there).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `irregularity` or `irregularity_length`.
+    pub fn validate_for(&self, material: &Material) -> Result<()> {
+        self.validate()?;
+        if self.is_active() && !matches!(material.weave, Some(Weave::Pattern { .. })) {
+            return Err(Error::InvalidParameter {
+                name: "irregularity".into(),
+                value: format!("{:?} without a weave pattern", self.spread),
+                expected: "0: yarns are laid out (and can vary one by one) only on a pattern"
+                    .into(),
             });
         }
         Ok(())

@@ -300,16 +300,7 @@ impl SurfaceSpec {
                 "0: a flat fiber surface (no [yarn]) has no yarns to tilt or space",
             );
         }
-        self.irregularity.validate()?;
-        let patterned = matches!(self.material.weave, Some(Weave::Pattern { .. }));
-        if self.irregularity.is_active() && !patterned {
-            return invalid(
-                "irregularity",
-                format!("{:?} without a weave pattern", self.irregularity.spread),
-                "0: yarns are laid out (and can vary one by one) only on a pattern",
-            );
-        }
-        Ok(())
+        self.irregularity.validate_for(&self.material)
     }
 }
 
