@@ -40,11 +40,12 @@ def _vec3(path: Path, table: dict, key: str, prefix: str) -> np.ndarray:
 
 @dataclass
 class Material:
-    kind: str  # "diffuse" | "roughplastic"
+    kind: str  # "diffuse" | "roughplastic" | "measured"
     reflectance: np.ndarray | None = None  # diffuse
     alpha: float = 0.0  # roughplastic: Beckmann alpha = 2 * roughness
     eta: float = 1.0
     source: Path | None = None  # the woven material file, for `woven eval`
+    filename: str | None = None  # measured: the RGL .bsdf file
 
 
 @dataclass
@@ -105,15 +106,20 @@ def load_material_file(path: Path) -> Material:
     return Material("roughplastic", alpha=2.0 * float(roughness), eta=float(eta), source=path)
 
 
-def load_scene(path: str | Path) -> Scene:
+def load_scene(path: str | Path, measured: dict | None = None) -> Scene:
+    """The scene at `path`; `measured` maps material names to RGL `.bsdf` files (`woven export
+    --format rgl`) that stand for them in Mitsuba, whatever their woven keys."""
     path = Path(path)
+    measured = measured or {}
     with open(path, "rb") as f:
         doc = tomllib.load(f)
     cam, film, integ = doc.get("camera", {}), doc.get("film", {}), doc.get("integrator", {})
     materials = {}
     for name, m in doc.get("material", {}).items():
         t = m.get("type")
-        if t == "diffuse":
+        if name in measured:
+            materials[name] = Material("measured", filename=str(measured[name]))
+        elif t == "diffuse":
             materials[name] = Material(
                 "diffuse", reflectance=_vec3(path, m, "reflectance", f"material.{name}.")
             )
@@ -193,6 +199,8 @@ def mitsuba_dict(
     T = mi.ScalarTransform4f
 
     def bsdf(m: Material) -> dict:
+        if m.kind == "measured":
+            return {"type": "measured", "filename": m.filename}
         if m.kind == "diffuse":
             return {
                 "type": "diffuse",
