@@ -1,17 +1,20 @@
 #!/usr/bin/env bash
 # CI step: the Python package (crates/woven-py) and its Mitsuba 3 plugin (docs/python.md).
 #
-#   bash scripts/python/ci.sh            # from anywhere; exit 0 = passed or skipped
+#   bash scripts/python/ci.sh            # from anywhere; exit 0 = passed (or skipped, not in CI)
 #
 # Builds the `woven` command line (the tests compare with it) and the wheel (maturin, abi3),
 # installs the wheel into a virtual environment with numpy and pytest, and runs
 # crates/woven-py/tests. The environment is WOVEN_PY_VENV, default MITSUBA_VENV (default
 # target/mitsuba-venv): the one scripts/mitsuba/ci.sh sets up, so Mitsuba is installed once for
-# both steps; when Mitsuba 3.9.1 is not there this script tries to install it, and the Mitsuba
-# tests skip when it cannot be had (or when Dr.Jit's LLVM backend finds no libLLVM >= 16:
-# scripts/mitsuba/ci.sh installs Debian's libllvm19 as root). Skips, with a message and exit 0,
-# when python3 or its venv module is missing, or PyPI cannot provide maturin, numpy and pytest.
-# Fails (exit 1) when the wheel does not build or a test fails.
+# both steps; when Mitsuba 3.9.1 is not there this script tries to install it. Outside CI the
+# Mitsuba tests skip when it cannot be had (or when Dr.Jit's LLVM backend finds no libLLVM >= 16:
+# scripts/mitsuba/ci.sh installs Debian's libllvm19 as root), and the step skips, with a message
+# and exit 0, when python3 or its venv module is missing, or PyPI cannot provide maturin, numpy
+# and pytest. With the environment variable CI set (to anything but "", 0 or false) each of these
+# fails the step (exit 1) with a message naming what is missing and how to get it; a test that
+# skips fails too (crates/woven-py/tests/conftest.py, scripts/ci_no_skips.py). Fails (exit 1)
+# when the wheel does not build or a test fails.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -20,7 +23,14 @@ DRJIT_VERSION=1.5.0
 VENV=${WOVEN_PY_VENV:-${MITSUBA_VENV:-target/mitsuba-venv}}
 TARGET=${CARGO_TARGET_DIR:-target}
 
-skip() { printf 'SKIP (Python package): %s\n' "$*"; exit 0; }
+in_ci() { case ${CI:-} in '' | 0 | [Ff]alse | FALSE) return 1 ;; *) return 0 ;; esac; }
+# Under CI nothing may be left out: what would be skipped fails the step.
+fail_in_ci() {
+  in_ci || return 0
+  printf 'FAIL (Python package): %s\nCI is set (CI=%s), so this step may not skip any part of it: install the above, or run without CI to skip it.\n' "$*" "$CI" >&2
+  exit 1
+}
+skip() { fail_in_ci "$@"; printf 'SKIP (Python package): %s\n' "$*"; exit 0; }
 pip_install() {
   "$VENV/bin/pip" install -q --disable-pip-version-check --timeout 30 --retries 2 "$@"
 }
@@ -30,12 +40,16 @@ if [ ! -x "$VENV/bin/python" ]; then
   python3 -m venv "$VENV" 2>/dev/null || { rm -rf "$VENV"; skip "python3 -m venv failed (Debian: apt-get install python3-venv)"; }
 fi
 "$VENV/bin/python" -c "import numpy, pytest" 2>/dev/null \
-  || pip_install numpy pytest || skip "pip could not install numpy and pytest"
-[ -x "$VENV/bin/maturin" ] || pip_install "maturin>=1.7,<2" || skip "pip could not install maturin"
+  || pip_install numpy pytest \
+  || skip "pip could not install numpy and pytest into $VENV (no PyPI: give pip a reachable index, PIP_INDEX_URL, or install them into $VENV by hand)"
+[ -x "$VENV/bin/maturin" ] || pip_install "maturin>=1.7,<2" \
+  || skip "pip could not install maturin>=1.7,<2 into $VENV (no PyPI: give pip a reachable index, PIP_INDEX_URL, or install it into $VENV by hand)"
 if ! "$VENV/bin/python" -c "import mitsuba; assert mitsuba.__version__ == '$MITSUBA_VERSION'" 2>/dev/null; then
   echo "installing mitsuba==$MITSUBA_VERSION into $VENV (the plugin's tests skip without it)"
-  pip_install "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION" \
-    || echo "note: mitsuba==$MITSUBA_VERSION could not be installed: the Mitsuba tests skip"
+  if ! pip_install "mitsuba==$MITSUBA_VERSION" "drjit==$DRJIT_VERSION"; then
+    fail_in_ci "pip could not install mitsuba==$MITSUBA_VERSION drjit==$DRJIT_VERSION into $VENV, which the plugin's tests need (no PyPI, or no wheel for this platform: give pip a reachable index, PIP_INDEX_URL, or install them into $VENV by hand)"
+    echo "note: mitsuba==$MITSUBA_VERSION could not be installed: the Mitsuba tests skip"
+  fi
 fi
 
 WOVEN_BIN=${WOVEN_BIN:-}

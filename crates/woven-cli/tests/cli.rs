@@ -1662,10 +1662,10 @@ fn render_example_prints_a_commented_scene() {
     }
 }
 
-/// Bare `woven` renders the built-in showcase (minutes: it builds three tables at the default
-/// grid and renders 960×540 at 64 spp).
+/// Bare `woven` renders the built-in showcase (about 85 s on 2 cores with a cold table cache: it
+/// builds the showcase's tables at the default grid, in the user's cache, and renders 960×540).
 #[test]
-#[ignore]
+#[ignore = "slow: the showcase's tables and render (~85 s on 2 cores); CI runs it"]
 fn bare_woven_renders_the_showcase() {
     let dir = tempfile::tempdir().unwrap();
     let assert = woven().current_dir(dir.path()).assert().success();

@@ -1,7 +1,7 @@
 //! Synthetic recovery: data generated from known parameters, with 3 % multiplicative noise, is
 //! fitted back; the fit's residuals sit at the noise level and the parameters the data
 //! determines come back within their reported standard errors. Slow cases (every preset, all its
-//! parameters free) are `#[ignore]`d.
+//! parameters free) are `#[ignore]`d; CI runs them with the other ignored tests.
 
 use std::f64::consts::{FRAC_PI_2, PI};
 use woven::material::Material;
@@ -556,7 +556,7 @@ fn a_rank_deficient_fit_is_refused_and_a_decidable_one_runs() {
 /// Every preset, its default free parameters, at the CUReT-like geometry: the fit reaches the
 /// noise level, and every parameter it does not warn about is within 3 standard errors.
 #[test]
-#[ignore = "slow: three full cloth fits (minutes)"]
+#[ignore = "slow: three full cloth fits (~40 s on 2 cores); CI runs it"]
 fn every_preset_is_recovered_at_the_curet_geometry() {
     for name in Material::preset_names() {
         let m = Material::preset(name).unwrap();

@@ -172,7 +172,7 @@ fn a_close_up_is_unchanged_by_the_filter() {
 ///
 /// `cargo test --release -p woven-render --test integration moire -- --ignored --nocapture`
 #[test]
-#[ignore = "a demonstration with figures, a few minutes"]
+#[ignore = "a demonstration with figures (~6 s on 2 cores); CI runs it"]
 fn moire_demo_on_a_plane_receding_to_the_horizon() {
     use woven::Vec3;
     use woven_render::camera::Camera;
@@ -365,72 +365,4 @@ fn moire_demo_on_a_plane_receding_to_the_horizon() {
     assert!(l_filtered < 0.5 * l_unfiltered);
     assert!(rms(&filtered) < 0.5 * rms(&unfiltered));
     assert!(near.is_empty() || z2.sqrt() < 1.5);
-}
-
-/// The showcase with and without the filter, at 320 × 180 and 16 spp, default tables (the
-/// user's table cache): per material seen by the camera, the mean standard error of its pixels
-/// relative to their mean, and the render times.
-///
-/// `cargo test --release -p woven-render --test integration showcase_noise -- --ignored --nocapture`
-#[test]
-#[ignore = "renders the showcase twice, about a minute with a warm table cache"]
-fn showcase_noise_with_and_without_the_filter() {
-    use woven_render::scene::SHOWCASE_SCENE;
-    let mut images = Vec::new();
-    let mut names: Vec<String> = Vec::new();
-    let mut owner = Vec::new();
-    for filter in [false, true] {
-        let text = SHOWCASE_SCENE.replace(
-            "[integrator]\n",
-            &format!("[integrator]\nfootprint_filter = {filter}\n"),
-        );
-        let mut desc = SceneDescription::from_str(&text, "<showcase>", Path::new(".")).unwrap();
-        assert_eq!(desc.integrator.footprint_filter, filter);
-        desc.film.width = 320;
-        desc.film.height = 180;
-        desc.film.spp = 16;
-        // Independent samples: the standard errors below are then the pixels' true errors.
-        desc.film.sampler = woven_render::rng::SamplerKind::Independent;
-        // The raw means: their noise is what is measured.
-        desc.film.denoise = false;
-        let scene = crate::build_with_user_cache(&desc);
-        let image = render(&scene, &RenderOptions::default()).unwrap();
-        assert_eq!(image.invalid_samples, 0);
-        // Which material each pixel's centre sees.
-        names = desc
-            .materials
-            .keys()
-            .filter(|n| desc.shapes.iter().any(|(_, m)| m == *n))
-            .cloned()
-            .collect();
-        owner = (0..320 * 180)
-            .map(|i| {
-                let ray = scene
-                    .camera
-                    .ray((i % 320) as f64 + 0.5, (i / 320) as f64 + 0.5);
-                scene
-                    .accel
-                    .intersect(&ray, 0.0, f64::INFINITY)
-                    .and_then(|h| scene.prim_info[h.prim].material)
-            })
-            .collect();
-        println!("filter {filter}: {:.2} s", image.seconds);
-        images.push(image);
-    }
-    for (k, name) in names.iter().enumerate() {
-        let px: Vec<usize> = (0..320 * 180).filter(|&i| owner[i] == Some(k)).collect();
-        let rel = |img: &Image| {
-            let mean = px.iter().map(|&i| img.pixels[i].luminance()).sum::<f64>();
-            px.iter()
-                .map(|&i| img.std_error[i].luminance())
-                .sum::<f64>()
-                / mean
-        };
-        println!(
-            "{name:10} {:6} pixels: relative standard error {:.4} unfiltered, {:.4} filtered",
-            px.len(),
-            rel(&images[0]),
-            rel(&images[1])
-        );
-    }
 }

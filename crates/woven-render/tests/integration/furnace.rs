@@ -267,33 +267,10 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
 }
 
 /// A white woven plane in a furnace is nowhere brighter than the sky, at every level of detail,
-/// with and without tilt and gaps (the sateen; every preset in the `#[ignore]`d run
-/// below); the fibre level keeps the resolved yarn level's mean.
+/// with and without tilt and gaps (the sateen); the fibre level keeps the resolved yarn level's
+/// mean. The same plane at 128 × 128 pixels and 256 samples, docs/render.md's table, takes
+/// minutes: `cargo run --release -p woven-render --example furnace_table`.
 #[test]
 fn a_white_woven_plane_is_nowhere_brighter_than_the_furnace() {
     white_planes(&["polyester-sateen"], 24, 64);
-}
-
-/// The furnace table: the sateen's white plane at 128 × 128 pixels, 256 samples a pixel, 16
-/// cells across, at each level and with tilt and gaps; the brightest pixel, the share above
-/// 1.05 and the mean (`cargo test --release -p woven-render --test integration
-/// white_woven_plane_table -- --ignored --nocapture`).
-#[test]
-#[ignore = "exhaustive: several minutes"]
-fn a_white_woven_plane_table() {
-    for config in [
-        ("fibers", 0.0, 0.0),
-        ("auto", 0.0, 0.0),
-        ("yarns", 0.0, 0.0),
-        ("yarns", 60.0, 0.3),
-        ("fibers", 60.0, 0.3),
-    ] {
-        let text = white_plane("polyester-sateen", config, 16, 128, 256);
-        let (brightest, above, mean, excess) = furnace_figures(&crate::render_text(&text));
-        eprintln!(
-            "| {:?} | {brightest:.3} | {:.2} % | {mean:.4} | {excess:.1} |",
-            config,
-            100.0 * above
-        );
-    }
 }

@@ -1,0 +1,112 @@
+//! The white furnace table of docs/render.md ("Levels of detail"): a white-dyed plain weave of
+//! the polyester sateen's yarn, 16 cells across a 4 × 4 plane, seen from `(0, −1, 1)` at 30° in a
+//! uniform sky of radiance 1 (hidden), one bounce, 128 × 128 pixels at 256 independent samples,
+//! at fibre, auto and yarn level, flat and tilted 60° with gaps of 0.3. Prints a Markdown row
+//! per case: the brightest pixel (its largest channel), the share of pixels above 1.05, the
+//! image's mean (green) and the largest excess over 1 in the pixel's own standard errors. Tables
+//! on a coarse grid (12 × 7 directions, 31 and 61 slopes), as the furnace test renders them
+//! (`a_white_woven_plane_is_nowhere_brighter_than_the_furnace` in
+//! crates/woven-render/tests/integration/furnace.rs, which CI runs at 24 × 24 pixels). About
+//! three and a half minutes on two cores.
+//!
+//! `cargo run --release -p woven-render --example furnace_table`
+
+use std::path::Path;
+use woven::table::TableOptions;
+use woven_render::render::{render, Image, RenderOptions};
+use woven_render::scene::{Scene, SceneDescription};
+use woven_render::woven_material::TableGrid;
+
+/// The white plane's scene: `detail`, the yarns' tilt `u_max_deg` and `gap`, `cells` cells
+/// across, `px` × `px` pixels at `spp` samples.
+fn white_plane(
+    (detail, u_max_deg, gap): (&str, f64, f64),
+    cells: usize,
+    px: usize,
+    spp: usize,
+) -> String {
+    format!(
+        r#"
+        [camera]
+        origin = [0, -1, 1]
+        target = [0, 0, 0]
+        up = [0, 0, 1]
+        fov_deg = 30
+        [film]
+        width = {px}
+        height = {px}
+        spp = {spp}
+        sampler = "independent"
+        [integrator]
+        max_depth = 2
+        hide_emitters = true
+        [[light]]
+        type = "environment"
+        radiance = [1, 1, 1]
+        [[shape]]
+        type = "rectangle"
+        corner = [-2, -2, 0]
+        edge_u = [4, 0, 0]
+        edge_v = [0, 4, 0]
+        material = "cloth"
+        [material.cloth]
+        type = "woven"
+        material = "polyester-sateen"
+        pattern = "plain"
+        yarns_per_unit = {cells}
+        weft_color = [0.999, 0.999, 0.999]
+        warp_color = [0.999, 0.999, 0.999]
+        u_max_deg = {u_max_deg}
+        gap = {gap}
+        detail = "{detail}"
+        "#
+    )
+}
+
+/// Builds the scene on the coarse grid and renders it.
+fn render_text(text: &str) -> Image {
+    let grid = TableGrid::Custom(TableOptions {
+        n_theta: 12,
+        n_phi: 7,
+        n_h: 31,
+        n_h_isotropic: 61,
+        ..TableOptions::default()
+    });
+    let desc = SceneDescription::from_str(text, "<furnace>", Path::new(".")).unwrap();
+    let scene = Scene::build(&desc, &grid, &|_| {}, &|_, _| {}).unwrap();
+    let image = render(&scene, &RenderOptions::default()).unwrap();
+    assert_eq!(
+        image.invalid_samples, 0,
+        "NaN, infinite or negative samples"
+    );
+    image
+}
+
+fn main() {
+    println!("| (detail, tilt °, gap) | brightest | above 1.05 | mean | most above 1 (standard errors) |");
+    println!("|---|---|---|---|---|");
+    for config in [
+        ("fibers", 0.0, 0.0),
+        ("auto", 0.0, 0.0),
+        ("yarns", 0.0, 0.0),
+        ("yarns", 60.0, 0.3),
+        ("fibers", 60.0, 0.3),
+    ] {
+        let image = render_text(&white_plane(config, 16, 128, 256));
+        let values: Vec<f64> = image.pixels.iter().map(|p| p.max()).collect();
+        let n = values.len() as f64;
+        let brightest = values.iter().copied().fold(0.0, f64::max);
+        let above = values.iter().filter(|v| **v > 1.05).count() as f64 / n;
+        let mean = image.pixels.iter().map(|p| p.0[1]).sum::<f64>() / n;
+        let excess = image
+            .pixels
+            .iter()
+            .zip(&image.std_error)
+            .map(|(p, se)| (p.max() - 1.0) / se.max().max(1e-9))
+            .fold(f64::NEG_INFINITY, f64::max);
+        println!(
+            "| {config:?} | {brightest:.3} | {:.2} % | {mean:.4} | {excess:.1} |",
+            100.0 * above
+        );
+    }
+}
