@@ -1,0 +1,208 @@
+//! A woven surface's BSDF at one point ([`PointBsdf`]): the point's lobes, its dyes (varied
+//! along the yarns by an [`Irregularity`](super::Irregularity)), and the [`Bsdf`] that mixes the lobes.
+
+use super::{Entry, Layout, LobeMix, SurfacePoint, Tilt, WovenSurface};
+use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
+use crate::color::Rgb;
+use crate::table::Albedos;
+use crate::Vec3;
+
+impl WovenSurface {
+    /// The surface's BSDF at `at`.
+    #[inline]
+    pub fn at(&self, at: &SurfacePoint) -> PointBsdf<'_> {
+        let (mix, entry) = self.split(at);
+        let factors = self.dye_factors(at);
+        PointBsdf {
+            surface: self,
+            entry,
+            mix,
+            seen: std::sync::OnceLock::new(),
+            weft: scaled(self.weft, factors[0]),
+            warp: scaled(self.warp, factors[1]),
+            factors,
+        }
+    }
+
+    /// The weft's and the warp's dye factors at `at` ([`Irregularity::factor`](super::Irregularity::factor) of the yarns
+    /// through the point); 1 and 1 without irregularity.
+    pub fn dye_factors(&self, at: &SurfacePoint) -> [f64; 2] {
+        if !self.irregularity.is_active() || !matches!(self.layout, Layout::Pattern { .. }) {
+            return [1.0, 1.0];
+        }
+        let x = at.uv[0] * self.yarns_per_unit[0];
+        let y = at.uv[1] * self.yarns_per_unit[1];
+        if !(x.is_finite() && y.is_finite()) {
+            return [1.0, 1.0];
+        }
+        // The weft runs along x: its yarns are the rows, its length x; the warp the other way.
+        [
+            self.irregularity.factor(y.floor() as i64, false, x),
+            self.irregularity.factor(x.floor() as i64, true, y),
+        ]
+    }
+}
+
+/// `albedos` with the body scaled by `factor` (an [`Irregularity`](super::Irregularity)'s), each kept in its range
+/// (`ρ0 ≤ 0.999`, `ρ ≤ 1`, as [`Albedos::dyed`] keeps them).
+fn scaled(albedos: [Albedos; 3], factor: f64) -> [Albedos; 3] {
+    if factor == 1.0 {
+        return albedos;
+    }
+    albedos.map(|a| Albedos {
+        diffuse: (a.diffuse * factor).min(0.999),
+        interreflection: (a.interreflection * factor).min(1.0),
+    })
+}
+
+/// A woven surface's BSDF at one point: its mixture of lobes.
+#[derive(Clone, Debug)]
+pub struct PointBsdf<'a> {
+    surface: &'a WovenSurface,
+    /// On a relief, where the viewer's ray enters it: the lobes it meets depend on the view.
+    entry: Option<Entry>,
+    /// The lobes that do not depend on the view.
+    mix: LobeMix,
+    /// The first view's lobes on a relief ([`mix_seen_from`](Self::mix_seen_from)).
+    seen: std::sync::OnceLock<(Vec3, LobeMix)>,
+    weft: [Albedos; 3],
+    warp: [Albedos; 3],
+    /// The weft's and the warp's dye factors here ([`WovenSurface::dye_factors`]).
+    factors: [f64; 2],
+}
+
+impl PointBsdf<'_> {
+    /// The lobes mixed here.
+    pub fn mix(&self) -> LobeMix {
+        self.mix_seen_from(Vec3::new(0.0, 0.0, 1.0))
+    }
+
+    /// The lobes mixed here for a viewer toward `view` (or, drawing for a known light, toward
+    /// it): on a relief, the yarn that the ray toward `view` meets first.
+    #[inline]
+    pub fn mix_seen_from(&self, view: Vec3) -> LobeMix {
+        let Some(e) = &self.entry else {
+            return self.mix;
+        };
+        // A renderer asks for the same view several times at a vertex (eval, sample, pdf): the
+        // first view's march is kept.
+        if let Some((seen, mix)) = self.seen.get() {
+            if *seen == view {
+                return *mix;
+            }
+        }
+        let mix = self.surface.with_relief(self.mix, e, view);
+        let _ = self.seen.set((view, mix));
+        mix
+    }
+
+    /// The same point with other dyes where given (a textured colour, read at the point), each
+    /// channel clamped to `[0, 1]`, and varied along the yarns as the surface's are.
+    pub fn dyed(mut self, weft_color: Option<Rgb>, warp_color: Option<Rgb>) -> Self {
+        if weft_color.is_some() {
+            self.weft = scaled(self.surface.own.dyed(weft_color), self.factors[0]);
+        }
+        if warp_color.is_some() {
+            self.warp = scaled(self.surface.own.dyed(warp_color), self.factors[1]);
+        }
+        self
+    }
+
+    fn pdf_mix(&self, mix: &LobeMix, known: Vec3, drawn: Vec3) -> f64 {
+        let mut p = 0.0;
+        for l in mix.lobes() {
+            p += l.weight * self.surface.lobe_pdf(l, known, drawn);
+        }
+        let total = mix.total();
+        if total == 1.0 || total == 0.0 {
+            p
+        } else {
+            p / total
+        }
+    }
+}
+
+impl Bsdf for PointBsdf<'_> {
+    type Value = Rgb;
+
+    fn lobes(&self) -> LobeFlags {
+        let flags = LobeFlags::REFLECTION | LobeFlags::GLOSSY | LobeFlags::DIFFUSE;
+        let flags = flags | LobeFlags::ANISOTROPIC;
+        if self.surface.uses_footprint() {
+            flags | LobeFlags::SPATIALLY_VARYING
+        } else {
+            flags
+        }
+    }
+
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return Rgb::BLACK;
+        }
+        if let Layout::Flat { model } = &self.surface.layout {
+            let affine = model.eval_affine(wi, wo);
+            return Rgb(self
+                .weft
+                .map(|a| affine.at(a.diffuse, a.interreflection).max(0.0)));
+        }
+        let mut f = Rgb::BLACK;
+        // Both families' relief ratios in one read, when a resolved macro lobe needs them.
+        let mut ratios = None;
+        for l in self.mix_seen_from(wo).lobes() {
+            let albedos = if l.warp { &self.warp } else { &self.weft };
+            let ratio = l.resolved.then(|| {
+                ratios.get_or_insert_with(|| self.surface.relief_ratios(wi, wo))
+                    [usize::from(l.warp)]
+            });
+            f += self.surface.lobe_eval(l, albedos, wi, wo, ratio) * l.weight;
+        }
+        f
+    }
+
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return 0.0;
+        }
+        let (known, drawn) = known_and_drawn(wi, wo, mode);
+        self.pdf_mix(&self.mix_seen_from(known), known, drawn)
+    }
+
+    fn sample(
+        &self,
+        known: Vec3,
+        uc: f64,
+        u: [f64; 2],
+        mode: Transport,
+    ) -> Option<BsdfSample<Rgb>> {
+        if known.z <= 0.0 {
+            return None;
+        }
+        // A lobe with probability ∝ its weight; the density is the mixture's.
+        let mix = self.mix_seen_from(known);
+        let lobes = mix.lobes();
+        let last = lobes.len().checked_sub(1)?;
+        let x = uc * mix.total();
+        let mut before = 0.0;
+        let mut pick = 0;
+        while pick < last && x >= before + lobes[pick].weight {
+            before += lobes[pick].weight;
+            pick += 1;
+        }
+        let (drawn, pdf) = self.surface.lobe_sample(&lobes[pick], known, u)?;
+        // A whole float's draw came from one of its tilt nodes: its density is the nodes'
+        // mean, as is that of a mixture of lobes.
+        let pdf = if lobes.len() == 1 && lobes[pick].tilt != Tilt::Float {
+            pdf
+        } else {
+            self.pdf_mix(&mix, known, drawn)
+        };
+        let (wi, wo) = pair_of(known, drawn, mode);
+        (pdf > 0.0 && pdf.is_finite()).then(|| BsdfSample {
+            wi,
+            wo,
+            f: self.eval(wi, wo),
+            pdf,
+            lobe: LobeFlags::REFLECTION | LobeFlags::GLOSSY,
+        })
+    }
+}

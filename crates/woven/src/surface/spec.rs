@@ -1,0 +1,203 @@
+//! What a woven surface is ([`SurfaceSpec`]): a material, how its weave lies on the surface's
+//! uv, its dyes, its yarns' tilt and gaps, and how finely it is resolved ([`Detail`]); the
+//! limits on each, and their checks.
+
+use super::Irregularity;
+use crate::color::Rgb;
+use crate::error::{Error, Result};
+use crate::material::{Material, Weave};
+use crate::relief::Relief;
+use crate::yarn::float::FloatProfile;
+
+/// How finely a surface resolves its weave (the `detail` key of woven materials).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Detail {
+    /// By the pixel's footprint: fibres where it is well under a yarn's width, yarns from about
+    /// a third of a cell ([`FIBER_CELLS`](super::FIBER_CELLS)), the cloth's macro BRDF from two cells
+    /// ([`FILTER_CELLS`](super::FILTER_CELLS)), smoothly between.
+    #[default]
+    Auto,
+    /// Every point is a point on its yarn's profile ([`yarn::point`](crate::yarn::point)).
+    Fibers,
+    /// Every point shades with its cell's yarn BRDF (blending to the macro BRDF under wide
+    /// footprints).
+    Yarns,
+    /// Every point shades with the cloth's macro BRDF, the paper's γ-mix.
+    Cloth,
+}
+
+impl Detail {
+    /// The names, as scene files and the plugin write them.
+    pub const NAMES: [&'static str; 4] = ["auto", "fibers", "yarns", "cloth"];
+
+    /// The level named `name` (one of [`NAMES`](Self::NAMES)).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `detail` for any other name.
+    pub fn from_name(name: &str) -> Result<Detail> {
+        match name {
+            "auto" => Ok(Detail::Auto),
+            "fibers" => Ok(Detail::Fibers),
+            "yarns" => Ok(Detail::Yarns),
+            "cloth" => Ok(Detail::Cloth),
+            other => Err(Error::InvalidParameter {
+                name: "detail".into(),
+                value: format!("{other:?}"),
+                expected: "one of \"auto\", \"fibers\", \"yarns\", \"cloth\"".into(),
+            }),
+        }
+    }
+
+    /// The level's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Detail::Auto => "auto",
+            Detail::Fibers => "fibers",
+            Detail::Yarns => "yarns",
+            Detail::Cloth => "cloth",
+        }
+    }
+}
+
+/// The largest yarn tilt [`SurfaceSpec::u_max`], degrees.
+pub const MAX_U_MAX_DEG: f64 = 80.0;
+
+/// The largest [`SurfaceSpec::gap`]: yarns keep at least 5 % of their cells.
+pub const MAX_GAP: f64 = 0.95;
+
+/// What a woven surface is: a material and how its weave lies on the surface.
+#[derive(Clone, Debug)]
+pub struct SurfaceSpec {
+    /// The material (its `weave` may hold the pattern laid on the surface).
+    pub material: Material,
+    /// Pattern cells per unit of `u` and per unit of `v` (each > 0); unused without a pattern.
+    pub yarns_per_unit: [f64; 2],
+    /// The weft's dyed albedo per channel, each in `[0, 1]`; `None`: the material's own (grey).
+    pub weft_color: Option<Rgb>,
+    /// The warp's dyed albedo per channel, each in `[0, 1]`; `None`: the material's own.
+    pub warp_color: Option<Rgb>,
+    /// The tilt of a yarn's axis out of the cloth plane at the ends of each float, radians, in
+    /// `[0, MAX_U_MAX_DEG]` degrees; 0 (the default): flat yarns, the paper's model.
+    pub u_max: f64,
+    /// The fraction of each cell's width, in `[0, MAX_GAP]`, between yarns; 0 (the default):
+    /// yarns fill their cells.
+    pub gap: f64,
+    /// How finely the weave is resolved ([`Detail::Auto`] by default).
+    pub detail: Detail,
+    /// How unevenly each yarn is dyed along its length ([`Irregularity`]; by default not at
+    /// all). Needs a pattern.
+    pub irregularity: Irregularity,
+}
+
+impl SurfaceSpec {
+    /// `material` with one pattern cell per unit of uv, its own colours (its `[dye]`, if any),
+    /// its own float tilt (`[yarn] u_max_deg`, 0 for the paper's flat yarns), no gaps.
+    pub fn new(material: Material) -> SurfaceSpec {
+        let dye = material.dye;
+        let u_max = material.yarn.map_or(0.0, |y| y.u_max);
+        SurfaceSpec {
+            material,
+            yarns_per_unit: [1.0, 1.0],
+            weft_color: dye.weft,
+            warp_color: dye.warp,
+            u_max,
+            gap: 0.0,
+            detail: Detail::Auto,
+            irregularity: Irregularity::default(),
+        }
+    }
+
+    /// The material whose table renders the surface: its yarn alone
+    /// ([`Material::yarn_family`]), to be tabulated with
+    /// [`TableOptions::colour`](crate::table::TableOptions::colour) set.
+    pub fn table_material(&self) -> Material {
+        self.material.yarn_family()
+    }
+
+    /// The floats' profile: tilt [`u_max`](Self::u_max), crest and flanks the material's own
+    /// (`[yarn] float_crest`, `float_flank`); only read where `u_max > 0`.
+    pub fn float_profile(&self) -> FloatProfile {
+        let (crest, flank) = self
+            .material
+            .yarn
+            .map_or((0.0, 0.0), |y| (y.float_crest, y.float_flank));
+        FloatProfile::shaped(self.u_max.max(f64::MIN_POSITIVE), crest, flank)
+    }
+
+    /// The relief of the surface's weave ([`Relief`]: its floats' hills and its yarns' round
+    /// crowns, laid on its pattern); `None` without a pattern.
+    pub fn relief(&self) -> Option<Relief> {
+        match &self.material.weave {
+            Some(Weave::Pattern { pattern, .. }) => Some(Relief::new(
+                pattern,
+                self.yarns_per_unit,
+                self.float_profile(),
+                self.gap,
+            )),
+            _ => None,
+        }
+    }
+
+    /// Checks every parameter.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first offending one (`yarns_per_unit`,
+    /// `weft_color`, `warp_color`, `u_max`, `gap`, `irregularity`, `irregularity_length`), its
+    /// value and the valid range.
+    pub fn validate(&self) -> Result<()> {
+        let invalid = |name: &str, value: String, expected: &str| {
+            Err(Error::InvalidParameter {
+                name: name.into(),
+                value,
+                expected: expected.into(),
+            })
+        };
+        if !self
+            .yarns_per_unit
+            .iter()
+            .all(|n| n.is_finite() && *n > 0.0)
+        {
+            return invalid(
+                "yarns_per_unit",
+                format!("{:?}", self.yarns_per_unit),
+                "two finite numbers > 0",
+            );
+        }
+        for (name, c) in [
+            ("weft_color", self.weft_color),
+            ("warp_color", self.warp_color),
+        ] {
+            if let Some(c) = c {
+                if !c.0.iter().all(|x| (0.0..=1.0).contains(x)) {
+                    return invalid(name, format!("{:?}", c.0), "three values in [0, 1]");
+                }
+            }
+        }
+        if !(0.0..=MAX_U_MAX_DEG.to_radians()).contains(&self.u_max) {
+            return invalid(
+                "u_max",
+                format!("{} rad ({}°)", self.u_max, self.u_max.to_degrees()),
+                &format!("radians in [0, {MAX_U_MAX_DEG}°]"),
+            );
+        }
+        if !(0.0..=MAX_GAP).contains(&self.gap) {
+            return invalid(
+                "gap",
+                self.gap.to_string(),
+                &format!("a fraction in [0, {MAX_GAP}]"),
+            );
+        }
+        if self.material.yarn.is_none() && (self.u_max > 0.0 || self.gap > 0.0) {
+            let name = if self.gap > 0.0 { "gap" } else { "u_max" };
+            return invalid(
+                name,
+                format!(
+                    "{} with a flat fiber surface",
+                    if name == "gap" { self.gap } else { self.u_max }
+                ),
+                "0: a flat fiber surface (no [yarn]) has no yarns to tilt or space",
+            );
+        }
+        self.irregularity.validate_for(&self.material)
+    }
+}

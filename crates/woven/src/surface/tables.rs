@@ -1,0 +1,128 @@
+//! The resolved levels' tables: the yarn's table averaged over its crown, and the relief's
+//! ratio ([`ReliefRatio`]), each built on first use or prepared ahead (from a renderer's table
+//! cache and its folder).
+
+use super::{ReliefRatio, WovenSurface};
+use crate::error::{Error, Result};
+use crate::material::Material;
+use crate::table::{Table, TableOptions};
+use crate::Vec3;
+use std::sync::Arc;
+
+impl WovenSurface {
+    /// Builds now what the resolved levels would build on first use: the crowned yarn table and
+    /// the relief's ratio table, the ratio read from `dir` when it was stored there before (and
+    /// stored there when built). Nothing to do without a relief (`detail` other than `"fibers"`
+    /// and `"auto"`, or no pattern). `note` hears why a stored ratio was not used, or why a built
+    /// one could not be stored (the surface works either way).
+    pub fn prepare(&self, dir: Option<&std::path::Path>, note: &dyn Fn(&str)) {
+        if self.relief.is_none() {
+            return;
+        }
+        let _ = self.crowned();
+        self.ratio.get_or_init(|| {
+            Arc::new(match dir {
+                Some(dir) => ReliefRatio::load_or_build(self, dir, note),
+                None => ReliefRatio::build(self),
+            })
+        });
+    }
+
+    /// This surface ready for its resolved levels, from `tables`: its yarn's crowned table
+    /// (`options` crowned at [`CROWN_DEG`](crate::relief::CROWN_DEG): from memory, from disk, or
+    /// built from the yarn's table on `options`) and the relief's ratio, kept in the tables'
+    /// folder ([`prepare`](Self::prepare)). A surface that does not resolve the relief is
+    /// returned as it is. `material` is the yarn tabulated ([`SurfaceSpec::table_material`](super::SurfaceSpec::table_material)),
+    /// `on_build` and `progress` as [`Tables::table`](crate::table::cache::Tables::table) has
+    /// them; the tables' notes hear why a stored file was not used.
+    ///
+    /// # Errors
+    /// An invalid material or options.
+    pub fn prepared_from(
+        self,
+        tables: &mut crate::table::cache::Tables,
+        material: &Material,
+        wavelength_nm: f64,
+        options: &TableOptions,
+        on_build: &dyn Fn(Option<&std::path::Path>),
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<WovenSurface> {
+        if !self.resolves_relief() {
+            return Ok(self);
+        }
+        let crowned = TableOptions {
+            crown_deg: crate::relief::CROWN_DEG,
+            ..*options
+        };
+        let crowned = tables.table(material, wavelength_nm, &crowned, on_build, progress)?;
+        let surface = self.with_crowned(crowned)?;
+        let dir = tables.disk().map(|d| d.dir().to_path_buf());
+        surface.prepare(dir.as_deref(), &|m| tables.note(m));
+        Ok(surface)
+    }
+
+    /// Whether the surface resolves its weave's relief (`detail` `"fibers"` or `"auto"` on a
+    /// pattern): then it reads a crowned yarn table ([`with_crowned`](Self::with_crowned)) and
+    /// the relief's ratio ([`prepare`](Self::prepare)).
+    pub fn resolves_relief(&self) -> bool {
+        self.relief.is_some()
+    }
+
+    /// This surface with `crowned` as its crowned yarn table, the yarn's table built with
+    /// [`TableOptions::crown_deg`] = [`CROWN_DEG`](crate::relief::CROWN_DEG) (a renderer keeps it
+    /// in its table cache; without it, the surface builds it from the yarn's table on first use).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming `crowned` for a table of another crown.
+    pub fn with_crowned(self, crowned: Arc<Table>) -> Result<WovenSurface> {
+        if crowned.crown_deg() != crate::relief::CROWN_DEG {
+            return Err(Error::InvalidParameter {
+                name: "crowned".into(),
+                value: format!("a table crowned at {}°", crowned.crown_deg()),
+                expected: format!("a table crowned at {}°", crate::relief::CROWN_DEG),
+            });
+        }
+        let _ = self.crowned.set(crowned);
+        Ok(self)
+    }
+
+    /// The yarn's table averaged over its crown (built on first use).
+    pub(super) fn crowned(&self) -> &Table {
+        self.crowned.get_or_init(|| {
+            // On the yarn table's grid (an isotropic yarn's: the renderer's azimuths).
+            let (n_theta, n_phi, n_h) = self.yarn.dims();
+            let options = TableOptions {
+                n_theta,
+                n_phi: if n_phi > 1 {
+                    n_phi
+                } else {
+                    crate::table::N_PHI_RENDER
+                },
+                n_h,
+                ..TableOptions::default()
+            };
+            Arc::new(self.yarn.crowned(crate::relief::CROWN_DEG, &options))
+        })
+    }
+
+    /// Both families' relief ratios `[R_weft, R_warp]` at `(s, v)` ([`relief_ratio`](Self::relief_ratio)).
+    pub(super) fn relief_ratios(&self, s: Vec3, v: Vec3) -> [f64; 2] {
+        if self.relief.is_none() {
+            return [1.0; 2];
+        }
+        self.ratio
+            .get_or_init(|| Arc::new(ReliefRatio::build(self)))
+            .pair(s, v)
+    }
+
+    /// The relief's ratio `R_F(s, v)` for the family `warp` (the module `ratio`'s table, built
+    /// on first use): what scales the macro lobes of a resolving surface. 1 without a relief.
+    pub fn relief_ratio(&self, warp: bool, s: Vec3, v: Vec3) -> f64 {
+        if self.relief.is_none() {
+            return 1.0;
+        }
+        self.ratio
+            .get_or_init(|| Arc::new(ReliefRatio::build(self)))
+            .at(warp, s, v)
+    }
+}
