@@ -102,6 +102,7 @@ pub mod relief;
 pub mod surface;
 #[cfg(feature = "serde")]
 pub mod table;
+pub mod tensor;
 pub mod weave;
 pub mod yarn;
 

@@ -5,6 +5,7 @@ pub mod hemisphere;
 pub mod interp;
 pub mod lanes;
 pub mod legendre;
+pub mod marginal;
 pub mod quadrature;
 pub mod rng;
 pub mod roots;
