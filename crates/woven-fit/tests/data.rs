@@ -1173,3 +1173,18 @@ mod hostile_readers {
         }
     }
 }
+
+#[test]
+fn a_named_pipe_or_a_folder_given_as_data_is_refused_without_blocking() {
+    let dir = temp_dir("fifo");
+    // A folder.
+    let e = data::load(&dir).unwrap_err().to_string();
+    assert!(e.contains("a folder, not a regular file"), "{e}");
+    // A named pipe with no writer: opening it would block for ever.
+    let fifo = dir.join("pipe.csv");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo failed");
+    let e = data::load(&fifo).unwrap_err().to_string();
+    assert!(e.contains("a named pipe, not a regular file"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -4,34 +4,24 @@
 
 use super::{DataError, Dataset, Sample, Value};
 use std::f64::consts::{FRAC_PI_2, PI};
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// The largest measurement file a reader accepts, bytes: far above any real one (the biggest
 /// here, an RGL `.bsdf`, is 0.7 MB), small enough that a wrong path never fills memory.
 pub(crate) const MAX_FILE_BYTES: u64 = 256 << 20;
 
-/// The whole of `path`, refusing files over [`MAX_FILE_BYTES`].
+/// The whole of `path`, a regular file of at most [`MAX_FILE_BYTES`] (read through
+/// [`woven::fsutil::read_regular`]: a FIFO, a device or a folder is refused before it is opened,
+/// so a wrong path never blocks or fills memory).
 pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, DataError> {
-    let io = |source| DataError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io)?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(format_error(
-            path,
-            format!(
-                "larger than {} MiB: not a measurement file",
-                MAX_FILE_BYTES >> 20
-            ),
-        ));
-    }
-    Ok(bytes)
+    woven::fsutil::read_regular(path, MAX_FILE_BYTES, "a measurement file").map_err(|e| match e {
+        woven::Error::Io { source, .. } => DataError::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+        woven::Error::Parse { message, .. } => format_error(path, message),
+        other => format_error(path, other.to_string()),
+    })
 }
 
 /// A [`DataError::Parse`].
