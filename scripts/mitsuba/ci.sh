@@ -12,7 +12,9 @@
 # packages cannot be had, and runs Mitsuba's slower scalar_rgb variant when no libLLVM >= 16 can
 # be had. With the environment variable CI set (to anything but "", 0 or false) each of these
 # fails the step (exit 1) with a message naming what is missing and how to get it, and the
-# comparison must run llvm_ad_rgb and `woven render`. Fails (exit 1) when a comparison fails.
+# comparison must run llvm_ad_rgb and `woven render`. Then scripts/mitsuba/rgl_check.py reads
+# `woven export --format rgl` files with Mitsuba's own `measured` plugin. Fails (exit 1) when a
+# comparison fails.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -69,4 +71,15 @@ else
   echo "note: $WOVEN_BIN has no \`render\` command yet: comparing Mitsuba with the analytic images only"
 fi
 
-exec "$VENV/bin/python" scripts/mitsuba/compare.py --out target/mitsuba-compare "${args[@]}" "$@"
+"$VENV/bin/python" scripts/mitsuba/compare.py --out target/mitsuba-compare "${args[@]}" "$@"
+
+# `woven export --format rgl` read by Mitsuba's own `measured` plugin (docs/export.md): two
+# microcylinder fabrics (exact models, no table to build), in the RGB and spectral variants, and a
+# plane of one rendered in both renderers (means within 1 %); about a minute and a half. Their
+# sharp lobes miss the 10 % target at the 99th percentile (docs/export.md: 12 % and 24 %), so the
+# limit here is 30 %: it catches a wrong convention or layout (errors of 100 % and more), and the
+# median's 2 % holds.
+if in_ci; then rgl_variants=(llvm_ad_rgb scalar_spectral); else rgl_variants=(scalar_rgb scalar_spectral); fi
+"$VENV/bin/python" scripts/mitsuba/rgl_check.py --woven "$WOVEN_BIN" --pairs 2000 \
+  --presets microcylinder-silk-shot microcylinder-velvet --variants "${rgl_variants[@]}" \
+  --p99-limit 0.3 --render microcylinder-silk-shot --keep target/mitsuba-rgl

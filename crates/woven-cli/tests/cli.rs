@@ -1167,6 +1167,94 @@ fn export_refuses_anisotropic_materials() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
+/// The field names of a tensor file, in order (its header, as Mitsuba 3 and pbrt-v4 read it).
+fn tensor_fields(file: &[u8]) -> Vec<String> {
+    assert_eq!(&file[..12], b"tensor_file\0");
+    let n = u32::from_le_bytes(file[14..18].try_into().unwrap());
+    let mut at = 18;
+    (0..n)
+        .map(|_| {
+            let len = u16::from_le_bytes(file[at..at + 2].try_into().unwrap()) as usize;
+            let name = String::from_utf8(file[at + 2..at + 2 + len].to_vec()).unwrap();
+            let rank = u16::from_le_bytes(file[at + 2 + len..at + 4 + len].try_into().unwrap());
+            at += 2 + len + 2 + 1 + 8 + 8 * rank as usize;
+            name
+        })
+        .collect()
+}
+
+#[test]
+fn export_rgl_writes_the_fields_readers_need_and_names_bad_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("velvet.bsdf");
+    let small = ["--n-theta-i", "3", "--n-phi-i", "5", "--n-grid", "8"];
+    woven()
+        .args(["export", "--format", "rgl", "-m", "microcylinder-velvet"])
+        .args(small)
+        .arg("-o")
+        .arg(&output)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("3 θi × 5 φi"))
+        .stdout(predicate::str::contains("\"type\": \"measured\""));
+    let file = std::fs::read(&output).unwrap();
+    assert_eq!(
+        tensor_fields(&file),
+        [
+            "description",
+            "jacobian",
+            "theta_i",
+            "phi_i",
+            "ndf",
+            "sigma",
+            "vndf",
+            "luminance",
+            "rgb"
+        ]
+    );
+    let spectral = dir.path().join("velvet-spectral.bsdf");
+    woven()
+        .args([
+            "export",
+            "--format",
+            "rgl",
+            "--spectral",
+            "-m",
+            "microcylinder-velvet",
+        ])
+        .args(small)
+        .arg("-o")
+        .arg(&spectral)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("spectral at 450, 540, 610 nm"));
+    let fields = tensor_fields(&std::fs::read(&spectral).unwrap());
+    assert_eq!(&fields[8..], ["wavelengths", "spectra"]);
+
+    let refused = dir.path().join("refused.bsdf");
+    for (args, says) in [
+        (vec!["--n-grid", "2"], "--n-grid"),
+        (vec!["--n-phi-i", "2000"], "--n-phi-i"),
+        (vec!["--table", "t.wtab"], "--table"),
+    ] {
+        woven()
+            .args(["export", "--format", "rgl", "-m", "microcylinder-velvet"])
+            .args(args)
+            .arg("-o")
+            .arg(&refused)
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(says));
+    }
+    woven()
+        .args(["export", "-m", "silk", "--spectral", "-o"])
+        .arg(&refused)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("--format rgl"));
+    assert!(!refused.exists());
+}
+
 #[test]
 fn export_takes_a_table_of_its_material() {
     let dir = tempfile::tempdir().unwrap();
