@@ -17,51 +17,9 @@ use woven_render::render::{render, Image, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription};
 use woven_render::woven_material::TableGrid;
 
-/// The white plane's scene: `detail`, the yarns' tilt `u_max_deg` and `gap`, `cells` cells
-/// across, `px` × `px` pixels at `spp` samples.
-fn white_plane(
-    (detail, u_max_deg, gap): (&str, f64, f64),
-    cells: usize,
-    px: usize,
-    spp: usize,
-) -> String {
-    format!(
-        r#"
-        [camera]
-        origin = [0, -1, 1]
-        target = [0, 0, 0]
-        up = [0, 0, 1]
-        fov_deg = 30
-        [film]
-        width = {px}
-        height = {px}
-        spp = {spp}
-        sampler = "independent"
-        [integrator]
-        max_depth = 2
-        hide_emitters = true
-        [[light]]
-        type = "environment"
-        radiance = [1, 1, 1]
-        [[shape]]
-        type = "rectangle"
-        corner = [-2, -2, 0]
-        edge_u = [4, 0, 0]
-        edge_v = [0, 4, 0]
-        material = "cloth"
-        [material.cloth]
-        type = "woven"
-        material = "polyester-sateen"
-        pattern = "plain"
-        yarns_per_unit = {cells}
-        weft_color = [0.999, 0.999, 0.999]
-        warp_color = [0.999, 0.999, 0.999]
-        u_max_deg = {u_max_deg}
-        gap = {gap}
-        detail = "{detail}"
-        "#
-    )
-}
+#[path = "../tests/support/white_plane.rs"]
+mod white_plane_scene;
+use white_plane_scene::white_plane;
 
 /// Builds the scene on the coarse grid and renders it.
 fn render_text(text: &str) -> Image {
@@ -92,7 +50,7 @@ fn main() {
         ("yarns", 60.0, 0.3),
         ("fibers", 60.0, 0.3),
     ] {
-        let image = render_text(&white_plane(config, 16, 128, 256));
+        let image = render_text(&white_plane("polyester-sateen", config, 16, 128, 256));
         let values: Vec<f64> = image.pixels.iter().map(|p| p.max()).collect();
         let n = values.len() as f64;
         let brightest = values.iter().copied().fold(0.0, f64::max);

@@ -1,0 +1,51 @@
+//! The white furnace's scene, shared by the furnace test
+//! (`tests/integration/furnace.rs`) and the `furnace_table` example.
+
+/// The white furnace of a woven plane: a white-dyed plain weave of `preset`, `cells` cells
+/// across (16: 4 a unit of length, the close-up of the furnace table in docs/render.md), 4 × 4 units, seen from `(0, −1, 1)` at 30° in a
+/// uniform sky of radiance 1 (hidden), one bounce, `px` × `px` pixels at `spp` independent
+/// samples.
+pub fn white_plane(
+    preset: &str,
+    (detail, u_max_deg, gap): (&str, f64, f64),
+    cells: usize,
+    px: usize,
+    spp: usize,
+) -> String {
+    format!(
+        r#"
+        [camera]
+        origin = [0, -1, 1]
+        target = [0, 0, 0]
+        up = [0, 0, 1]
+        fov_deg = 30
+        [film]
+        width = {px}
+        height = {px}
+        spp = {spp}
+        sampler = "independent"
+        [integrator]
+        max_depth = 2
+        hide_emitters = true
+        [[light]]
+        type = "environment"
+        radiance = [1, 1, 1]
+        [[shape]]
+        type = "rectangle"
+        corner = [-2, -2, 0]
+        edge_u = [4, 0, 0]
+        edge_v = [0, 4, 0]
+        material = "cloth"
+        [material.cloth]
+        type = "woven"
+        material = "{preset}"
+        pattern = "plain"
+        yarns_per_unit = {cells}
+        weft_color = [0.999, 0.999, 0.999]
+        warp_color = [0.999, 0.999, 0.999]
+        u_max_deg = {u_max_deg}
+        gap = {gap}
+        detail = "{detail}"
+        "#
+    )
+}
