@@ -204,7 +204,7 @@ fn export_rgl(args: &ExportArgs) -> Result<()> {
         env!("CARGO_PKG_VERSION"),
         short(nm)
     );
-    let file = RglFile::build(&|s, v| brdf.eval(s, v), &description, &options, &|d, t| {
+    let file = RglFile::build(&*brdf, &description, &options, &|d, t| {
         bar.set(d as u64, t as u64)
     })?;
     bar.finish();

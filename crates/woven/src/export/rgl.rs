@@ -45,7 +45,7 @@
 //! green at 540 nm and red at 610 nm, constant beyond ([`channel_weights`]); by default it holds
 //! just those three wavelengths ([`default_wavelengths`]).
 
-use crate::bsdf::{Bsdf, BsdfSample, LobeFlags, Transport};
+use crate::bsdf::Bsdf;
 use crate::catalog::AnyMaterial;
 use crate::color::Rgb;
 use crate::error::{Error, Result};
@@ -412,10 +412,13 @@ pub fn material_brdf(
     tables: &mut Tables,
     on_build: &dyn Fn(Option<&std::path::Path>),
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Box<dyn Bsdf<Value = Rgb>>> {
+) -> Result<ClothBrdf> {
     let material = match material {
         AnyMaterial::Woven(m) => m,
-        AnyMaterial::Microcylinder(_) => return material.build_rgb(wavelength_nm),
+        AnyMaterial::Microcylinder(_) => {
+            let exact = material.build_rgb(wavelength_nm)?;
+            return Ok(Box::new(move |s, v| exact.eval(s, v)));
+        }
     };
     let spec = SurfaceSpec {
         detail: Detail::Cloth,
@@ -428,39 +431,14 @@ pub fn material_brdf(
         ..TableOptions::for_model(&yarn.build(wavelength_nm)?)
     };
     let table = tables.table(&yarn, wavelength_nm, &options, on_build, progress)?;
-    Ok(Box::new(ClothLevel(WovenSurface::new(&spec, table)?)))
+    let surface = WovenSurface::new(&spec, table)?;
+    Ok(Box::new(move |s, v| {
+        surface.at(&SurfacePoint::default()).eval(s, v)
+    }))
 }
 
-/// A woven surface at cloth level, the same at every point.
-struct ClothLevel(WovenSurface);
-
-impl Bsdf for ClothLevel {
-    type Value = Rgb;
-
-    fn lobes(&self) -> LobeFlags {
-        self.0.at(&SurfacePoint::default()).lobes()
-    }
-
-    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        self.0.at(&SurfacePoint::default()).eval(wi, wo)
-    }
-
-    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
-        self.0.at(&SurfacePoint::default()).pdf(wi, wo, mode)
-    }
-
-    fn sample(
-        &self,
-        known: Vec3,
-        uc: f64,
-        u: [f64; 2],
-        mode: Transport,
-    ) -> Option<BsdfSample<Rgb>> {
-        self.0
-            .at(&SurfacePoint::default())
-            .sample(known, uc, u, mode)
-    }
-}
+/// A cloth-level BRDF in colour, `f(s, v)` ([`material_brdf`]).
+pub type ClothBrdf = Box<dyn Fn(Vec3, Vec3) -> Rgb + Send + Sync>;
 
 /// A BRDF laid out as an RGL `.bsdf` file's fields.
 #[derive(Clone, Debug)]
