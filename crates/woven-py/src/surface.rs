@@ -215,7 +215,8 @@ fn rows(args: &[(&str, usize)]) -> PyResult<usize> {
     Ok(n)
 }
 
-fn mode_arg(mode: &str) -> PyResult<Transport> {
+/// A `mode` argument: "radiance" or "importance".
+pub(crate) fn mode_arg(mode: &str) -> PyResult<Transport> {
     match mode {
         "radiance" => Ok(Transport::Radiance),
         "importance" => Ok(Transport::Importance),

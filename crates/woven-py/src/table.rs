@@ -273,30 +273,36 @@ impl Table {
         PyArray1::from_vec(py, out).reshape([n, c])
     }
 
-    /// Draws `wo` for each `wi` ∝ f cos θo with the uniforms `u` (N, 2) (or (2,)): returns
-    /// `(wo, weight, pdf)` — (N, 3) directions, (N,) weights f cos θo / pdf and (N,) densities
-    /// per unit solid angle. A failed draw (below the horizon, or `wi` below the surface) has
-    /// `wo` = 0, weight 0 and pdf 0.
+    /// Draws the unknown direction for `known` with the uniforms `u` (N, 2) (or (2,)), as
+    /// `woven.Surface.sample` does: in mode "radiance" (the default) `known` is `wo` (toward the
+    /// viewer) and `wi` is drawn; in mode "importance" `known` is `wi` and `wo` is drawn, ∝ f
+    /// cos θo. Returns `(drawn, weight, pdf)`: (N, 3) directions, (N,) weights (f times the drawn
+    /// direction's cosine over the pdf, with the paper normalization's mode factor) and (N,)
+    /// densities per unit solid angle. A failed draw (below the horizon, or `known` below the
+    /// surface) has `drawn` = 0, weight 0 and pdf 0.
+    #[pyo3(signature = (known, u, mode = "radiance"))]
     fn sample<'py>(
         &self,
         py: Python<'py>,
-        wi: &Bound<'py, PyAny>,
+        known: &Bound<'py, PyAny>,
         u: &Bound<'py, PyAny>,
+        mode: &str,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        let wi = Dirs::extract(wi, "wi")?;
+        let mode = crate::surface::mode_arg(mode)?;
+        let known = Dirs::extract(known, "known")?;
         let u = Dirs::extract_width(u, "u", 2)?;
-        let n = broadcast(("wi", wi.n), ("u", u.n))?;
+        let n = broadcast(("known", known.n), ("u", u.n))?;
         let t = &*self.inner;
         let out = map_batch::<5, _>(py, n, |i| {
             let (a, b) = u.get2(i);
-            match t.sample(wi.get(i), 0.5, [a, b], Transport::Importance) {
-                Some(s) => [
-                    s.wo.x,
-                    s.wo.y,
-                    s.wo.z,
-                    s.weight(Transport::Importance),
-                    s.pdf,
-                ],
+            match t.sample(known.get(i), 0.5, [a, b], mode) {
+                Some(s) => {
+                    let d = match mode {
+                        Transport::Radiance => s.wi,
+                        Transport::Importance => s.wo,
+                    };
+                    [d.x, d.y, d.z, s.weight(mode), s.pdf]
+                }
                 None => [0.0; 5],
             }
         });
@@ -326,16 +332,20 @@ impl Table {
         split_columns(py, out, n, &[3, 1])
     }
 
-    /// The density (per unit solid angle) with which `sample` draws `wo` for `wi`: (N,), or a
-    /// float when both are (3,).
+    /// The density (per unit solid angle) with which `sample` in `mode` draws the unknown
+    /// direction: `wi` for a known `wo` ("radiance", the default), `wo` for a known `wi`
+    /// ("importance"). (N,), or a float when both are (3,).
+    #[pyo3(signature = (wi, wo, mode = "radiance"))]
     fn pdf<'py>(
         &self,
         py: Python<'py>,
         wi: &Bound<'py, PyAny>,
         wo: &Bound<'py, PyAny>,
+        mode: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let mode = crate::surface::mode_arg(mode)?;
         let t = &*self.inner;
-        map_pairs(py, wi, wo, |wi, wo| t.pdf(wi, wo, Transport::Importance))
+        map_pairs(py, wi, wo, |wi, wo| t.pdf(wi, wo, mode))
     }
 
     /// The material the table was built from (None for a table that records none).

@@ -22,8 +22,8 @@ def test_a_million_pairs_do_not_leak(flat_table):
 
     def calls():
         f = flat_table.eval(wi, wo)
-        p = flat_table.pdf(wi, wo)
-        s = flat_table.sample(wi, u)
+        p = flat_table.pdf(wi, wo, mode="importance")
+        s = flat_table.sample(wi, u, mode="importance")
         assert f.shape == p.shape == (n,) and s[0].shape == (n, 3)
         assert sys.getrefcount(f) == 2  # the local name and getrefcount's argument
         return f

@@ -101,7 +101,7 @@ def test_jit_lookups_are_the_librarys(llvm, yarn_tables, name):
     rel_d = np.abs(got_d - want_d)[far] / np.maximum(want_d[far], 1e-6 * want_d.max())
     assert rel_d.max() < 2e-4, rel_d.max()
     # pdf: piecewise constant in cells, so a pair on a cell's edge may land in the next cell.
-    p, pw = np.array(jt.pdf(S, V)), table.pdf(s32, v32)
+    p, pw = np.array(jt.pdf(S, V)), table.pdf(s32, v32, mode="importance")
     close = np.abs(p - pw) <= 1e-4 * pw + 1e-7
     assert close.mean() > 0.999, close.mean()
     # sample_direction: the same draw for the same uniforms.
@@ -182,7 +182,9 @@ def test_plugin_eval_is_the_macro_brdf(llvm, yarn_tables, variant):
         want = (gamma * weft + (1 - gamma) * warp) * wo[:, 2:3]
         rel = np.abs(f - want) / np.maximum(want, 1e-6 * want.max())
         assert rel.max() < 5e-4, rel.max()
-        want_pdf = gamma * table.pdf(wi, wo) + (1 - gamma) * table.pdf(turn(wi), turn(wo))
+        want_pdf = gamma * table.pdf(wi, wo, mode="importance") + (1 - gamma) * table.pdf(
+            turn(wi), turn(wo), mode="importance"
+        )
         close = np.abs(pdf - want_pdf) <= 1e-4 * want_pdf + 1e-7
         assert close.mean() > 0.995, close.mean()
     finally:
@@ -629,7 +631,7 @@ def test_white_furnace_sphere_is_the_directional_albedo(llvm, tmp_path):
             ],
             axis=-1,
         ).reshape(-1, 2)
-        _, weight, _ = table.sample(np.repeat(v, len(kk), axis=0), u)
+        _, weight, _ = table.sample(np.repeat(v, len(kk), axis=0), u, mode="importance")
         weight = weight.reshape(len(v), len(kk))
         a_sum += weight.sum(axis=1)
         a_sq += (weight**2).sum(axis=1)

@@ -82,14 +82,14 @@ def test_sample_weight_pdf_and_eval_agree(sateen_table):
     n = 20000
     wi = woven.from_spherical(0.7, 0.4)
     u = rng.random((n, 2))
-    wo, weight, pdf = sateen_table.sample(wi, u)
+    wo, weight, pdf = sateen_table.sample(wi, u, mode="importance")
     assert wo.shape == (n, 3) and weight.shape == (n,) and pdf.shape == (n,)
     ok = pdf > 0
     assert ok.mean() > 0.95
     np.testing.assert_allclose(np.linalg.norm(wo[ok], axis=1), 1, atol=1e-12)
     f = sateen_table.eval(wi, wo[ok])
     np.testing.assert_allclose(weight[ok], f * wo[ok, 2] / pdf[ok], rtol=1e-12)
-    np.testing.assert_allclose(sateen_table.pdf(wi, wo[ok]), pdf[ok], rtol=1e-6)
+    np.testing.assert_allclose(sateen_table.pdf(wi, wo[ok], mode="importance"), pdf[ok], rtol=1e-6)
     # sample_direction is the same draw without f.
     wo2, pdf2 = sateen_table.sample_direction(wi, u)
     np.testing.assert_array_equal(wo2, wo)
@@ -100,9 +100,19 @@ def test_sample_weight_pdf_and_eval_agree(sateen_table):
     uni = 2 * math.pi * np.mean(sateen_table.eval(wi, wu) * wu[:, 2])
     assert abs(is_est - uni) < 0.02 * uni, (is_est, uni)
     # The density integrates to at most 1 over the hemisphere.
-    total = 2 * math.pi * np.mean(sateen_table.pdf(wi, wu))
+    total = 2 * math.pi * np.mean(sateen_table.pdf(wi, wu, mode="importance"))
     assert 0.9 < total <= 1.01, total
     # Failed draws: wi below the surface.
+    wo3, w3, p3 = sateen_table.sample([0.0, 0.6, -0.8], [0.5, 0.5], mode="importance")
+    assert (wo3 == 0).all() and (w3 == 0).all() and (p3 == 0).all()
+    # Mode "radiance" (the default, as woven.Surface): the known direction is wo and wi is
+    # drawn; its density is pdf(wi, wo) in that mode.
+    drawn, w4, p4 = sateen_table.sample(wi, u)
+    ok = p4 > 0
+    assert ok.mean() > 0.95 and (drawn[ok, 2] > 0).all()
+    np.testing.assert_allclose(sateen_table.pdf(drawn[ok], wi), p4[ok], rtol=1e-6)
+    with pytest.raises(ValueError, match="mode"):
+        sateen_table.pdf(wi, wi, mode="both")
     wo3, w3, p3 = sateen_table.sample([0.0, 0.6, -0.8], [0.5, 0.5])
     assert (wo3 == 0).all() and (w3 == 0).all() and (p3 == 0).all()
 

@@ -152,12 +152,16 @@ class Table:
         """As ``eval``, interpolated also in the exact near-forward region."""
     def eval_dyed(self, wi: ArrayLike, wo: ArrayLike, albedos: ArrayLike) -> FloatArray:
         """f for (C, 2) albedos (ρ0, ρ) per channel: (N, C)."""
-    def sample(self, wi: ArrayLike, u: ArrayLike) -> Tuple[FloatArray, FloatArray, FloatArray]:
-        """``(wo, weight, pdf)`` drawn ∝ f cos θo with uniforms ``u`` (N, 2)."""
+    def sample(
+        self, known: ArrayLike, u: ArrayLike, mode: str = "radiance"
+    ) -> Tuple[FloatArray, FloatArray, FloatArray]:
+        """``(drawn, weight, pdf)`` with uniforms ``u`` (N, 2): ``wi`` for a known ``wo``
+        ("radiance") or ``wo`` for a known ``wi`` ("importance", drawn ∝ f cos θo)."""
     def sample_direction(self, wi: ArrayLike, u: ArrayLike) -> Tuple[FloatArray, FloatArray]:
         """``(wo, pdf)``: the draw of ``sample`` without f."""
-    def pdf(self, wi: ArrayLike, wo: ArrayLike) -> Union[float, FloatArray]:
-        """The density of ``wo`` given ``wi``, per unit solid angle."""
+    def pdf(self, wi: ArrayLike, wo: ArrayLike, mode: str = "radiance") -> Union[float, FloatArray]:
+        """The density with which ``sample`` in ``mode`` draws the unknown direction, per unit
+        solid angle."""
     @property
     def material(self) -> Optional[Material]: ...
     @property
