@@ -107,16 +107,8 @@ pub struct Mesh {
     pub indices: Vec<[u32; 3]>,
 }
 
-/// Two unit vectors orthogonal to unit `n` and to each other (Duff et al. 2017).
-pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
-    let sign = 1f64.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (
-        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        Vec3::new(b, sign + n.y * n.y * a, -n.y),
-    )
-}
+/// Two unit vectors orthogonal to unit `n` and to each other (the library's, Duff et al. 2017).
+pub use woven::math::basis::orthonormal_basis;
 
 /// The cylinder's reference direction for `u = 0`: perpendicular to the axis.
 pub fn cylinder_frame(axis: Vec3) -> (Vec3, Vec3) {

@@ -26,6 +26,7 @@ pub use frame::FiberFrame;
 pub use fresnel::{fresnel_dielectric, Ior};
 pub use htsg::series as htsg_series;
 pub use microfacet::{beckmann_d, smith_lambda, smith_s1};
+pub(crate) use microfacet::{beckmann_reflection_pdf, sample_beckmann};
 pub use normalization::{
     beta_direct, rough_single_scattering, single_scattering_adaptive, BetaTable,
 };

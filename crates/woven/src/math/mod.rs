@@ -1,6 +1,7 @@
 //! Small numerical building blocks: vectors and frames, special functions, quadrature,
 //! interpolation and sampling. Everything the model's integrals need, written and tested here.
 
+pub mod basis;
 pub mod hemisphere;
 pub mod interp;
 pub mod lanes;

@@ -5,14 +5,15 @@
 use super::{LobeMix, Tilt, WovenSurface};
 use crate::cloth::Structure;
 use crate::color::Rgb;
-use crate::fiber::Normalization;
+use crate::fiber::{beckmann_reflection_pdf, sample_beckmann, Normalization};
+use crate::math::basis::orthonormal_basis;
 use crate::math::sampling::cosine_hemisphere;
 use crate::table::Albedos;
 use crate::weave::{CellPoint, FloatPlace};
 use crate::yarn::point::{golden_uniform, hash_uniform, YarnDraws};
 use crate::yarn::Yarn;
 use crate::{Model, Vec3};
-use std::f64::consts::{FRAC_1_PI, PI};
+use std::f64::consts::FRAC_1_PI;
 use std::sync::Arc;
 
 /// Strands of fibres across one yarn, each with its own azimuth offset (twisted and isotropic
@@ -207,7 +208,7 @@ pub(super) fn point_sample(
         h * (2.0 * kh) - known
     } else if u[0] < g + c {
         let d = cosine_hemisphere(((u[0] - g) / c).min(1.0), u[1]);
-        let (t, b) = basis(a);
+        let (t, b) = orthonormal_basis(a);
         (t * d.x + b * d.y + a * d.z).normalize()
     } else {
         // Horizon draws are rejected below.
@@ -218,42 +219,4 @@ pub(super) fn point_sample(
     }
     let pdf = point_pdf_about(f, p, a, known, drawn);
     (pdf > 0.0 && pdf.is_finite()).then_some((drawn, pdf))
-}
-
-/// A Beckmann microfacet normal of width `alpha` about `n`, drawn ∝ `D(h) (h·n)`.
-#[inline]
-fn sample_beckmann(n: Vec3, alpha: f64, [u1, u2]: [f64; 2]) -> Vec3 {
-    let tan2 = -alpha * alpha * (1.0 - u1).max(1e-300).ln();
-    let cos = 1.0 / (1.0 + tan2).sqrt();
-    let sin = (1.0 - cos * cos).max(0.0).sqrt();
-    let phi = 2.0 * PI * u2;
-    let (t, b) = basis(n);
-    (t * (sin * phi.cos()) + b * (sin * phi.sin()) + n * cos).normalize()
-}
-
-/// The density of the direction `drawn` reflected from `known` about a Beckmann normal of width
-/// `alpha` about `n` (drawn by [`sample_beckmann`]): `D(h) (h·n) / (4 |drawn·h|)`.
-#[inline]
-fn beckmann_reflection_pdf(known: Vec3, drawn: Vec3, n: Vec3, alpha: f64) -> f64 {
-    let h = (known + drawn).normalize();
-    let (cos, dh) = (h.dot(n), drawn.dot(h));
-    if cos <= 0.0 || dh <= 0.0 || !cos.is_finite() {
-        return 0.0;
-    }
-    let c2 = cos * cos;
-    let tan2 = (1.0 - c2) / c2;
-    let d = (-tan2 / (alpha * alpha)).exp() / (PI * alpha * alpha * c2 * c2);
-    d * cos / (4.0 * dh)
-}
-
-/// Two unit vectors completing `n` to a right-handed orthonormal basis (Duff et al.'s).
-#[inline]
-fn basis(n: Vec3) -> (Vec3, Vec3) {
-    let sign = 1f64.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    (
-        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        Vec3::new(b, sign + n.y * n.y * a, -n.y),
-    )
 }
