@@ -15,7 +15,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
 use crate::light::{Emitter, EmitterHit};
-use crate::material::ShadingPoint;
+use crate::material::{MaterialAt, ShadingPoint};
 use crate::rng::Sampler;
 use crate::scene::{Scene, Strategy};
 use woven::math::sampling::power_heuristic as power;
@@ -171,7 +171,6 @@ fn trace(
         if depth + 1 >= max_depth {
             break;
         }
-        let material = &scene.materials[mi];
         let frame = Frame::from_hit(&hit);
         let wo = frame.to_local(-ray.d);
         if wo.z <= 0.0 {
@@ -182,6 +181,8 @@ fn trace(
             uv: hit.uv,
             footprint: footprint.map_or([[0.0; 2]; 2], |f| f.uv(&ray, &hit)),
         };
+        // The material here: its BSDF at the point is built once, for every question below.
+        let material = MaterialAt::new(scene.materials[mi].as_ref(), at);
 
         // Next-event estimation.
         if use_lights {
@@ -190,7 +191,7 @@ fn trace(
             if let Some(ls) = scene.lights[k].sample_li(hit.p, [u1, u2]) {
                 let wi = frame.to_local(ls.wi);
                 if wi.z > 0.0 && ls.wi.dot(hit.ng) > 0.0 && !ls.radiance.is_black() {
-                    let f = material.eval(wi, wo, &at);
+                    let f = material.eval(wi, wo);
                     if !f.is_black() {
                         let shadow = spawn(&hit, ls.wi);
                         let t_max = if ls.distance.is_finite() {
@@ -204,7 +205,7 @@ fn trace(
                             let w = if ls.delta || settings.strategy == Strategy::Light {
                                 1.0
                             } else {
-                                power(light_pdf, material.pdf(wi, wo, &at))
+                                power(light_pdf, material.pdf(wi, wo))
                             };
                             l += beta * f * ls.radiance * (wi.z * w / light_pdf);
                         }
@@ -220,14 +221,14 @@ fn trace(
         // The lobe choice has a dimension of its own (stratified points stay stratified).
         let uc = sampler.uniform();
         let (u1, u2) = sampler.next2();
-        let Some(s) = material.sample(wo, &at, uc, [u1, u2]) else {
+        let Some(s) = material.sample(wo, uc, [u1, u2]) else {
             if let (0, Some(f)) = (depth, first.as_mut()) {
                 f.albedo = Rgb::BLACK;
             }
             break;
         };
         if let (0, Some(f)) = (depth, first.as_mut()) {
-            f.warp_share = material.warp_share(&at);
+            f.warp_share = material.warp_share();
             let w = s.f * (s.wi.z / s.pdf);
             f.albedo = Rgb(w.0.map(|c| {
                 if c.is_finite() {

@@ -6,11 +6,17 @@
 //! the viewer (`v`). [`SurfaceMaterial::eval`] is the BRDF `f(wi, wo)` per channel in sr⁻¹,
 //! *without* the cosine. Camera paths know `wo` and draw `wi`, so [`SurfaceMaterial::sample`]
 //! draws `wi` for a given `wo`, and [`SurfaceMaterial::pdf`] is the density of that draw.
+//!
+//! A path tracer asks a material at each vertex through a [`MaterialAt`]: the material's BSDF
+//! at the point ([`SurfaceMaterial::point_bsdf`]) is built there once, on the first question,
+//! and answers the vertex's eval, sample and pdf.
 
 use crate::color::Rgb;
+use std::cell::OnceCell;
 use std::f64::consts::FRAC_1_PI;
 use woven::bsdf::{Bsdf, BsdfSample, LobeFlags, Transport};
 use woven::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
+use woven::surface::PointBsdf;
 use woven::Vec3;
 
 /// What a material may read at a shading point besides the directions: its uv and the pixel's
@@ -48,6 +54,75 @@ pub trait SurfaceMaterial: Send + Sync {
     /// tells a weave's yarn families apart without noise (the denoiser's guide).
     fn warp_share(&self, _at: &ShadingPoint) -> f64 {
         0.0
+    }
+
+    /// The material's BSDF at `at`, where building it costs more than a call: a woven
+    /// surface's lobes at the point (and on a relief, the yarn the viewer's ray meets). A
+    /// [`MaterialAt`] builds it once per path vertex and asks it what it would ask
+    /// [`eval`](Self::eval), [`sample`](Self::sample) and [`pdf`](Self::pdf), which must answer
+    /// as it does ([`Transport::Radiance`]). `None` (the default): the vertex asks those.
+    fn point_bsdf(&self, _at: &ShadingPoint) -> Option<PointBsdf<'_>> {
+        None
+    }
+}
+
+/// A material at one path vertex: what a path tracer asks there. The material's BSDF at the
+/// point ([`SurfaceMaterial::point_bsdf`]) is built on the first question and answers the rest,
+/// as the material's own methods would, bit for bit.
+pub struct MaterialAt<'a> {
+    material: &'a dyn SurfaceMaterial,
+    at: ShadingPoint,
+    bsdf: OnceCell<Option<PointBsdf<'a>>>,
+}
+
+impl<'a> MaterialAt<'a> {
+    /// `material` at `at` (nothing is built yet).
+    pub fn new(material: &'a dyn SurfaceMaterial, at: ShadingPoint) -> MaterialAt<'a> {
+        MaterialAt {
+            material,
+            at,
+            bsdf: OnceCell::new(),
+        }
+    }
+
+    /// The material's BSDF here, built on first use; `None` for a material without one.
+    #[inline]
+    fn bsdf(&self) -> Option<&PointBsdf<'a>> {
+        self.bsdf
+            .get_or_init(|| self.material.point_bsdf(&self.at))
+            .as_ref()
+    }
+
+    /// [`SurfaceMaterial::eval`] here.
+    #[inline]
+    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
+        match self.bsdf() {
+            Some(b) => b.eval(wi, wo),
+            None => self.material.eval(wi, wo, &self.at),
+        }
+    }
+
+    /// [`SurfaceMaterial::sample`] here.
+    #[inline]
+    pub fn sample(&self, wo: Vec3, uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
+        match self.bsdf() {
+            Some(b) => b.sample(wo, uc, u, Transport::Radiance),
+            None => self.material.sample(wo, &self.at, uc, u),
+        }
+    }
+
+    /// [`SurfaceMaterial::pdf`] here.
+    #[inline]
+    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f64 {
+        match self.bsdf() {
+            Some(b) => b.pdf(wi, wo, Transport::Radiance),
+            None => self.material.pdf(wi, wo, &self.at),
+        }
+    }
+
+    /// [`SurfaceMaterial::warp_share`] here.
+    pub fn warp_share(&self) -> f64 {
+        self.material.warp_share(&self.at)
     }
 }
 

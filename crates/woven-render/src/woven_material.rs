@@ -12,7 +12,7 @@ use crate::material::{MaterialSample, ShadingPoint, SurfaceMaterial};
 use crate::Result;
 use crate::Rgb;
 use woven::bsdf::{Bsdf, Transport};
-use woven::surface::WovenSurface;
+use woven::surface::{PointBsdf, WovenSurface};
 use woven::table::TableOptions;
 use woven::Vec3;
 
@@ -107,6 +107,11 @@ impl SurfaceMaterial for WovenMaterial {
 
     fn uses_footprint(&self) -> bool {
         self.surface.uses_footprint()
+    }
+
+    #[inline]
+    fn point_bsdf(&self, at: &ShadingPoint) -> Option<PointBsdf<'_>> {
+        Some(self.surface.at(at))
     }
 
     fn warp_share(&self, at: &ShadingPoint) -> f64 {

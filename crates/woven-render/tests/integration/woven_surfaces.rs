@@ -7,7 +7,7 @@ use woven::surface::Detail;
 use woven::table::{Table, TableOptions};
 use woven::Vec3;
 use woven_render::camera::Camera;
-use woven_render::material::{ShadingPoint, SurfaceMaterial};
+use woven_render::material::{MaterialAt, ShadingPoint, SurfaceMaterial};
 use woven_render::render::{render, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription};
 use woven_render::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSpec};
@@ -466,4 +466,63 @@ fn a_cloth_draped_over_a_sphere_renders() {
     assert_eq!(image.invalid_samples, 0);
     // The cloth fills the middle of the frame.
     assert!(image.at(12, 12).0[0] > 0.0);
+}
+
+/// A path vertex ([`MaterialAt`]) builds the woven surface's BSDF once and answers with it: bit
+/// for bit what the material's own `eval`, `sample` and `pdf` answer (each building it anew),
+/// on a resolved relief (tilted floats, gaps, fibres and yarns under `auto`), in any order of
+/// questions.
+#[test]
+fn a_vertex_answers_as_the_material_does_bit_for_bit() {
+    let mut material = Material::preset("polyester-sateen").unwrap();
+    material.weave = Some(Weave::named("twill-2/1").unwrap());
+    let spec = WovenSpec {
+        yarns_per_unit: [8.0, 8.0],
+        u_max: 0.4,
+        gap: 0.15,
+        ..WovenSpec::new(material)
+    };
+    let m = WovenMaterial::build(
+        &spec,
+        &TableGrid::Custom(tiny()),
+        &mut TableCache::default(),
+        &|| {},
+        &|_, _| {},
+    )
+    .unwrap();
+    let bits = |c: woven_render::Rgb| c.0.map(f64::to_bits);
+    let mut rng = woven::math::rng::SplitMix(27);
+    let mut drawn = 0;
+    for k in 0..400 {
+        // Footprints from none (yarns) through fibres to a few cells (toward the macro BRDF).
+        let size = [0.0, 0.002, 0.02, 0.1, 0.4][k % 5];
+        let at = ShadingPoint {
+            uv: [rng.uniform(), rng.uniform()],
+            footprint: [[size, 0.0], [0.0, size * 0.7]],
+        };
+        let vertex = MaterialAt::new(&m, at);
+        let (wo, wi) = (rng.direction(1.45), rng.direction(1.45));
+        let (uc, u) = (rng.uniform(), [rng.uniform(), rng.uniform()]);
+        let ask_sample = |v: &MaterialAt| v.sample(wo, uc, u);
+        // The integrator's order (eval, pdf, sample), or sampling first.
+        let (f, pdf, s) = if k % 2 == 0 {
+            (vertex.eval(wi, wo), vertex.pdf(wi, wo), ask_sample(&vertex))
+        } else {
+            let s = ask_sample(&vertex);
+            (vertex.eval(wi, wo), vertex.pdf(wi, wo), s)
+        };
+        assert_eq!(bits(f), bits(m.eval(wi, wo, &at)), "eval at {at:?}");
+        assert_eq!(pdf.to_bits(), m.pdf(wi, wo, &at).to_bits(), "pdf at {at:?}");
+        let want = m.sample(wo, &at, uc, u);
+        assert_eq!(s.is_some(), want.is_some(), "sample at {at:?}");
+        if let (Some(s), Some(want)) = (s, want) {
+            drawn += 1;
+            let dir = |d: Vec3| [d.x, d.y, d.z].map(f64::to_bits);
+            assert_eq!(dir(s.wi), dir(want.wi));
+            assert_eq!(bits(s.f), bits(want.f));
+            assert_eq!(s.pdf.to_bits(), want.pdf.to_bits());
+            assert_eq!(vertex.warp_share().to_bits(), m.warp_share(&at).to_bits());
+        }
+    }
+    assert!(drawn > 200, "only {drawn} draws succeeded");
 }
