@@ -19,7 +19,7 @@ use woven_render::woven_material::TableGrid;
 
 #[path = "../tests/support/white_plane.rs"]
 mod white_plane_scene;
-use white_plane_scene::white_plane;
+use white_plane_scene::{furnace_figures, white_plane};
 
 /// Builds the scene on the coarse grid and renders it.
 fn render_text(text: &str) -> Image {
@@ -51,17 +51,7 @@ fn main() {
         ("fibers", 60.0, 0.3),
     ] {
         let image = render_text(&white_plane("polyester-sateen", config, 16, 128, 256));
-        let values: Vec<f64> = image.pixels.iter().map(|p| p.max()).collect();
-        let n = values.len() as f64;
-        let brightest = values.iter().copied().fold(0.0, f64::max);
-        let above = values.iter().filter(|v| **v > 1.05).count() as f64 / n;
-        let mean = image.pixels.iter().map(|p| p.0[1]).sum::<f64>() / n;
-        let excess = image
-            .pixels
-            .iter()
-            .zip(&image.std_error)
-            .map(|(p, se)| (p.max() - 1.0) / se.max().max(1e-9))
-            .fold(f64::NEG_INFINITY, f64::max);
+        let (brightest, above, mean, excess) = furnace_figures(&image);
         println!(
             "| {config:?} | {brightest:.3} | {:.2} % | {mean:.4} | {excess:.1} |",
             100.0 * above

@@ -159,24 +159,7 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
 
 #[path = "../support/white_plane.rs"]
 mod white_plane_scene;
-pub use white_plane_scene::white_plane;
-
-/// The brightest pixel (its largest channel), the share of pixels above 1.05, the image mean
-/// and the largest excess over 1 in the pixel's own standard errors, of a white plane's furnace.
-pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f64) {
-    let values: Vec<f64> = image.pixels.iter().map(|p| p.max()).collect();
-    let n = values.len() as f64;
-    let brightest = values.iter().copied().fold(0.0, f64::max);
-    let above = values.iter().filter(|v| **v > 1.05).count() as f64 / n;
-    let mean = image.pixels.iter().map(|p| p.0[1]).sum::<f64>() / n;
-    let excess = image
-        .pixels
-        .iter()
-        .zip(&image.std_error)
-        .map(|(p, se)| (p.max() - 1.0) / se.max().max(1e-9))
-        .fold(f64::NEG_INFINITY, f64::max);
-    (brightest, above, mean, excess)
-}
+pub use white_plane_scene::{furnace_figures, white_plane};
 
 /// Renders the white plane of every preset at fibre, auto and yarn level, flat and tilted with
 /// gaps, at 16 cells and at 128 (many yarns, whose drawn slopes average out);

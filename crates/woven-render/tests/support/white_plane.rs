@@ -1,4 +1,4 @@
-//! The white furnace's scene, shared by the furnace test
+//! The white furnace's scene and its figures, shared by the furnace test
 //! (`tests/integration/furnace.rs`) and the `furnace_table` example.
 
 /// The white furnace of a woven plane: a white-dyed plain weave of `preset`, `cells` cells
@@ -48,4 +48,21 @@ pub fn white_plane(
         detail = "{detail}"
         "#
     )
+}
+
+/// The brightest pixel (its largest channel), the share of pixels above 1.05, the image mean
+/// and the largest excess over 1 in the pixel's own standard errors, of a white plane's furnace.
+pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f64) {
+    let values: Vec<f64> = image.pixels.iter().map(|p| p.max()).collect();
+    let n = values.len() as f64;
+    let brightest = values.iter().copied().fold(0.0, f64::max);
+    let above = values.iter().filter(|v| **v > 1.05).count() as f64 / n;
+    let mean = image.pixels.iter().map(|p| p.0[1]).sum::<f64>() / n;
+    let excess = image
+        .pixels
+        .iter()
+        .zip(&image.std_error)
+        .map(|(p, se)| (p.max() - 1.0) / se.max().max(1e-9))
+        .fold(f64::NEG_INFINITY, f64::max);
+    (brightest, above, mean, excess)
 }
