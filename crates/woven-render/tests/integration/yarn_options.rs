@@ -22,6 +22,7 @@ fn material(pattern: Result<Pattern, f64>, u_max_deg: f64, gap: f64) -> WovenMat
         Err(gamma) => Weave::WeftFraction(gamma),
     });
     let spec = WovenSpec {
+        yarns_per_unit: [1.0, 1.0],
         u_max: u_max_deg.to_radians(),
         gap,
         detail: Detail::Yarns,

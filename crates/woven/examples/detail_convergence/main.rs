@@ -27,7 +27,9 @@ fn main() -> Result<(), woven::Error> {
             spec: PatternSpec::Matrix(vec![vec![1]]),
             pattern: Pattern::from_matrix(vec![vec![1]])?,
         });
+        // One pick per unit of v: pick `y` is the row v in [y, y + 1).
         let spec = SurfaceSpec {
+            yarns_per_unit: [1.0, 1.0],
             detail: Detail::Fibers,
             ..SurfaceSpec::new(material)
         };

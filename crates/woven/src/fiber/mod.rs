@@ -40,6 +40,9 @@ use std::sync::Arc;
 /// The default evaluation wavelength, nm.
 pub const DEFAULT_WAVELENGTH_NM: f64 = 550.0;
 
+/// The wavelengths a fiber is prepared at ([`Fiber::new`]), nm: 380–780 nm is the visible range.
+pub const WAVELENGTH_RANGE_NM: [f64; 2] = [200.0, 2500.0];
+
 /// Which fiber model and its roughness parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FiberModel {
@@ -207,7 +210,7 @@ pub struct Fiber {
 
 impl Fiber {
     /// Prepares the fiber for evaluation at `wavelength_nm` (380–780 nm is the visible range;
-    /// 200–2500 nm is accepted).
+    /// [`WAVELENGTH_RANGE_NM`] is accepted).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for any parameter out of range.
@@ -223,7 +226,8 @@ impl Fiber {
     /// ```
     pub fn new(params: &FiberParams, wavelength_nm: f64) -> Result<Self> {
         params.validate()?;
-        check_range("wavelength_nm", wavelength_nm, 200.0, 2500.0)?;
+        let [lo, hi] = WAVELENGTH_RANGE_NM;
+        check_range("wavelength_nm", wavelength_nm, lo, hi)?;
         params.eta.checked_at(wavelength_nm)?;
         let mut fiber = Self::unnormalized(params, wavelength_nm);
         if params.normalization == Normalization::Paper {

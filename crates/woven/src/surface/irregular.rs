@@ -29,6 +29,17 @@ pub const MAX_SPREAD: f64 = 1.0;
 /// The range of [`Irregularity::length`], in pattern cells.
 pub const LENGTH_RANGE: [f64; 2] = [1.0, 1.0e6];
 
+/// What [`Irregularity::spread`] must be, as an error states it.
+pub(super) fn spread_valid() -> String {
+    format!("a spread in [0, {MAX_SPREAD}] for the weft and for the warp")
+}
+
+/// What [`Irregularity::length`] must be, as an error states it.
+pub(super) fn length_valid() -> String {
+    let [lo, hi] = LENGTH_RANGE;
+    format!("pattern cells in [{lo}, {hi:e}]")
+}
+
 /// How unevenly a surface's yarns are dyed along their length
 /// ([`SurfaceSpec::irregularity`](crate::surface::SurfaceSpec::irregularity)).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,7 +78,7 @@ impl Irregularity {
             return Err(Error::InvalidParameter {
                 name: "irregularity".into(),
                 value: format!("{:?}", self.spread),
-                expected: format!("a spread in [0, {MAX_SPREAD}] for the weft and for the warp"),
+                expected: spread_valid(),
             });
         }
         let [lo, hi] = LENGTH_RANGE;
@@ -75,7 +86,7 @@ impl Irregularity {
             return Err(Error::InvalidParameter {
                 name: "irregularity_length".into(),
                 value: self.length.to_string(),
-                expected: format!("pattern cells in [{lo}, {hi:e}]"),
+                expected: length_valid(),
             });
         }
         Ok(())

@@ -102,7 +102,9 @@ use ratio::ReliefRatio;
 pub use ratio::{
     ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG,
 };
-pub use spec::{Detail, SurfaceSpec, MAX_GAP, MAX_U_MAX_DEG};
+pub use spec::{
+    Detail, SurfaceKey, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG, SURFACE_KEYS,
+};
 
 /// Gauss–Legendre nodes over a whole float's lit and seen part (the surface's whole-float lobe
 /// and its draws' midpoint tilts).

@@ -22,6 +22,7 @@
 use super::grid::Axis;
 use super::{Symmetry, Table};
 use crate::error::{Error, Result};
+use crate::fiber::WAVELENGTH_RANGE_NM;
 use std::io::{Read, Write};
 use std::path::Path;
 
@@ -332,7 +333,7 @@ struct Header {
 }
 
 /// The wavelengths a table may hold, nm: those a fiber can be prepared at (`Fiber::new`).
-const WAVELENGTH_NM: (f64, f64) = (200.0, 2500.0);
+const WAVELENGTH_NM: (f64, f64) = (WAVELENGTH_RANGE_NM[0], WAVELENGTH_RANGE_NM[1]);
 /// The smallest `theta_max`, degrees: that of `TableOptions::validate`.
 const MIN_THETA_MAX_DEG: f64 = 1.0;
 

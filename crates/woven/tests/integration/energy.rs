@@ -180,8 +180,10 @@ fn weft_only_spec(name: &str, detail: Detail) -> SurfaceSpec {
         spec: woven::material::PatternSpec::Matrix(vec![vec![1]]),
         pattern: woven::weave::Pattern::from_matrix(vec![vec![1]]).unwrap(),
     });
-    // Undyed: the exact yarn it is held to has the material's own albedos.
+    // One cell per unit of uv; undyed: the exact yarn it is held to has the material's own
+    // albedos.
     SurfaceSpec {
+        yarns_per_unit: [1.0, 1.0],
         detail,
         weft_color: None,
         warp_color: None,

@@ -16,5 +16,6 @@ mod microcylinder;
 mod relief;
 mod robustness;
 mod surface;
+mod surface_keys;
 mod table;
 mod weave;

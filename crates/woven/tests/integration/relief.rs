@@ -13,6 +13,7 @@ use woven::Vec3;
 /// A preset laid in its own weave at one cell a unit, at `detail`, on a table of its yarn.
 pub fn surface(name: &str, detail: Detail, table: &Arc<Table>) -> WovenSurface {
     let spec = SurfaceSpec {
+        yarns_per_unit: [1.0, 1.0],
         detail,
         ..SurfaceSpec::new(Material::preset(name).unwrap())
     };
@@ -141,7 +142,10 @@ fn the_satins_far_level_follows_its_resolved_yarns_at_and_between_nodes() {
 /// The share of a repeat's entries (96 × 96, stratified) whose ray toward the viewer `v` meets
 /// a weft yarn first.
 fn weft_share(name: &str, v: Vec3) -> f64 {
-    let spec = SurfaceSpec::new(Material::preset(name).unwrap());
+    let spec = SurfaceSpec {
+        yarns_per_unit: [1.0, 1.0],
+        ..SurfaceSpec::new(Material::preset(name).unwrap())
+    };
     let (Some(relief), Some(woven::material::Weave::Pattern { pattern, .. })) =
         (spec.relief(), &spec.material.weave)
     else {

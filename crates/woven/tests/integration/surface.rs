@@ -436,6 +436,7 @@ fn yarn_draws_average_to_the_models_integrals() {
 /// its yarn.
 fn at_fibre_level(name: &str) -> WovenSurface {
     let spec = SurfaceSpec {
+        yarns_per_unit: [1.0, 1.0],
         detail: Detail::Fibers,
         ..SurfaceSpec::new(Material::preset(name).unwrap())
     };
