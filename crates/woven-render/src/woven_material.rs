@@ -16,8 +16,9 @@ use woven::surface::{PointBsdf, WovenSurface};
 use woven::table::TableOptions;
 use woven::Vec3;
 
-/// The wavelength every woven table is built at, nm (the middle of the visible range, green).
-pub const WAVELENGTH_NM: f64 = 550.0;
+/// The wavelength every woven table is built at, nm (the middle of the visible range, green):
+/// the library's default (the `wavelength_nm` of `woven::surface::SURFACE_KEYS`).
+pub const WAVELENGTH_NM: f64 = woven::fiber::DEFAULT_WAVELENGTH_NM;
 
 /// What to render: a material and how its weave maps onto the surface (the library's
 /// [`SurfaceSpec`](woven::surface::SurfaceSpec)).

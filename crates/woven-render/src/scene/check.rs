@@ -25,7 +25,7 @@ use woven::baseline::{Distribution, RoughPlastic, RoughPlasticParams, Sheen, She
 use woven::fsutil::check_regular;
 use woven::material::{Material, PatternSpec, Weave, MAX_FILE_BYTES};
 use woven::microcylinder::Microcylinder;
-use woven::surface::{Detail, Irregularity};
+use woven::surface::{Detail, Irregularity, SurfaceKey};
 use woven::weave::{Pattern, MAX_WIF_BYTES};
 use woven::Vec3;
 
@@ -492,14 +492,14 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
         return Err(c.err(
             &format!("{key}.u_max_deg"),
             at,
-            format!("{u_max_deg}: expected degrees in [0, {MAX_U_MAX_DEG}]"),
+            format!("{u_max_deg}: expected {}", valid("u_max_deg")),
         ));
     }
     if !(gap.is_finite() && (0.0..=MAX_GAP).contains(&gap)) {
         return Err(c.err(
             &format!("{key}.gap"),
             at,
-            format!("{gap}: expected a fraction in [0, {MAX_GAP}]"),
+            format!("{gap}: expected {}", valid("gap")),
         ));
     }
     if woven.yarn.is_none() && (u_max_deg > 0.0 || gap > 0.0) {
@@ -522,7 +522,7 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
             c.err(
                 &format!("{key}.detail"),
                 at,
-                format!("{d:?}: expected one of \"auto\", \"fibers\", \"yarns\", \"cloth\""),
+                format!("{d:?}: expected {}", valid("detail")),
             )
         })?,
     };
@@ -546,6 +546,14 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
         gap,
         irregularity,
     })
+}
+
+/// What a woven material's key `name` takes, as the library states it
+/// ([`SurfaceKey::valid`]).
+fn valid(name: &str) -> String {
+    SurfaceKey::named(name)
+        .expect("one of the library's surface keys")
+        .valid()
 }
 
 /// A woven material's `irregularity` and `irregularity_length` at `key` (the library's

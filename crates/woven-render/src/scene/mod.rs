@@ -292,11 +292,9 @@ pub enum LightDesc {
     },
 }
 
-/// The largest yarn tilt `u_max_deg`, degrees.
-pub const MAX_U_MAX_DEG: f64 = 80.0;
-
-/// The largest gap fraction.
-pub const MAX_GAP: f64 = 0.95;
+/// The largest yarn tilt `u_max_deg`, degrees, and the largest gap fraction: the library's
+/// ([`woven::surface::SURFACE_KEYS`] holds every woven key's range).
+pub use woven::surface::{MAX_GAP, MAX_U_MAX_DEG};
 
 impl SceneDescription {
     /// Reads and checks a scene file: a regular file of at most [`MAX_SCENE_BYTES`] (checked

@@ -313,7 +313,7 @@ pub(super) struct RawWoven {
 }
 
 fn default_yarns() -> RawYarns {
-    RawYarns::Same(40.0)
+    RawYarns::Same(woven::surface::DEFAULT_YARNS_PER_UNIT)
 }
 
 #[derive(Deserialize)]

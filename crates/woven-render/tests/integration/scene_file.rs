@@ -171,6 +171,104 @@ fn yarn_tilt_gap_and_filter_keys() {
     assert!(!desc.integrator.footprint_filter);
 }
 
+/// A woven material's keys take the library's defaults where not given (the surface
+/// `SurfaceSpec::new` lays, with `DEFAULT_YARNS_PER_UNIT` cells per unit), and a bad `detail`
+/// names the key, the value and the library's names.
+#[test]
+fn woven_keys_take_the_librarys_defaults_and_names() {
+    use woven::surface::{Detail, SurfaceSpec, DEFAULT_YARNS_PER_UNIT};
+    let woven = |extra: &str| {
+        format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"silk\"\n{extra}\n")
+    };
+    let desc = SceneDescription::from_str(&woven(""), "scene.toml", Path::new(".")).unwrap();
+    let Some(woven_render::scene::MaterialDesc::Woven(spec)) = desc.materials.get("m") else {
+        panic!("no woven material");
+    };
+    let library = SurfaceSpec::new(woven::material::Material::preset("silk").unwrap());
+    assert_eq!(spec.yarns_per_unit, [DEFAULT_YARNS_PER_UNIT; 2]);
+    assert_eq!(spec.yarns_per_unit, library.yarns_per_unit);
+    assert_eq!(
+        (spec.u_max, spec.gap, spec.detail, spec.irregularity),
+        (
+            library.u_max,
+            library.gap,
+            library.detail,
+            library.irregularity
+        )
+    );
+    assert_eq!(
+        (spec.weft_color, spec.warp_color),
+        (library.weft_color, library.warp_color)
+    );
+
+    let (path, key, line, message) = error_of(&woven("detail = \"threads\""));
+    assert_eq!(
+        (path.as_str(), key.as_str(), line),
+        ("scene.toml", "material.m.detail", Some(6))
+    );
+    assert!(message.contains("\"threads\""), "{message}");
+    for name in Detail::NAMES {
+        assert!(message.contains(&format!("{name:?}")), "{message}");
+    }
+}
+
+/// The example scene (`woven render --example`) states each woven key's numeric default and
+/// range in its comments as the library's table of surface keys has them.
+#[test]
+fn the_example_scene_states_the_librarys_surface_defaults_and_ranges() {
+    use woven::surface::SURFACE_KEYS;
+    // The example's first woven material, where every key is shown.
+    let all: Vec<&str> = EXAMPLE_SCENE.lines().collect();
+    let start = (0..all.len())
+        .find(|&i| all[i].starts_with("[material.") && all[i + 1] == "type = \"woven\"")
+        .expect("a woven material in the example");
+    let end = (start + 1..all.len())
+        .find(|&i| all[i].starts_with('['))
+        .unwrap_or(all.len());
+    let lines = &all[start..end];
+    let mut checked = 0;
+    for key in SURFACE_KEYS {
+        let Some(at) = lines.iter().position(|l| {
+            let l = l.trim_start_matches('#').trim_start();
+            l.starts_with(&format!("{} = ", key.name)) && l.contains('#')
+        }) else {
+            continue;
+        };
+        // The key's comment, and the comment lines that continue it (`#   …   # …`).
+        let mut comment = lines[at].to_string();
+        for l in &lines[at + 1..] {
+            let rest = l.strip_prefix('#').unwrap_or("");
+            if !(rest.starts_with("     ") && rest.trim_start().starts_with('#')) {
+                break;
+            }
+            comment += l;
+        }
+        if let Ok(d) = key.default().parse::<f64>() {
+            assert!(
+                comment.contains(&format!("default {d}")),
+                "{}: {comment}",
+                key.name
+            );
+        }
+        let valid = key.valid();
+        if let Some(start) = valid.find('[') {
+            let interval = &valid[start..=start + valid[start..].find(']').unwrap()];
+            assert!(
+                comment.contains(interval),
+                "{}: {interval} in {comment}",
+                key.name
+            );
+        }
+        if key.name == "detail" {
+            for name in woven::surface::Detail::NAMES {
+                assert!(comment.contains(&format!("{name:?}")), "{comment}");
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked >= 6, "{checked} keys found in the example");
+}
+
 /// `irregularity` and `irregularity_length`: out of range, or without a pattern, they name the
 /// key and the range; in range (one number or one per family) they reach the material.
 #[test]
