@@ -18,6 +18,7 @@ mod table;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
 
 /// A library error as the Python exception that fits it.
 pub(crate) fn to_py(err: woven::Error) -> PyErr {
@@ -59,5 +60,24 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(table::export_merl, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PARALLEL_MIN", arrays::PARALLEL_MIN)?;
+    m.add("SURFACE_KEYS", surface_keys(m.py())?)?;
     Ok(())
+}
+
+/// `woven.SURFACE_KEYS`: the library's table of a woven surface's keys
+/// ([`woven::surface::SURFACE_KEYS`]), a tuple of dicts `{"name", "default", "valid",
+/// "meaning"}` (strings), in the table's order.
+fn surface_keys(py: Python<'_>) -> PyResult<Bound<'_, PyTuple>> {
+    let rows = woven::surface::SURFACE_KEYS
+        .iter()
+        .map(|k| {
+            let row = PyDict::new(py);
+            row.set_item("name", k.name)?;
+            row.set_item("default", k.default())?;
+            row.set_item("valid", k.valid())?;
+            row.set_item("meaning", k.meaning())?;
+            Ok(row)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    PyTuple::new(py, rows)
 }

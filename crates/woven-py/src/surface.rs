@@ -13,6 +13,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use std::sync::Arc;
 use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
+use woven::fiber::DEFAULT_WAVELENGTH_NM;
 use woven::material::Weave;
 use woven::surface::{
     Detail, Irregularity, Lobe, PointBsdf, SurfacePoint, SurfaceSpec, Tilt, WovenSurface,
@@ -27,17 +28,17 @@ use woven::surface::{
 /// you built: as it is (the BRDF it was built for), or, with `pattern` or `weft_fraction`, as
 /// the yarn of that weave (a table of a yarn alone, `Material.yarn_family()`).
 ///
-/// Parameters: `pattern` (a weave name replacing the material's weave), `weft_fraction` (γ in
-/// place of the weave: the macro BRDF), `yarns_per_unit` (pattern cells per unit of uv: a
-/// number or `(n_u, n_v)`, default 1), `weft_color` / `warp_color` (dyed fiber albedos ρ0 per
-/// channel, in [0, 1]; default the material's `[dye]`), `u_max_deg` (yarn tilt at the ends of
-/// each float, degrees in [0, 80]; default the material's `[yarn] u_max_deg`, 0 for the paper's),
-/// `gap` (fraction of each cell between yarns, in [0, 0.95]), `wavelength_nm` (of the table
-/// built, default 550), `detail` ("auto", "fibers", "yarns" or "cloth": how finely the weave is
-/// resolved; see docs/render.md), `irregularity` (the spread of the log of each yarn's dye
-/// along its length, in [0, 1]: a number or `(weft, warp)`, default 0; needs a pattern) and
-/// `irregularity_length` (pattern cells over which it changes, default 24). Raises ValueError
-/// naming a parameter that is out of range.
+/// Parameters: the surface keys of `woven.SURFACE_KEYS` (each key's default, valid range and
+/// meaning; docs/python.md shows that table): `pattern` (a weave name replacing the material's
+/// weave), `weft_fraction` (γ in place of the weave: the macro BRDF), `yarns_per_unit`
+/// (pattern cells per unit of uv: a number or `(n_u, n_v)`), `weft_color` / `warp_color` (dyed
+/// fiber albedos ρ0 per channel), `u_max_deg` (yarn tilt at the ends of each float, degrees),
+/// `gap` (fraction of each cell between yarns), `detail` ("auto", "fibers", "yarns" or
+/// "cloth": how finely the weave is resolved; see docs/render.md), `irregularity` (the spread
+/// of the log of each yarn's dye along its length: a number or `(weft, warp)`; needs a
+/// pattern), `irregularity_length` (pattern cells over which it changes) and `wavelength_nm`
+/// (of the table built). A key left out (None) takes the library's default, the same as in
+/// `woven render` scenes. Raises ValueError naming a parameter that is out of range.
 ///
 /// Points: `uv` (N, 2) surface parameters; `footprint` (N, 4) the pixel's footprint in uv,
 /// `(du/dx, dv/dx, du/dy, dv/dy)` (None: a point, no filtering). Directions in the surface's
@@ -48,27 +49,17 @@ pub struct Surface {
     material: Option<woven::material::Material>,
 }
 
-/// `yarns_per_unit` as `[n_u, n_v]`: a number or a pair.
-fn yarns_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<[f64; 2]> {
-    pair_arg(obj, "yarns_per_unit", "(n_u, n_v)", [1.0, 1.0])
-}
-
-/// A number for both, or a pair (`pair` says of what); `default` when not given.
-fn pair_arg(
-    obj: Option<&Bound<'_, PyAny>>,
-    name: &str,
-    pair: &str,
-    default: [f64; 2],
-) -> PyResult<[f64; 2]> {
-    let Some(obj) = obj else {
-        return Ok(default);
+/// A number for both, or a pair (`pair` says of what); `None` when not given (or None).
+fn pair_arg(obj: Option<&Bound<'_, PyAny>>, name: &str, pair: &str) -> PyResult<Option<[f64; 2]>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(None);
     };
     if let Ok(n) = obj.extract::<f64>() {
-        return Ok([n, n]);
+        return Ok(Some([n, n]));
     }
     if let Ok(v) = obj.extract::<Vec<f64>>() {
         if let [a, b] = v[..] {
-            return Ok([a, b]);
+            return Ok(Some([a, b]));
         }
     }
     Err(PyValueError::new_err(format!(
@@ -230,8 +221,8 @@ pub(crate) fn mode_arg(mode: &str) -> PyResult<Transport> {
 impl Surface {
     #[new]
     #[pyo3(signature = (material = None, *, table = None, pattern = None, weft_fraction = None,
-        yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = None, gap = 0.0,
-        detail = "auto", irregularity = None, irregularity_length = None, wavelength_nm = 550.0,
+        yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = None, gap = None,
+        detail = None, irregularity = None, irregularity_length = None, wavelength_nm = None,
         progress = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -244,44 +235,44 @@ impl Surface {
         weft_color: Option<&Bound<'_, PyAny>>,
         warp_color: Option<&Bound<'_, PyAny>>,
         u_max_deg: Option<f64>,
-        gap: f64,
-        detail: &str,
+        gap: Option<f64>,
+        detail: Option<&str>,
         irregularity: Option<&Bound<'_, PyAny>>,
         irregularity_length: Option<f64>,
-        wavelength_nm: f64,
+        wavelength_nm: Option<f64>,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Surface> {
-        let detail = Detail::from_name(detail).py_err()?;
-        let plain = Irregularity::default();
-        let irregularity = Irregularity {
-            spread: pair_arg(irregularity, "irregularity", "(weft, warp)", plain.spread)?,
-            length: irregularity_length.unwrap_or(plain.length),
-        };
+        let detail = detail.map(Detail::from_name).transpose().py_err()?;
+        let spread = pair_arg(irregularity, "irregularity", "(weft, warp)")?;
+        let yarns = pair_arg(yarns_per_unit, "yarns_per_unit", "(n_u, n_v)")?;
+        let wavelength_nm = wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM);
         let (weft_color, warp_color) = (
             color_arg(weft_color, "weft_color")?,
             color_arg(warp_color, "warp_color")?,
         );
-        // What is not given is the material's own: its `[dye]` and its `[yarn] u_max_deg`.
+        // What is not given is the library's default (`SurfaceSpec::new`, the defaults of
+        // SURFACE_KEYS): the material's own `[dye]` and `[yarn] u_max_deg`, and the rest as in
+        // `woven render` scenes.
         let layout = |material| {
             let own = SurfaceSpec::new(material);
             SurfaceSpec {
+                yarns_per_unit: yarns.unwrap_or(own.yarns_per_unit),
                 weft_color: weft_color.or(own.weft_color),
                 warp_color: warp_color.or(own.warp_color),
                 u_max: u_max_deg.map_or(own.u_max, f64::to_radians),
-                gap,
-                detail,
-                irregularity,
+                gap: gap.unwrap_or(own.gap),
+                detail: detail.unwrap_or(own.detail),
+                irregularity: Irregularity {
+                    spread: spread.unwrap_or(own.irregularity.spread),
+                    length: irregularity_length.unwrap_or(own.irregularity.length),
+                },
                 ..own
             }
         };
-        let yarns = yarns_arg(yarns_per_unit)?;
         let (spec, yarn, user) = match (material, table) {
             (Some(m), None) => {
                 let m = with_weave(material_arg(m)?.inner, pattern, weft_fraction)?;
-                let spec = SurfaceSpec {
-                    yarns_per_unit: yarns,
-                    ..layout(m)
-                };
+                let spec = layout(m);
                 spec.validate().py_err()?;
                 let mut user = UserTables::open()?;
                 let (t, options) = cached_table(
@@ -297,7 +288,10 @@ impl Surface {
             (None, Some(t)) => {
                 let t = Arc::clone(&t.get().inner);
                 if pattern.is_none() && weft_fraction.is_none() {
-                    if warp_color.is_some() || u_max_deg.is_some_and(|u| u != 0.0) || gap != 0.0 {
+                    if warp_color.is_some()
+                        || u_max_deg.is_some_and(|u| u != 0.0)
+                        || gap.is_some_and(|g| g != 0.0)
+                    {
                         return Err(PyValueError::new_err(
                             "`warp_color`, `u_max_deg` and `gap` need a weave: give `pattern` or `weft_fraction` with `table`",
                         ));
@@ -317,11 +311,7 @@ impl Surface {
                     }
                 };
                 let m = with_weave(m, pattern, weft_fraction)?;
-                let spec = SurfaceSpec {
-                    yarns_per_unit: yarns,
-                    ..layout(m)
-                };
-                (spec, t, None)
+                (layout(m), t, None)
             }
             _ => {
                 return Err(PyValueError::new_err(

@@ -136,3 +136,38 @@ def test_fibre_level_points_lie_across_their_yarn(yarn):
     warp, along, weight, across = s.lobes(uv)
     assert np.all(weight[:, 0] == 1.0) and np.all(across[:, 0] >= 0)
     assert s.layout()["detail"] == "fibers"
+
+
+def test_surface_keys_are_the_librarys_table_and_name_surfaces_keywords(yarn):
+    """`woven.SURFACE_KEYS` is the library's table of a woven surface's keys; every keyword of
+    `woven.Surface` that sets the surface is one of them, and a key left out takes the
+    library's default: 40 cells per unit, as in `woven render` scenes and the plugin."""
+    import inspect
+
+    keys = woven.SURFACE_KEYS
+    assert isinstance(keys, tuple) and keys
+    for k in keys:
+        assert set(k) == {"name", "default", "valid", "meaning"}
+        assert all(isinstance(v, str) and v for v in k.values()), k
+    names = [k["name"] for k in keys]
+    assert len(set(names)) == len(names)
+    by_name = {k["name"]: k for k in keys}
+    # The keywords that are not surface keys: the table in place of a material, and the
+    # progress callback of the table's build.
+    front_end_only = {"table", "progress"}
+    params = inspect.signature(woven.Surface).parameters
+    keywords = set(params) - {"self"}
+    assert keywords - front_end_only <= set(names), keywords - front_end_only - set(names)
+    # Every key but the renderer's footprint_filter (woven.Surface takes footprints per call).
+    assert set(names) - keywords == {"footprint_filter"}
+    assert by_name["yarns_per_unit"]["default"] == "40"
+    assert by_name["detail"]["default"] == '"auto"'
+    assert "0.95" in by_name["gap"]["valid"] and "80" in by_name["u_max_deg"]["valid"]
+    for name in ("auto", "fibers", "yarns", "cloth"):
+        assert f'"{name}"' in by_name["detail"]["valid"]
+
+    s = woven.Surface(table=yarn, pattern="plain")
+    lay = s.layout()
+    assert list(lay["yarns_per_unit"]) == [40.0, 40.0]
+    assert lay["yarns_per_unit"][0] == float(by_name["yarns_per_unit"]["default"])
+    assert lay["detail"] == "auto" and lay["gap"] == 0.0

@@ -15,7 +15,8 @@ Directions are unit vectors in the cloth's frame (z the macro normal, weft along
 y), both pointing away from the surface: ``wi`` toward the light (the paper's s), ``wo`` toward
 the viewer (v). Bad parameters raise ValueError with the library's message, files OSError.
 ``woven.Surface`` is a woven material laid on a surface (pattern cells, dyes, yarn tilt, gaps,
-the footprint filter), the one ``woven render`` and the Mitsuba plugin evaluate.
+the footprint filter), the one ``woven render`` and the Mitsuba plugin evaluate; its keys'
+defaults, ranges and meanings are ``woven.SURFACE_KEYS``.
 ``woven.Microcylinder("microcylinder-satin-charmeuse")`` is a microcylinder fabric (Sadeghi et
 al. 2013) in colour, and ``woven.Sheen`` and ``woven.RoughPlastic`` the baselines: each a
 ``woven.Bsdf`` with ``eval`` (f per channel, (N, 3)), ``pdf``, ``sample`` and ``albedo``;
@@ -25,6 +26,7 @@ al. 2013) in colour, and ``woven.Sheen`` and ``woven.RoughPlastic`` the baseline
 
 from ._woven import (
     PARALLEL_MIN,
+    SURFACE_KEYS,
     Bsdf,
     Material,
     Microcylinder,
@@ -60,5 +62,6 @@ __all__ = [
     "gonio",
     "presets",
     "PARALLEL_MIN",
+    "SURFACE_KEYS",
     "__version__",
 ]

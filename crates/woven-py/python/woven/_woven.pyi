@@ -9,6 +9,9 @@ import numpy.typing as npt
 __version__: str
 PARALLEL_MIN: int
 """Batches at least this long run on all cores with the GIL released."""
+SURFACE_KEYS: Tuple[Dict[str, str], ...]
+"""The keys of a woven surface (``woven.Surface``, ``woven render`` scenes, the Mitsuba plugin),
+from the library's table: one dict per key, ``{"name", "default", "valid", "meaning"}``."""
 
 ArrayLike = npt.ArrayLike
 FloatArray = npt.NDArray[np.float64]
@@ -192,11 +195,11 @@ class Surface:
         weft_color: Optional[ArrayLike] = None,
         warp_color: Optional[ArrayLike] = None,
         u_max_deg: Optional[float] = None,
-        gap: float = 0.0,
-        detail: str = "auto",
+        gap: Optional[float] = None,
+        detail: Optional[str] = None,
         irregularity: Union[float, Tuple[float, float], None] = None,
         irregularity_length: Optional[float] = None,
-        wavelength_nm: float = 550.0,
+        wavelength_nm: Optional[float] = None,
         progress: Any = None,
     ) -> None: ...
     def eval(
