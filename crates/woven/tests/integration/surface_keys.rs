@@ -1,6 +1,6 @@
 //! The keys of a woven surface (`woven::surface::SURFACE_KEYS`): one home for each key's name,
-//! default, valid range and meaning. The defaults are those `SurfaceSpec::new` lays, and the
-//! ranges those the library's checks state.
+//! default, valid range and meaning. The defaults are those `SurfaceSpec::new` lays, the ranges
+//! those the library's checks state, and docs/python.md shows the same table, row for row.
 
 use woven::color::Rgb;
 use woven::fiber::DEFAULT_WAVELENGTH_NM;
@@ -12,6 +12,47 @@ use woven::surface::{
 /// The key `name`.
 fn key(name: &str) -> &'static SurfaceKey {
     SurfaceKey::named(name).unwrap_or_else(|| panic!("no surface key `{name}`"))
+}
+
+/// The table as docs/python.md shows it: a header and one row per key, in the table's order.
+fn markdown() -> String {
+    let cell = |s: String| s.replace('|', "\\|");
+    let mut out = String::from("| key | default | valid | meaning |\n|---|---|---|---|\n");
+    for k in SURFACE_KEYS {
+        out += &format!(
+            "| `{}` | {} | {} | {} |\n",
+            k.name,
+            cell(k.default()),
+            cell(k.valid()),
+            cell(k.meaning())
+        );
+    }
+    out
+}
+
+/// docs/python.md holds the table exactly (every key's row, its default and its range, and no
+/// other row): to update it, paste what this test prints.
+#[test]
+fn the_python_docs_show_the_surface_keys_table() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/python.md");
+    let docs = std::fs::read_to_string(path).unwrap();
+    let table = markdown();
+    let Some(at) = docs.find(&table) else {
+        panic!(
+            "docs/python.md does not show SURFACE_KEYS as it is; its table should read:\n\n{table}"
+        );
+    };
+    let before = docs[..at].lines().last().unwrap_or("");
+    let after = docs[at + table.len()..].lines().next().unwrap_or("");
+    assert!(
+        !before.starts_with('|') && !after.starts_with('|'),
+        "docs/python.md's table of surface keys has rows that are not in SURFACE_KEYS"
+    );
+    assert_eq!(
+        docs.matches("| key | default | valid | meaning |").count(),
+        1,
+        "docs/python.md shows the table once"
+    );
 }
 
 /// Every key is named once, and every cell says something.
