@@ -10,16 +10,20 @@ use crate::Vec3;
 use std::sync::Arc;
 
 impl WovenSurface {
-    /// Builds now what the resolved levels would build on first use: the crowned yarn table and
-    /// the relief's ratio table, the ratio read from `dir` when it was stored there before (and
-    /// stored there when built). Nothing to do without a relief (`detail` other than `"fibers"`
-    /// and `"auto"`, or no pattern). `note` hears why a stored ratio was not used, or why a built
+    /// Builds now what the resolved levels would build on first use: the crowned yarn table and,
+    /// under `"auto"` (the one level that blends to the macro lobes the ratio scales), the
+    /// relief's ratio table, read from `dir` when it was stored there before (and stored there
+    /// when built). Nothing to do without a relief (`detail` other than `"fibers"` and
+    /// `"auto"`, or no pattern). `note` hears why a stored ratio was not used, or why a built
     /// one could not be stored (the surface works either way).
     pub fn prepare(&self, dir: Option<&std::path::Path>, note: &dyn Fn(&str)) {
         if self.relief.is_none() {
             return;
         }
         let _ = self.crowned();
+        if self.detail != super::Detail::Auto {
+            return;
+        }
         self.ratio.get_or_init(|| {
             Arc::new(match dir {
                 Some(dir) => ReliefRatio::load_or_build(self, dir, note),
