@@ -119,7 +119,9 @@ impl Table {
     /// smooth fibers), "render" (`woven render`'s coarser, dyeable grid, seconds per preset) or
     /// "default" (`TableOptions::default()`); the keyword arguments override single options
     /// (`n_theta`, `theta_max_deg`, `n_phi`, `n_h`, `n_h_isotropic`, `azimuth_nodes`, `colour`:
-    /// also tabulate ∂f/∂ρ0 for `eval_dyed`). `threads=0` uses every core. `progress=True`
+    /// also tabulate ∂f/∂ρ0 for `eval_dyed`; `exact_regions`: evaluate the exact model where
+    /// interpolation is poor — near-forward pairs and half vectors near the horizon — as the
+    /// grids do by default, or interpolate everywhere, as the Mitsuba plugin's traced code does). `threads=0` uses every core. `progress=True`
     /// writes a percentage to `sys.stderr`; a callable gets `(rows_done, rows_total)`.
     ///
     /// Takes seconds (flat fibers, the sateen) to minutes (twisted and isotropic yarns on the
@@ -128,7 +130,7 @@ impl Table {
     #[staticmethod]
     #[pyo3(signature = (material, wavelength_nm = 550.0, *, grid = "model", n_theta = None,
         theta_max_deg = None, n_phi = None, n_h = None, n_h_isotropic = None,
-        azimuth_nodes = None, colour = None, threads = 0, progress = None))]
+        azimuth_nodes = None, colour = None, exact_regions = None, threads = 0, progress = None))]
     fn build(
         py: Python<'_>,
         material: &Bound<'_, PyAny>,
@@ -141,6 +143,7 @@ impl Table {
         n_h_isotropic: Option<usize>,
         azimuth_nodes: Option<usize>,
         colour: Option<bool>,
+        exact_regions: Option<bool>,
         threads: usize,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Table> {
@@ -156,7 +159,7 @@ impl Table {
             azimuth_nodes: azimuth_nodes.unwrap_or(base.azimuth_nodes),
             colour: colour.unwrap_or(base.colour),
             threads,
-            exact_regions: base.exact_regions,
+            exact_regions: exact_regions.unwrap_or(base.exact_regions),
             crown_deg: 0.0,
         };
         let reporter = Reporter::new(progress)?;

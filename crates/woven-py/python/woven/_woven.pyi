@@ -131,6 +131,7 @@ class Table:
         n_h_isotropic: Optional[int] = None,
         azimuth_nodes: Optional[int] = None,
         colour: Optional[bool] = None,
+        exact_regions: Optional[bool] = None,
         threads: int = 0,
         progress: Union[bool, None, Callable[[int, int], Any]] = None,
     ) -> "Table":
