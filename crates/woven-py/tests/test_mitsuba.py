@@ -270,20 +270,17 @@ def test_chi2_of_the_plugins_sampling(llvm, yarn_tables, name):
 def plane_scene(tmp_path, light):
     """Scene (ii)'s camera, film and plane with a woven material (the sateen's yarn as a 2/1
     twill, dyed weft and warp, yarns tilted 30° at the ends of their floats, gaps of 0.3 of each
-    cell), as a `woven render` file and as a Mitsuba dict with the plugin."""
+    cell), as a `woven render` file and as a Mitsuba dict with the plugin: the same keys, and no
+    `detail`, `yarns_per_unit` or `footprint_filter` on either side (each front end's defaults,
+    which are the library's)."""
     text = (REPO / "scenes" / "compare" / "roughplastic-plane.toml").read_text()
     text = text.replace("width = 128", "width = 48").replace("height = 128", "height = 48")
     woven_material = (
         'material = "polyester-sateen"\npattern = "twill-2/1"\n'
         "weft_color = [0.6, 0.2, 0.1]\nwarp_color = [0.1, 0.2, 0.6]\n"
         "u_max_deg = 30.0\ngap = 0.3\n"
-        'detail = "yarns"\n'
     )
     text = text.replace('material = "roughplastic-equivalent.toml"\n', woven_material)
-    # The plugin looks up each pattern cell (no pixel footprints in Mitsuba's BSDF interface):
-    # the renderer without its fine-weave filter is the same estimator.
-    text = text.replace("[integrator]\n", "[integrator]\nfootprint_filter = false\n")
-    assert "footprint_filter = false" in text
     geometry = sc.load_scene(REPO / "scenes" / "compare" / "roughplastic-plane.toml")
     if light == "environment":
         text = text.replace(
@@ -313,11 +310,18 @@ def plane_scene(tmp_path, light):
 
 @pytest.mark.parametrize("light", ["point", "environment"])
 def test_plugin_render_agrees_with_woven_render(llvm, cache, cli, tmp_path, light):
-    """Two renderers, one surface: the sateen's yarn woven as a 2/1 twill (40 yarns per unit of
-    uv, dyed weft and warp, tilted 30°, gaps of 0.3) on scene (ii)'s plane, under its point light
-    (the BSDF's eval) and under a uniform sky (sampling and MIS too). Besides compare.stats'
-    per-pixel test: the image means within 0.5 %, and the 8×8-block differences within noise
-    (their z-scores, from the 8 seeds' spread, have an RMS below 2)."""
+    """Two renderers, one surface, the same keys: the sateen's yarn woven as a 2/1 twill (dyed
+    weft and warp, tilted 30°, gaps of 0.3; no `detail`, `yarns_per_unit` or `footprint_filter`
+    on either side) on scene (ii)'s plane, under its point light (the BSDF's eval) and under a
+    uniform sky (sampling and MIS too).
+
+    Mitsuba's `path` integrator gives the plugin no footprints, so "auto" shades the yarns on
+    the weave's relief everywhere (the library lane by lane); `woven render` filters the camera
+    vertex by its pixel's footprint (≈ 3 cells here: the macro lobes scaled by the relief's
+    ratio). Against `woven render` as it is: the image means within 0.5 % and the 8×8-block
+    differences within noise (their z-scores, from the 8 seeds' spread, have an RMS below 2).
+    Against `woven render` without its footprint filter (the same estimator): besides,
+    compare.stats' per-pixel test."""
     scene, d = plane_scene(tmp_path, light)
     seeds, spp = list(range(8)), 32
     s = mi.load_dict(d)  # builds the sateen yarn's table into the shared cache
@@ -328,14 +332,68 @@ def test_plugin_render_agrees_with_woven_render(llvm, cache, cli, tmp_path, ligh
         pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
     )
     w = compare.render_woven(binary, scene, seeds, spp, tmp_path, mi)
-    st = compare.stats(m, w, compare.TOL_FLOAT32)
+    text = scene.path.read_text()
+    scene.path = scene.path.with_name(f"unfiltered-{light}.toml")
+    scene.path.write_text(text.replace("[integrator]\n", "[integrator]\nfootprint_filter = false\n"))
+    w0 = compare.render_woven(binary, scene, seeds, spp, tmp_path, mi)
     print(compare.HEADER)
-    print(compare.row(f"woven render vs Mitsuba + woven plugin ({light})", st))
-    z = block_z(m, w, 8)
-    print(f"mean rel diff {st['mean_rel_diff']:+.4f}, 8x8-block z RMS {np.sqrt(np.mean(z**2)):.2f}")
-    assert st["pass"], st
-    assert abs(st["mean_rel_diff"]) <= 0.005, st
-    assert np.sqrt(np.mean(z**2)) < 2.0, z
+    for label, ref in [("as it is", w), ("without its footprint filter", w0)]:
+        st = compare.stats(m, ref, compare.TOL_FLOAT32)
+        print(compare.row(f"woven render {label} vs Mitsuba + plugin ({light})", st))
+        z = block_z(m, ref, 8)
+        print(f"  mean rel diff {st['mean_rel_diff']:+.4f} ({st['mean_diff_z']:+.1f} s.e.),"
+              f" 8x8-block z RMS {np.sqrt(np.mean(z**2)):.2f}")
+        assert abs(st["mean_rel_diff"]) <= 0.005, (label, st)
+        assert np.sqrt(np.mean(z**2)) < 2.0, (label, z)
+        if ref is w0:
+            assert st["pass"], st
+
+
+def test_fibre_close_up_agrees_in_llvm_scalar_and_woven_render(llvm, cache, cli, tmp_path):
+    """A close-up at detail = "fibers" (the twill of plane_scene, 32 × 32 pixels over a 1.5°
+    field of view: a yarn ≈ 8 pixels wide, its fibres' strands resolved) under the point light, rendered three ways:
+    Mitsuba 3's llvm_ad_rgb (the library lane by lane, evaluated mode), its scalar_rgb (the
+    library per ray) and `woven render`. Each pair: the image means within 3 of their standard
+    errors and 1 %, and the 8×8-block z-scores' RMS below 2."""
+    scene, d = plane_scene(tmp_path, "point")
+    text = scene.path.read_text().replace("fov_deg = 45.0", "fov_deg = 1.5")
+    text = text.replace("width = 48", "width = 32").replace("height = 48", "height = 32")
+    text = text.replace("gap = 0.3\n", 'gap = 0.3\ndetail = "fibers"\n')
+    scene.path.write_text(text)
+    scene.fov_deg, scene.width, scene.height = 1.5, 32, 32
+    d["sensor"]["fov"] = 1.5
+    d["sensor"]["film"]["width"] = d["sensor"]["film"]["height"] = 32
+    d["rect0"]["bsdf"]["detail"] = "fibers"
+    spp = 16
+    stacks = {}
+    s = mi.load_dict(d)
+    stacks["llvm"] = np.stack(
+        [np.array(mi.render(s, spp=spp, seed=k), dtype=np.float64)[..., :3] for k in range(8)]
+    )
+    mi.set_variant("scalar_rgb")
+    try:
+        woven.mitsuba.register()
+        s = mi.load_dict(d)
+        stacks["scalar"] = np.stack(
+            [np.array(mi.render(s, spp=spp, seed=k), dtype=np.float64)[..., :3] for k in range(5)]
+        )
+    finally:
+        mi.set_variant("llvm_ad_rgb")
+    binary = os.environ.get("WOVEN_BIN") or str(
+        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
+    )
+    stacks["woven"] = compare.render_woven(binary, scene, list(range(8)), spp, tmp_path, mi)
+    assert stacks["llvm"].std(axis=(1, 2)).mean() > 0.2 * stacks["llvm"].mean(), "no fibres?"
+    for a, b in [("llvm", "scalar"), ("llvm", "woven"), ("scalar", "woven")]:
+        x, y = stacks[a], stacks[b]
+        mx, my = x.mean(axis=(1, 2, 3)), y.mean(axis=(1, 2, 3))
+        se = np.sqrt(mx.var(ddof=1) / len(mx) + my.var(ddof=1) / len(my))
+        diff = my.mean() - mx.mean()
+        z = block_z(x, y, 8)
+        print(f"{b} vs {a}: mean {my.mean():.5f} vs {mx.mean():.5f} ({diff / mx.mean():+.3%},"
+              f" {diff / se:+.2f} s.e.), 8x8-block z RMS {np.sqrt(np.mean(z**2)):.2f}")
+        assert abs(diff) <= 3 * se and abs(diff) <= 0.01 * mx.mean(), (a, b, diff, se)
+        assert np.sqrt(np.mean(z**2)) < 2.0, (a, b, z)
 
 
 def block_z(a, b, size):
@@ -362,37 +420,70 @@ LAYOUTS = {
 }
 
 
-@pytest.mark.parametrize("name", list(LAYOUTS))
-def test_jit_layout_is_the_librarys(llvm, yarn_tables, name):
-    """The plugin's Dr.Jit surface (JitLayout: cells, floats, tilt, gaps, dyes, the footprint
-    filter) against the library's woven.Surface, lane for lane on random points, footprints and
-    directions: f per channel and the sampling density, and (where the point has no footprint)
-    the draws for the same uniforms."""
-    _, path = yarn_tables["polyester-sateen"]
-    params = dict(LAYOUTS[name], yarns_per_unit=[7.0, 5.0])
+# Every layout at the traced levels; the library's levels (the same Rust for every layout) on
+# the tilted, gapped twill.
+LEVELS = [(name, detail) for name in LAYOUTS for detail in ("yarns", "cloth")] + [
+    ("twill, tilted, gapped", "auto"),
+    ("twill, tilted, gapped", "fibers"),
+]
+
+
+def f32(x):
+    """`x` rounded to float32, as Mitsuba holds it, back in float64."""
+    return np.asarray(x, dtype=np.float32).astype(np.float64)
+
+
+@pytest.fixture(scope="session")
+def interpolated_sateen(tmp_path_factory):
+    """The sateen's yarn table, dyeable, interpolated everywhere (no exact regions), as the
+    traced code evaluates every table: saved, its path."""
+    table = woven.Table.build(
+        woven.Material.preset("polyester-sateen").yarn_family(),
+        colour=True,
+        exact_regions=False,
+        progress=False,
+        **SMALL,
+    )
+    path = tmp_path_factory.mktemp("interpolated") / "sateen.wtab"
+    table.save(path)
+    return path
+
+
+@pytest.mark.parametrize("name,detail", LEVELS)
+def test_plugin_lanes_are_the_librarys(llvm, interpolated_sateen, name, detail):
+    """Golden lanes: the plugin in llvm_ad_rgb against the library's woven.Surface, lane for lane
+    on 4 000 random points, footprints and directions over the whole hemisphere (down to
+    10⁻³ of the horizon), at every level of detail: f per channel, the sampling density, and
+    the draws for the same uniforms. The library computes the reference lanes from the float32
+    values Mitsuba holds, with a table that interpolates everywhere as the traced code does.
+
+    "yarns" and "cloth" are traced (JitLayout, JitTable, JitFloat) on five layouts, run here in
+    Dr.Jit's symbolic mode as a GPU render runs them: at most 0.5 % of the lanes may differ by
+    more than 10⁻³ (float32 arithmetic puts a point on a cell's or gap's edge on the other
+    side). "auto" and "fibers" go to the library lane by lane (evaluated mode): every lane the
+    same to float32 rounding."""
+    path = interpolated_sateen
+    params = dict(LAYOUTS[name], yarns_per_unit=[7.0, 5.0], detail=detail)
     colors = {"weft_color": [0.7, 0.2, 0.1], "warp_color": [0.1, 0.3, 0.6]}
-    params = dict(params, detail="yarns")
     surface = woven.Surface(table=woven.Table.load(path), **params, **colors)
     d = {"type": "woven", "table": str(path), "footprint_filter": True, **params}
     d["yarns_per_unit"] = "7, 5"
     for k, v in colors.items():
         d[k] = {"type": "rgb", "value": v}
     bsdf = mi.load_dict(d)
+    traced = not bsdf.library
+    assert traced == (detail in ("yarns", "cloth") or "weft_fraction" in params), detail
     rng = np.random.default_rng(7)
     n = 4000
-    uv = rng.uniform(-2.0, 3.0, (n, 2))
+    uv = f32(rng.uniform(-2.0, 3.0, (n, 2)))
     # A third of the points a point, a third under the filter's blend, a third past it.
     scale = np.repeat([0.0, 1.0 / 7.0, 1.0], [n - 2 * (n // 3), n // 3, n // 3])
-    fp = rng.uniform(-1.0, 1.0, (n, 4)) * scale[:, None]
-    # Up to 60° from the normal: |wi + wo| ≥ 1 in every lobe's frame (a rotation keeps it), so
-    # no pair falls in the near-forward region where the library evaluates the exact model and
-    # Dr.Jit interpolates (the module docs; test_jit_lookups_are_the_librarys covers the
-    # tables). A tilt can still bring a pair's half vector within 5° of the tilted frame's
-    # horizon, the library's other exact region: a few lanes in 10⁴ of the tilted layouts.
+    fp = f32(rng.uniform(-1.0, 1.0, (n, 4)) * scale[:, None])
     wi, wo = random_dirs(rng, n), random_dirs(rng, n)
-    wi[:, 2], wo[:, 2] = np.maximum(wi[:, 2], 0.58), np.maximum(wo[:, 2], 0.58)
-    wi /= np.linalg.norm(wi, axis=1, keepdims=True)
-    wo /= np.linalg.norm(wo, axis=1, keepdims=True)
+    wi[:, 2], wo[:, 2] = np.maximum(wi[:, 2], 1e-3), np.maximum(wo[:, 2], 1e-3)
+    wi = f32(wi / np.linalg.norm(wi, axis=1, keepdims=True))
+    wo = f32(wo / np.linalg.norm(wo, axis=1, keepdims=True))
+    uc, u = f32(rng.random(n)), f32(rng.random((n, 2)))
     si = dr.zeros(mi.SurfaceInteraction3f, n)
     si.uv = mi.Point2f(uv[:, 0], uv[:, 1])
     si.duv_dx = mi.Vector2f(fp[:, 0], fp[:, 1])
@@ -400,31 +491,46 @@ def test_jit_layout_is_the_librarys(llvm, yarn_tables, name):
     si.wi = mi.Vector3f(*wo.T)
     ctx = mi.BSDFContext()
     light = mi.Vector3f(*wi.T)
-    got = np3(bsdf.eval(ctx, si, light)) / wi[:, 2:3]
+    with symbolic(traced):
+        got = np3(bsdf.eval(ctx, si, light)) / wi[:, 2:3]
+        p_got = np.array(bsdf.pdf(ctx, si, light), dtype=np.float64)
+        bs, _ = bsdf.sample(ctx, si, mi.Float(uc), mi.Point2f(u[:, 0], u[:, 1]))
+        d_got, s_got = np3(bs.wo), np.array(bs.pdf, dtype=np.float64)
     want = surface.eval(uv, wi, wo, fp)
-    # Lanes on a cell's or gap's edge may fall on the other side in float32: a few in 10⁴.
-    close = np.abs(got - want) <= 1e-3 * np.abs(want).max(axis=1, keepdims=True) + 1e-6
-    bad = ~close.all(axis=1)
-    p_got = np.array(bsdf.pdf(ctx, si, light), dtype=np.float64)
     p_want = surface.pdf(uv, wi, wo, fp)
-    bad_p = np.abs(p_got - p_want) > 1e-3 * p_want + 1e-6
-    # Draws for the same uniforms where a point is one cell's lobe (no footprint) or the macro
-    # BRDF: the same direction and density (under the filter's blend the library merges equal
-    # lobes, so its pick may take another lobe for the same uniform).
-    uc, u = rng.random(n).astype(np.float32), rng.random((n, 2)).astype(np.float32)
-    bs, _ = bsdf.sample(ctx, si, mi.Float(uc), mi.Point2f(u[:, 0], u[:, 1]))
-    d_got, s_got = np3(bs.wo), np.array(bs.pdf, dtype=np.float64)
-    d_want, _, s_want = surface.sample(uv, wo, uc.astype(np.float64), u.astype(np.float64), fp)
-    point = scale == 0.0
-    both = point & (s_got > 0) & (s_want > 0)
-    same = (np.abs(d_got - d_want).max(axis=1) < 1e-3) & (np.abs(s_got - s_want) <= 1e-3 * s_want)
-    bad_s = point & ((s_got > 0) != (s_want > 0)) | both & ~same
-    print(f"{name}: bad lanes: f {bad.mean():.4%}, pdf {bad_p.mean():.4%},", end=" ")
-    print(f"draws {bad_s.sum() / point.sum():.4%} of the points without a footprint")
-    assert bad.mean() < 0.005, (name, bad.sum(), got[bad][:3], want[bad][:3], uv[bad][:3])
-    assert bad_p.mean() < 0.005, (name, bad_p.sum(), p_got[bad_p][:3], p_want[bad_p][:3])
-    assert bad_s.sum() < 0.005 * point.sum(), (name, bad_s.sum(), d_got[bad_s][:3],
-                                                d_want[bad_s][:3])
+    d_want, _, s_want = surface.sample(uv, wo, uc, u, fp)
+    tol = 1e-3 if traced else 1e-5
+    bad = ~(np.abs(got - want) <= tol * np.abs(want).max(axis=1, keepdims=True) + 1e-6).all(1)
+    bad_p = np.abs(p_got - p_want) > tol * p_want + 1e-6
+    # Draws: where a point is one cell's lobe (no footprint) or the library answers; under the
+    # filter's blend the library merges equal lobes, so its pick may take another lobe.
+    drawn = (scale == 0.0) | (not traced)
+    both = drawn & (s_got > 0) & (s_want > 0)
+    same = (np.abs(d_got - d_want).max(axis=1) < tol) & (np.abs(s_got - s_want) <= tol * s_want)
+    bad_s = drawn & ((s_got > 0) != (s_want > 0)) | both & ~same
+    print(f"{name}, {detail} ({'traced' if traced else 'library'}): lanes that differ:"
+          f" f {bad.mean():.3%}, pdf {bad_p.mean():.3%}, draws {bad_s.sum() / drawn.sum():.3%}")
+    if traced:
+        assert bad.mean() < 0.005, (name, bad.sum(), got[bad][:3], want[bad][:3], uv[bad][:3])
+        assert bad_p.mean() < 0.005, (name, bad_p.sum(), p_got[bad_p][:3], p_want[bad_p][:3])
+        assert bad_s.sum() < 0.005 * drawn.sum(), (name, bad_s.sum(), d_got[bad_s][:3])
+    else:
+        assert not bad.any(), (name, got[bad][:3], want[bad][:3])
+        assert not bad_p.any(), (name, p_got[bad_p][:3], p_want[bad_p][:3])
+        assert not bad_s.any(), (name, d_got[bad_s][:3], d_want[bad_s][:3])
+
+
+def symbolic(on):
+    """Dr.Jit's symbolic loops and calls on (a traced surface, as a GPU render runs it) or as
+    they are (the evaluated mode woven.mitsuba.register() set)."""
+    import contextlib
+
+    if not on:
+        return contextlib.nullcontext()
+    stack = contextlib.ExitStack()
+    for flag in (dr.JitFlag.SymbolicLoops, dr.JitFlag.SymbolicCalls):
+        stack.enter_context(dr.scoped_set_flag(flag, True))
+    return stack
 
 
 def test_plugin_plane_under_a_point_light_is_the_librarys_brdf(llvm, yarn_tables):
@@ -661,38 +767,55 @@ def test_white_furnace_sphere_is_the_directional_albedo(llvm, tmp_path):
         assert abs(a[i] - exact) <= 5 * a_se[i] + 0.03 * exact, (a[i], a_se[i], exact)
 
 
-def test_fibres_render_in_scalar_variants_and_are_refused_by_name_in_jit(llvm, yarn_tables):
-    """detail = "fibers": the scalar variant evaluates the library's fibre level point by point
-    (the same numbers as woven.Surface); a JIT variant refuses it, naming the key."""
+def test_fibres_are_the_librarys_in_scalar_and_jit_variants(llvm, yarn_tables):
+    """detail = "fibers": both variants evaluate the library's fibre level (the same numbers as
+    woven.Surface at Mitsuba's float32 values): scalar_rgb point by point, llvm_ad_rgb lane by
+    lane."""
     _, path = yarn_tables["polyester-sateen"]
     d = {"type": "woven", "table": str(path), "pattern": "satin-5", "detail": "fibers"}
-    with pytest.raises(Exception, match="detail"):
-        mi.load_dict(d)
+    surface = woven.Surface(table=woven.Table.load(path), pattern="satin-5", detail="fibers")
+    uv = [0.013, 0.027]
+    view = [0.3, -0.2, float(np.sqrt(1 - 0.13))]
+    light = [-0.4, 0.1, float(np.sqrt(1 - 0.17))]
+    want = surface.eval(f32(uv), f32(light), f32(view))[0]
+    bsdf = mi.load_dict(d)
+    assert bsdf.library
+    si = dr.zeros(mi.SurfaceInteraction3f, 1)
+    si.uv, si.wi = mi.Point2f(*uv), mi.Vector3f(*view)
+    got = np3(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*light)))[0] / f32(light)[2]
+    np.testing.assert_allclose(got, want, rtol=1e-5)
     mi.set_variant("scalar_rgb")
     try:
         woven.mitsuba.register()
         bsdf = mi.load_dict(d)
-        surface = woven.Surface(table=woven.Table.load(path), pattern="satin-5", yarns_per_unit=40,
-                                detail="fibers")
         si = mi.SurfaceInteraction3f()
-        si.uv = mi.Point2f(0.013, 0.027)
-        si.wi = mi.Vector3f(0.3, -0.2, np.sqrt(1 - 0.13))
-        wo = mi.Vector3f(-0.4, 0.1, np.sqrt(1 - 0.17))
+        si.uv, si.wi = mi.Point2f(*uv), mi.Vector3f(*view)
+        wo = mi.Vector3f(*light)
         got = np.array(bsdf.eval(mi.BSDFContext(), si, wo), dtype=np.float64).ravel() / float(wo.z)
-        want = surface.eval([0.013, 0.027], np.array(wo), np.array(si.wi))[0]
         np.testing.assert_allclose(got, want, rtol=1e-5)
     finally:
         mi.set_variant("llvm_ad_rgb")
 
 
-def test_shaped_floats_are_refused_by_name_in_jit(llvm, cache):
+def test_shaped_floats_go_to_the_library_in_jit(llvm, cache):
     """A grounded preset's floats (a flat crest, flanks at full tilt) take the material's own
-    tilt by default; the JIT variants trace linear tilts only and say so, naming the keys."""
-    surface = woven.Surface(woven.Material.preset("satin-charmeuse"), progress=False)
+    tilt by default. JitLayout traces linear tilts only and says so, naming the keys; the plugin
+    hands such a surface to the library lane by lane instead."""
+    surface = woven.Surface(woven.Material.preset("satin-charmeuse"), detail="yarns",
+                            progress=False)
     crest, flank = surface.layout()["float_shape"]
     assert crest > 0 and flank > 0 and surface.layout()["u_max"] > 0
     with pytest.raises(ValueError, match="float_crest"):
         woven.mitsuba.JitLayout(surface, mi)
+    bsdf = mi.load_dict({"type": "woven", "material": "satin-charmeuse", "detail": "yarns"})
+    assert bsdf.library
+    rng = np.random.default_rng(3)
+    n = 500
+    uv, view, light = f32(rng.random((n, 2))), f32(random_dirs(rng, n)), f32(random_dirs(rng, n))
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.uv, si.wi = mi.Point2f(*uv.T), mi.Vector3f(*view.T)
+    got = np3(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*light.T))) / light[:, 2:3]
+    np.testing.assert_allclose(got, surface.eval(uv, light, view), rtol=1e-5, atol=1e-7)
 
 
 def test_microcylinder_fabric_renders_in_scalar_rgb_as_the_library():
@@ -763,9 +886,30 @@ def test_microcylinder_fabric_renders_in_scalar_rgb_as_the_library():
             mi.set_variant(previous)
 
 
-def test_microcylinder_fabric_is_refused_by_name_in_jit(llvm):
-    with pytest.raises(Exception, match=r"microcylinder-satin-charmeuse.*llvm_ad_rgb.*scalar_rgb"):
-        mi.load_dict({"type": "woven", "material": "microcylinder-satin-charmeuse"})
+def test_microcylinder_fabric_is_the_librarys_in_jit(llvm):
+    """llvm_ad_rgb hands a microcylinder fabric to the library lane by lane: eval, pdf and the
+    draws for the same uniforms are woven.Microcylinder's at Mitsuba's float32 values."""
+    name = "microcylinder-satin-charmeuse"
+    fabric = woven.Microcylinder(name)
+    bsdf = mi.load_dict({"type": "woven", "material": name})
+    rng = np.random.default_rng(9)
+    n = 1000
+    view, light = f32(random_dirs(rng, n)), f32(random_dirs(rng, n))
+    uc, u = f32(rng.random(n)), f32(rng.random((n, 2)))
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = mi.Vector3f(*view.T)
+    ctx = mi.BSDFContext()
+    wo = mi.Vector3f(*light.T)
+    got = np3(bsdf.eval(ctx, si, wo))
+    np.testing.assert_allclose(got, fabric.eval(light, view) * light[:, 2:3], rtol=1e-5, atol=1e-7)
+    p = np.array(bsdf.pdf(ctx, si, wo), dtype=np.float64)
+    np.testing.assert_allclose(p, fabric.pdf(light, view, mode="radiance"), rtol=1e-5, atol=1e-7)
+    bs, weight = bsdf.sample(ctx, si, mi.Float(uc), mi.Point2f(*u.T))
+    d, f, pdf = fabric.sample(view, uc, u, mode="radiance")
+    ok = pdf > 0
+    np.testing.assert_allclose(np3(bs.wo)[ok], d[ok], atol=1e-6)
+    want = f[ok] * d[ok, 2:3] / pdf[ok, None]
+    np.testing.assert_allclose(np3(weight)[ok], want, rtol=1e-4, atol=1e-6)
 
 
 def test_the_documented_example_scene_renders(llvm, cache, tmp_path):

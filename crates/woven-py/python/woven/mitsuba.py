@@ -3,68 +3,65 @@
     import mitsuba as mi, woven.mitsuba
     mi.set_variant("llvm_ad_rgb")
     woven.mitsuba.register()
-    bsdf = mi.load_dict({"type": "woven", "material": "polyester-sateen",
+    bsdf = mi.load_dict({"type": "woven", "material": "polyester-sateen", "pattern": "twill-2/1",
                          "weft_color": {"type": "rgb", "value": [0.6, 0.1, 0.1]}})
 
-Parameters (the meaning of a ``woven`` material in ``woven render`` scenes, with the same keys;
-the library's ``woven.Surface`` holds that meaning, and this plugin takes it from there):
+**Keys.** The plugin takes the surface keys of ``woven render``'s scenes and ``woven.Surface``
+with the same names, meanings, ranges and defaults: the library owns them
+(``woven.SURFACE_KEYS``; the table in docs/python.md), and a key not given here is not given to
+``woven.Surface``, so the same keys give the same surface everywhere. Here in particular:
+``yarns_per_unit`` is one number or a string ``"n_u, n_v"``, and ``irregularity`` one number or
+``"weft, warp"``; ``weft_color`` and ``warp_color`` may be any Mitsuba texture (read at the hit);
+``footprint_filter`` is a key of the material (in scenes, of the ``[integrator]``). Beside them,
+``table`` (instead of ``material``) takes a ``.wtab`` file, rendered as the BRDF it was built for
+or, with ``pattern`` or ``weft_fraction``, as the yarn of a weave. A ``material``'s yarn table
+comes from the table cache ``woven render`` uses, or is built there (seconds per preset).
 
-====================  =======================================================================
-``material``          a preset name or a material file (TOML). The table of its yarn alone is
-                      taken from the table cache ``woven render`` uses, or built there (render
-                      grid, dyeable; seconds per preset).
-``table``             instead of ``material``: a ``.wtab`` file. It is rendered as it is (the
-                      BRDF it was built for), or, with ``pattern``, as the yarn of the pattern.
-``weft_fraction``     γ in place of the material's weave (its pattern too): the macro BRDF, the
-                      γ-mix of the yarn as weft and, turned 90°, as warp.
-``wavelength_nm``     the wavelength the material's table is built at (default 550).
-``pattern``           a weave pattern (``"plain"``, ``"twill-2/1"``, ``"satin-5"``, …) replacing
-                      the material's weave. The cell at (u·n_u, v·n_v) of the shape's uv decides
-                      whether the weft (along u) or the warp (along v) is on top.
-``yarns_per_unit``    pattern cells per unit of uv: one number or "n_u, n_v" (default 40).
-``weft_color``,       dyed fiber albedos ρ0 per channel (values or textures); the
-``warp_color``        interreflection albedo follows in proportion. Default: the material's own.
-``u_max_deg``         yarn tilt at the ends of each float, degrees in [0, 80] (default: the
-                      material's own ``[yarn] u_max_deg``, 0 for the paper's presets; floats
-                      shaped by ``float_crest``/``float_flank`` are traced by scalar variants
-                      only).
-``gap``               fraction of each cell between yarns, in [0, 0.95] (default 0): the crossing
-                      yarn shows there, and a hole where both leave one.
-``detail``            how finely the weave is resolved: ``"yarns"`` (the default here: each
-                      cell its yarn's BRDF), ``"cloth"`` (the γ-mix everywhere), ``"fibers"``
-                      (each point a point on its yarn's profile; scalar variants only) or
-                      ``"auto"`` (by footprint, yarns where the partials are zero; scalar
-                      variants only).
-``footprint_filter``  blend toward the macro BRDF where a pixel's footprint (``si.duv_dx``,
-                      ``si.duv_dy``) spans more than half a cell (default false: Mitsuba 3's
-                      stock integrators leave those partials zero, measured on 3.9.1's
-                      ``path``, so the filter would only cost; turn it on with an integrator
-                      that computes them).
-====================  =======================================================================
+**Footprints.** ``woven render`` knows each camera ray's footprint (its ray differentials):
+``detail = "auto"`` resolves fibres where a pixel spans well under a yarn, and the footprint
+filter blends toward the macro BRDF where it spans cells. Mitsuba hands a BSDF the footprint as
+``si.duv_dx``, ``si.duv_dy``, which its integrators compute only for BSDFs that ask for them
+(this one does, whenever ``footprint_filter`` is on and the surface uses a footprint) and only
+from rays that carry differentials: ``direct`` and ``aov`` do, for camera rays (scaled by
+1/√spp, as Mitsuba scales them); ``path``, ``volpath`` and ``prb`` carry none. Where the partials
+are zero the plugin gives the library no footprint, and the library's rule for that case holds,
+as at every later vertex of ``woven render``'s paths: no filtering, and ``"auto"`` shades each
+point at yarn level on the weave's relief (docs/render.md).
 
-Directions: Mitsuba's ``si.wi`` points toward the viewer (woven's ``wo``) and ``wo`` toward the
-light (woven's ``wi``). ``sample`` draws the light direction for the viewer (the library's
+**Directions.** Mitsuba's ``si.wi`` points toward the viewer (woven's ``wo``) and ``wo`` toward
+the light (woven's ``wi``). ``sample`` draws the light direction for the viewer (the library's
 radiance transport mode), and ``pdf`` returns that density, so the ``paper`` normalization's
 missing reciprocity is handled exactly: the weight is the true f(wi, wo) cos θ / pdf.
 
-In JIT variants (``llvm_*``, ``cuda_*``) ``eval``, ``pdf`` and ``sample`` are Dr.Jit code: the
-table's arrays (``Table.raw()``) and the surface's layout (``Surface.layout()``) are handed over
-once, and every look-up is a gather, traced into Mitsuba's kernels. ``JitTable`` repeats the
-library's interpolation and sampling operation by operation (crates/woven/src/table/), and
-``JitLayout`` the surface's lobes at a point (crates/woven/src/surface.rs), with ``JitFloat``
-the tilted floats' geometry (crates/woven/src/yarn/float.rs: a point of a float shades as the
-facet the viewer's ray meets, a whole float as its lit and seen facets' mean); all are tested
-lane for lane against the library. They interpolate everywhere: tables of single-orientation
-yarns that the library evaluates exactly for near-forward pairs (|wi + wo| < 0.5) or half
-vectors within 5° of the horizon (which a tilted frame can bring about) give
-``Table.eval_interpolated`` there, and flat fiber surfaces their table, not the exact model. In
-scalar variants each call goes to the library's ``woven.Surface``.
+**Variants: traced, or the library lane by lane.** Scalar variants call the library's
+``woven.Surface`` for each ray. JIT variants (``llvm_*``, ``cuda_*``) trace in Dr.Jit what
+Dr.Jit can gather: a surface at ``detail`` "yarns" or "cloth" (and any surface without a
+pattern) is the yarn table's interpolation and sampling (``JitTable``) at the lobes of each lane's
+cell, float and gap (``JitLayout``, from the constants ``Surface.layout()`` hands over; the
+tilted floats' geometry in ``JitFloat``), compiled into Mitsuba's kernels. What the library
+computes and Dr.Jit does not trace — ``detail`` "auto" (the default) and "fibers" on a pattern
+(the weave's relief, its crowned table, the fibres' draws), floats shaped by
+``float_crest``/``float_flank``, ``irregularity``, and microcylinder fabrics — the library
+evaluates, samples and weighs lane by lane: each call hands the lanes' arrays to ``woven.Surface``
+(rayon-parallel in Rust, the GIL released) and back, so there is one implementation of those
+levels. That needs Dr.Jit's evaluated (wavefront) mode, in which a call sees its lanes' values:
+``register()`` switches its thread's ``SymbolicLoops``, ``SymbolicCalls`` and
+``SymbolicConditionals`` off (``register(symbolic=True)`` leaves them on, for scenes whose woven
+surfaces are all traced); a library surface called from a symbolic trace raises an error saying
+so. On a CUDA variant the library's lanes run on the CPU, copied over and back per call.
+
+The traced code repeats the library's operation by operation (crates/woven/src/table/,
+crates/woven/src/surface/, crates/woven/src/yarn/float.rs); tests/test_mitsuba.py pins it lane
+for lane to the library's values, to the horizon, for eval, pdf and sample. It interpolates
+everywhere: tables of single-orientation yarns that the library evaluates exactly for
+near-forward pairs (|wi + wo| < 0.5) or half vectors within 5° of the horizon (which a tilted
+frame can bring about) give ``Table.eval_interpolated`` there, and flat fiber surfaces their
+table, not the exact model.
 
 ``material`` may also name a microcylinder fabric (Sadeghi et al. 2013: a ``microcylinder-*``
-preset, or a file with ``model = "microcylinder"``; see ``woven.Microcylinder``). Scalar RGB
-variants then evaluate, sample and weigh it with the library per ray (the keys above other than
-``material`` do not apply and are refused by name). The microcylinder model has no Dr.Jit port:
-JIT variants (and spectral ones) refuse such a material with an error naming it and the variant.
+preset, or a file with ``model = "microcylinder"``; see ``woven.Microcylinder``). RGB variants
+then evaluate, sample and weigh it with the library (the keys above other than ``material`` do
+not apply and are refused by name); spectral variants refuse it, its values being RGB.
 """
 
 from __future__ import annotations
@@ -80,14 +77,24 @@ __all__ = ["register", "JitTable", "JitLayout", "JitFloat"]
 _REGISTERED = set()
 
 
-def register():
+def register(symbolic=False):
     """Registers the ``woven`` BSDF with Mitsuba for the current variant (``mi.set_variant``
-    first). Safe to call more than once."""
+    first). Safe to call more than once.
+
+    In a JIT variant it also switches Dr.Jit, in the calling thread, to evaluated loops, calls
+    and conditionals, which the surfaces the library evaluates lane by lane need (``detail``
+    "auto", the default, and "fibers" on a pattern; shaped floats; ``irregularity``): call it
+    in the thread that renders. ``symbolic=True`` leaves Dr.Jit's modes alone, for scenes whose
+    woven surfaces are all traced (``detail`` "yarns" or "cloth"): a surface that needs the
+    library then raises an error naming this when it is called."""
+    import drjit as dr
     import mitsuba as mi
 
     variant = mi.variant()
     if variant is None:
         raise RuntimeError("set a Mitsuba variant first (mi.set_variant)")
+    if dr.is_jit_v(mi.Float) and not symbolic:
+        _evaluated_mode(dr)
     if variant in _REGISTERED:
         return
     cls = _bsdf_class(mi)
@@ -439,36 +446,31 @@ def _tilt_from(mi, d, s, c):
     return mi.Vector3f(c * d.x - s * d.z, d.y, s * d.x + c * d.z)
 
 
-def _yarns(value):
-    """``yarns_per_unit``: a number or "n_u, n_v"."""
+def _pair(value, name):
+    """A key that takes one number or two ("n_u, n_v"; "weft, warp")."""
     if isinstance(value, str):
         parts = [float(x) for x in value.replace(",", " ").split()]
     else:
         parts = [float(value)]
     if len(parts) == 1:
         parts = parts * 2
-    if len(parts) != 2 or not all(math.isfinite(p) and p > 0 for p in parts):
-        raise ValueError(
-            f"woven BSDF: `yarns_per_unit` = {value!r}: expected a positive number or 'n_u, n_v'"
-        )
+    if len(parts) != 2 or not all(math.isfinite(p) for p in parts):
+        raise ValueError(f"woven BSDF: `{name}` = {value!r}: expected a number or two ('a, b')")
     return parts
 
 
 def _surface(props, mi):
-    """The ``woven.Surface`` a plugin's properties describe, and its textured colours."""
+    """The ``woven.Surface`` a plugin's properties describe, its textured colours, and whether
+    it dyes its yarns unevenly. A key not given takes the library's default
+    (``woven.SURFACE_KEYS``), as scenes and ``woven.Surface`` do."""
     has = props.__contains__
     if has("table") == has("material"):
         raise ValueError("woven BSDF: give exactly one of `table` and `material`")
-    kwargs = {
-        "pattern": props["pattern"] if has("pattern") else None,
-        "weft_fraction": float(props["weft_fraction"]) if has("weft_fraction") else None,
-        "yarns_per_unit": _yarns(props["yarns_per_unit"]) if has("yarns_per_unit") else 40.0,
-        "u_max_deg": float(props["u_max_deg"]) if has("u_max_deg") else None,
-        "gap": float(props["gap"]) if has("gap") else 0.0,
-        # Mitsuba's stock integrators give no pixel footprints (so "auto" would be yarns
-        # everywhere, at the cost of its look-ups): yarns unless asked.
-        "detail": str(props["detail"]) if has("detail") else "yarns",
-    }
+    kwargs = {}
+    for key, read in _READERS.items():
+        if has(key):
+            kwargs[key] = read(props[key])
+    irregular = any(x != 0 for x in kwargs.get("irregularity", (0.0, 0.0)))
     textures = {}
     for key in ("weft_color", "warp_color"):
         if has(key):
@@ -482,18 +484,119 @@ def _surface(props, mi):
             table = woven.Table.load(str(props["table"]))
             surface = woven.Surface(table=table, **kwargs)
         else:
-            wavelength = float(props["wavelength_nm"]) if has("wavelength_nm") else 550.0
             surface = woven.Surface(
-                woven.Material.open(str(props["material"])),
-                wavelength_nm=wavelength,
-                progress=False,
-                **kwargs,
+                woven.Material.open(str(props["material"])), progress=False, **kwargs
             )
     except ValueError as e:
         raise ValueError(f"woven BSDF: {e}") from None
     if textures and surface.table.raw()["own"] is None:
         raise ValueError("woven BSDF: a textured colour needs a table that records its material")
-    return surface, textures
+    return surface, textures, irregular
+
+
+# Mitsuba's BSDFFlags::NeedsDifferentials (include/mitsuba/render/bsdf.h), not in its Python
+# enum: ``si.bsdf(ray)`` then computes the uv partials from a ray's differentials.
+_NEEDS_DIFFERENTIALS = 0x20000
+
+# The surface keys (the library's table: woven.SURFACE_KEYS), and how the plugin reads each
+# from Mitsuba's properties into woven.Surface's arguments; ``material`` and ``footprint_filter``
+# the plugin reads itself, colours may be textures (_surface).
+_KEYS = {k["name"]: k for k in woven.SURFACE_KEYS}
+_READERS = {
+    "pattern": str,
+    "weft_fraction": float,
+    "yarns_per_unit": lambda v: _pair(v, "yarns_per_unit"),
+    "u_max_deg": float,
+    "gap": float,
+    "detail": str,
+    "irregularity": lambda v: _pair(v, "irregularity"),
+    "irregularity_length": float,
+    "wavelength_nm": float,
+}
+_OWN_KEYS = ("material", "footprint_filter", "weft_color", "warp_color")
+if set(_READERS) | set(_OWN_KEYS) != set(_KEYS):
+    raise ImportError(
+        "woven.mitsuba: the plugin does not read every surface key of the library, or reads"
+        f" one it does not have: {sorted(set(_KEYS) ^ (set(_READERS) | set(_OWN_KEYS)))}"
+    )
+
+# The plugin's default for ``footprint_filter`` (scenes: the ``[integrator]`` key's).
+_FILTER_DEFAULT = _KEYS["footprint_filter"]["default"] == "true"
+
+# The keys of the woven cloth that a microcylinder fabric has no use for.
+_WOVEN_ONLY_KEYS = tuple(name for name in _KEYS if name != "material")
+
+
+def _library_route(lay, irregular):
+    """Why a JIT variant evaluates a surface with the library lane by lane rather than in
+    Dr.Jit (None: it traces it): what the library computes and Dr.Jit does not trace — the
+    weave's relief and fibres (``detail`` "auto" and "fibers"), shaped floats, uneven dyeing."""
+    if lay["kind"] != "pattern":
+        return None
+    if lay["detail"] in ("fibers", "auto"):
+        return f"`detail` = {lay['detail']!r} resolves the weave's relief and its fibres"
+    if lay["u_max"] > 0 and tuple(lay.get("float_shape", (0.0, 0.0))) != (0.0, 0.0):
+        return "floats shaped by `float_crest` and `float_flank`"
+    if irregular:
+        return "`irregularity` dyes each yarn unevenly along its length"
+    return None
+
+
+_EVALUATED_FLAGS = ("SymbolicLoops", "SymbolicCalls", "SymbolicConditionals")
+
+
+def _evaluated_mode(dr):
+    """Switches Dr.Jit, in the calling thread (its flags are per thread), to evaluated
+    (wavefront) loops, calls and conditionals, so that the library can answer each lane of a
+    BSDF call."""
+    for f in _EVALUATED_FLAGS:
+        dr.set_flag(getattr(dr.JitFlag, f), False)
+
+
+class _Lanes:
+    """Mitsuba values as the library's arrays (rows) and back: a JIT variant's lanes, or a
+    scalar variant's one value as one row."""
+
+    def __init__(self, mi, dr, why):
+        self.mi, self.dr = mi, dr
+        self.jit = dr.is_jit_v(mi.Float)
+        if self.jit and dr.flag(dr.JitFlag.SymbolicScope):
+            raise RuntimeError(
+                f"woven BSDF: {why}, which the library evaluates lane by lane: that needs"
+                " Dr.Jit's evaluated mode, but this call is traced symbolically. Call"
+                " woven.mitsuba.register() in the thread that renders (it sets"
+                " dr.JitFlag.SymbolicLoops, SymbolicCalls and SymbolicConditionals to False"
+                " there), or give the surface detail = 'yarns' or 'cloth' (traced by Dr.Jit)"
+            )
+
+    def cols(self, x, k, active, fill):
+        """``x`` (k components) as (N, k) float64, ``fill`` where a lane is inactive or not
+        finite."""
+        comps = [x] if k == 1 else [x[i] for i in range(k)]
+        arrs = [np.atleast_1d(np.asarray(c, dtype=np.float64)) for c in comps]
+        ok = np.atleast_1d(np.asarray(active, dtype=bool))
+        n = max([len(a) for a in arrs] + [len(ok)])
+        out = np.stack([np.broadcast_to(a, (n,)) for a in arrs], axis=1)
+        keep = np.broadcast_to(ok, (n,))[:, None] & np.isfinite(out)
+        return np.where(keep, out, fill)
+
+    def dirs(self, x, active):
+        """Unit vectors (N, 3); straight up where a lane is inactive."""
+        return self.cols(x, 3, active, np.array([0.0, 0.0, 1.0]))
+
+    def _float(self, column):
+        if not self.jit:
+            return float(column[0])
+        return self.mi.Float(np.ascontiguousarray(column, dtype=np.float32))
+
+    def floats(self, a):
+        return self._float(np.asarray(a).reshape(-1))
+
+    def color(self, a):
+        return self.mi.Color3f(*(self._float(a[:, c]) for c in range(3)))
+
+    def vector(self, a):
+        return self.mi.Vector3f(*(self._float(a[:, c]) for c in range(3)))
 
 
 class JitLayout:
@@ -731,8 +834,10 @@ def _bsdf_class(mi):
 
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            self.surface, self.textures = _surface(props, mi)
-            self.filter = bool(props["footprint_filter"]) if "footprint_filter" in props else False
+            self.surface, self.textures, self.irregular = _surface(props, mi)
+            self.filter = (
+                bool(props["footprint_filter"]) if "footprint_filter" in props else _FILTER_DEFAULT
+            )
             self.table = self.surface.table
             self.material = self.surface.material
             self.own = self.table.raw()["own"]
@@ -743,14 +848,17 @@ def _bsdf_class(mi):
                 flags |= mi.BSDFFlags.SpatiallyVarying
             self.m_flags = flags
             self.m_components = [flags]
-            if jit:
-                detail = self.surface.layout()["detail"]
-                if detail in ("fibers", "auto") and self.surface.layout()["kind"] == "pattern":
-                    raise ValueError(
-                        f"woven BSDF: `detail` = {detail!r} resolves fibres, which the JIT"
-                        " variants do not trace yet: use a scalar variant (scalar_rgb), or"
-                        " detail = 'yarns' or 'cloth'"
-                    )
+            lay = self.surface.layout()
+            # Where the library answers each lane (every variant's scalar calls, and in JIT
+            # variants the levels Dr.Jit does not trace: see the module's docs).
+            self.library = not jit or _library_route(lay, self.irregular) is not None
+            if self.filter and (self.surface.uses_footprint or lay["detail"] == "auto"):
+                # Integrators that can (``direct``, ``aov``) then compute si.duv_dx, si.duv_dy.
+                # (BSDFFlags::NeedsDifferentials, which Mitsuba's Python enum leaves out.)
+                self.m_flags = int(flags) | _NEEDS_DIFFERENTIALS
+                self.m_components = [int(flags) | _NEEDS_DIFFERENTIALS]
+            self.why = _library_route(lay, self.irregular) if jit else None
+            if jit and not self.library:
                 self.jt = JitTable(self.table, mi)
                 self.layout = JitLayout(self.surface, mi, self.filter)
                 self.gl_nodes, self.gl_weights = mi.Float(_GL_NODES), mi.Float(_GL_WEIGHTS)
@@ -909,24 +1017,23 @@ def _bsdf_class(mi):
 
         def eval(self, ctx, si, wo, active=True):
             active = mi.Bool(active) & (si.wi.z > 0) & (wo.z > 0)
-            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection):
+            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
                 return mi.Color3f(0.0)
-            if jit:
+            if self.library:
+                f = self._lib_eval(si, wo, active)
+            else:
                 f = self._eval_jit(si, wo, active)
-                return dr.select(active, f * wo.z, 0.0)
-            if not active:
-                return mi.Color3f(0.0)
-            return mi.Color3f(self._rust_eval(si, wo) * wo.z)
+            return dr.select(active, f * wo.z, 0.0)
 
         def pdf(self, ctx, si, wo, active=True):
             active = mi.Bool(active) & (si.wi.z > 0) & (wo.z > 0)
-            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection):
+            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
                 return mi.Float(0.0)
-            if jit:
-                return dr.select(active, self._pdf_jit(si, wo, active), 0.0)
-            if not active:
-                return 0.0
-            return float(self.surface.pdf(*self._rust_args(si, wo))[0])
+            if self.library:
+                p = self._lib.floats(self.surface.pdf(*self._lib_args(si, wo, active)))
+            else:
+                p = self._pdf_jit(si, wo, active)
+            return dr.select(active, p, 0.0)
 
         def eval_pdf(self, ctx, si, wo, active=True):
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
@@ -934,18 +1041,17 @@ def _bsdf_class(mi):
         def sample(self, ctx, si, sample1, sample2, active=True):
             bs = mi.BSDFSample3f()
             active = mi.Bool(active) & (si.wi.z > 0)
-            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection):
+            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
                 return bs, mi.Color3f(0.0)
-            if jit:
-                wo, pdf, ok = self._sample_jit(si, sample1, sample2, active)
-                active &= ok & (wo.z > 0)
-                pdf = dr.select(active, pdf, 0.0)
+            if self.library:
+                wo, pdf = self._lib_sample(si, sample1, sample2, active)
             else:
-                if not active:
-                    return bs, mi.Color3f(0.0)
-                wo, pdf = self._rust_sample(si, sample1, sample2)
-                if wo is None:
-                    return bs, mi.Color3f(0.0)
+                wo, pdf, ok = self._sample_jit(si, sample1, sample2, active)
+                active &= ok
+            active &= wo.z > 0
+            if not jit and not (active and pdf > 0):
+                return bs, mi.Color3f(0.0)
+            pdf = dr.select(active, pdf, 0.0)
             bs.wo = wo
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
@@ -956,40 +1062,50 @@ def _bsdf_class(mi):
             weight = dr.select(active, f / dr.select(active, pdf, 1.0), 0.0)
             return bs, weight
 
-        # -- scalar variants: the library's woven.Surface per call ------------------------------
+        # -- the library's woven.Surface, lanes as arrays (scalar variants: one lane) ----------
 
-        def _point(self, si):
-            uv = (float(si.uv[0]), float(si.uv[1]))
+        @property
+        def _lib(self):
+            return _Lanes(mi, dr, self.why)
+
+        def _lib_points(self, si, active):
+            """uv (N, 2) and the footprint (N, 4) as the library takes them (zero where the
+            filter is off or the integrator left the partials unset: no footprint known)."""
+            lanes = self._lib
+            uv = lanes.cols(si.uv, 2, active, 0.0)
             if not self.filter:
-                return uv, (0.0, 0.0, 0.0, 0.0)
-            a, b = si.duv_dx, si.duv_dy
-            return uv, (float(a[0]), float(a[1]), float(b[0]), float(b[1]))
+                return uv, np.zeros((len(uv), 4))
+            a, b = lanes.cols(si.duv_dx, 2, active, 0.0), lanes.cols(si.duv_dy, 2, active, 0.0)
+            fp = np.concatenate([a, b], axis=1)
+            return uv, np.where(np.isfinite(fp), fp, 0.0)
 
-        def _rust_args(self, si, wo):
-            uv, fp = self._point(si)
-            wi = tuple(float(x) for x in wo)  # toward the light
-            view = tuple(float(x) for x in si.wi)
-            return uv, wi, view, fp
+        def _lib_args(self, si, wo, active):
+            uv, fp = self._lib_points(si, active)
+            lanes = self._lib
+            # Mitsuba's wo is toward the light (woven's wi), si.wi toward the viewer.
+            return uv, lanes.dirs(wo, active), lanes.dirs(si.wi, active), fp
 
-        def _rust_dyes(self, si):
-            out = {}
-            for key, tex in self.textures.items():
-                out[key] = [float(x) for x in tex.eval(si, True)]
-            return out
+        def _lib_dyes(self, si, active):
+            lanes = self._lib
+            return {k: lanes.cols(t.eval(si, active), 3, active, 0.0)
+                    for k, t in self.textures.items()}
 
-        def _rust_eval(self, si, wo):
-            uv, wi, view, fp = self._rust_args(si, wo)
-            f = self.surface.eval(uv, wi, view, fp, **self._rust_dyes(si))[0]
-            return mi.Color3f(*map(float, f))
+        def _lib_eval(self, si, wo, active):
+            f = self.surface.eval(*self._lib_args(si, wo, active), **self._lib_dyes(si, active))
+            return self._lib.color(f)
 
-        def _rust_sample(self, si, sample1, sample2):
-            uv, fp = self._point(si)
-            view = tuple(float(x) for x in si.wi)
-            u = (float(sample2[0]), float(sample2[1]))
-            d, _f, pdf = self.surface.sample(uv, view, float(sample1), u, fp, **self._rust_dyes(si))
-            if pdf[0] <= 0:
-                return None, 0.0
-            return mi.Vector3f(*map(float, d[0])), float(pdf[0])
+        def _lib_sample(self, si, sample1, sample2, active):
+            lanes = self._lib
+            uv, fp = self._lib_points(si, active)
+            d, _f, pdf = self.surface.sample(
+                uv,
+                lanes.dirs(si.wi, active),
+                lanes.cols(sample1, 1, active, 0.5)[:, 0],
+                lanes.cols(sample2, 2, active, 0.5),
+                fp,
+                **self._lib_dyes(si, active),
+            )
+            return lanes.vector(d), lanes.floats(pdf)
 
         def traverse(self, callback):
             pass
@@ -1000,47 +1116,29 @@ def _bsdf_class(mi):
     return WovenBSDF
 
 
-# The keys of the woven cloth that a microcylinder fabric has no use for.
-_WOVEN_ONLY_KEYS = (
-    "pattern",
-    "weft_fraction",
-    "yarns_per_unit",
-    "weft_color",
-    "warp_color",
-    "u_max_deg",
-    "gap",
-    "detail",
-    "footprint_filter",
-    "wavelength_nm",
-)
 
 
 def _microcylinder_class(mi):
     """The BSDF class of a microcylinder fabric for the current variant: the library's
-    ``woven.Microcylinder`` called per ray (scalar RGB variants only)."""
+    ``woven.Microcylinder``, lane by lane (RGB variants only)."""
     import drjit as dr
 
     jit = dr.is_jit_v(mi.Float)
 
     class MicrocylinderBSDF(mi.BSDF):
         """A microcylinder fabric (Sadeghi et al. 2013) through the ``woven`` plugin:
-        ``material = "microcylinder-..."`` or a fabric file. Scalar RGB variants call the
-        library per ray; JIT and spectral variants refuse it by name."""
+        ``material = "microcylinder-..."`` or a fabric file. The library evaluates, samples and
+        weighs it lane by lane (JIT variants in Dr.Jit's evaluated mode); spectral variants
+        refuse it by name."""
 
         def __init__(self, props, fabric):
             mi.BSDF.__init__(self, props)
             name = str(props["material"])
-            if jit:
-                raise ValueError(
-                    f"woven BSDF: `material` = {name!r} is a microcylinder fabric, which the"
-                    f" {mi.variant()} variant cannot evaluate (the microcylinder model has no"
-                    " Dr.Jit port; only woven materials trace in JIT variants): use a scalar RGB"
-                    " variant (scalar_rgb)"
-                )
             if not mi.is_rgb:
                 raise ValueError(
                     f"woven BSDF: `material` = {name!r} is a microcylinder fabric, whose values"
-                    f" are RGB: the {mi.variant()} variant is not an RGB variant; use scalar_rgb"
+                    f" are RGB: the {mi.variant()} variant is not an RGB variant; use an RGB"
+                    " variant (scalar_rgb, llvm_ad_rgb, cuda_ad_rgb)"
                 )
             extra = [k for k in _WOVEN_ONLY_KEYS if k in props]
             if extra:
@@ -1049,6 +1147,7 @@ def _microcylinder_class(mi):
                     f" {', '.join(f'`{k}`' for k in extra)} apply to woven materials only"
                 )
             self.fabric = fabric
+            self.why = f"`material` = {name!r} is a microcylinder fabric (no Dr.Jit port)"
             flags = (
                 mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide | mi.BSDFFlags.Anisotropic
             )
@@ -1059,38 +1158,46 @@ def _microcylinder_class(mi):
         # wi); sample draws the light direction for the viewer: the library's radiance mode.
 
         def eval(self, ctx, si, wo, active=True):
-            if not (active and ctx.is_enabled(mi.BSDFFlags.GlossyReflection)):
+            active = mi.Bool(active) & (si.wi.z > 0) & (wo.z > 0)
+            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
                 return mi.Color3f(0.0)
-            if not (si.wi.z > 0 and wo.z > 0):
-                return mi.Color3f(0.0)
-            f = self.fabric.eval(_vec(wo), _vec(si.wi))
-            return mi.Color3f(*map(float, f)) * wo.z
+            lanes = _Lanes(mi, dr, self.why)
+            f = lanes.color(self.fabric.eval(lanes.dirs(wo, active), lanes.dirs(si.wi, active)))
+            return dr.select(active, f * wo.z, 0.0)
 
         def pdf(self, ctx, si, wo, active=True):
-            if not (active and ctx.is_enabled(mi.BSDFFlags.GlossyReflection)):
-                return 0.0
-            if not (si.wi.z > 0 and wo.z > 0):
-                return 0.0
-            return float(self.fabric.pdf(_vec(wo), _vec(si.wi), "radiance"))
+            active = mi.Bool(active) & (si.wi.z > 0) & (wo.z > 0)
+            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
+                return mi.Float(0.0)
+            lanes = _Lanes(mi, dr, self.why)
+            p = self.fabric.pdf(lanes.dirs(wo, active), lanes.dirs(si.wi, active), "radiance")
+            return dr.select(active, lanes.floats(p), 0.0)
 
         def eval_pdf(self, ctx, si, wo, active=True):
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
         def sample(self, ctx, si, sample1, sample2, active=True):
             bs = mi.BSDFSample3f()
-            if not (active and ctx.is_enabled(mi.BSDFFlags.GlossyReflection) and si.wi.z > 0):
+            active = mi.Bool(active) & (si.wi.z > 0)
+            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
                 return bs, mi.Color3f(0.0)
-            u = (float(sample2[0]), float(sample2[1]))
-            d, f, pdf = self.fabric.sample(_vec(si.wi), float(sample1), u, "radiance")
-            if not pdf[0] > 0:
+            lanes = _Lanes(mi, dr, self.why)
+            d, f, pdf = self.fabric.sample(
+                lanes.dirs(si.wi, active),
+                lanes.cols(sample1, 1, active, 0.5)[:, 0],
+                lanes.cols(sample2, 2, active, 0.5),
+                "radiance",
+            )
+            wo, pdf, f = lanes.vector(d), lanes.floats(pdf), lanes.color(f)
+            active &= (pdf > 0) & (wo.z > 0)
+            if not jit and not active:
                 return bs, mi.Color3f(0.0)
-            wo = mi.Vector3f(*map(float, d[0]))
             bs.wo = wo
-            bs.pdf = float(pdf[0])
+            bs.pdf = dr.select(active, pdf, 0.0)
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
             bs.sampled_component = mi.UInt32(0)
-            weight = mi.Color3f(*map(float, f[0])) * (float(d[0][2]) / float(pdf[0]))
+            weight = dr.select(active, f * (wo.z / dr.select(active, pdf, 1.0)), 0.0)
             return bs, weight
 
         def traverse(self, callback):
@@ -1100,11 +1207,6 @@ def _microcylinder_class(mi):
             return f"MicrocylinderBSDF[{self.fabric!r}]"
 
     return MicrocylinderBSDF
-
-
-def _vec(v):
-    """A Mitsuba scalar vector as a tuple of floats."""
-    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 def __getattr__(name):
