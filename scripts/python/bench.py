@@ -10,8 +10,12 @@
    default grid, directions within 1.4 rad of the normal), against that bench's
    ``sateen_all_cores/table_eval`` (criterion, run here with ``--rust``).
 2. Mitsuba 3 ``llvm_ad_rgb`` renders of scene (ii) (scenes/compare/roughplastic-plane.toml,
-   512², 64 spp) with the ``woven`` plugin (the sateen, macro BRDF) and with Mitsuba's own
-   ``roughplastic``: the median of 5 renders after a warm-up (JIT compilation excluded).
+   ``--size`` pixels square, 64 spp): Mitsuba's own ``roughplastic``, then the ``woven`` plugin
+   with the sateen as its macro BRDF and as a tilted, gapped 2/1 twill at ``detail = "yarns"``
+   (both traced, Dr.Jit's symbolic mode), and the same twill at the default ``detail = "auto"``
+   (the library lane by lane, evaluated mode) beside ``roughplastic`` in evaluated mode: the
+   median of ``--repeats`` renders after a warm-up (JIT compilation excluded), each against the
+   first in the same run.
 """
 
 from __future__ import annotations
@@ -72,42 +76,60 @@ def bench_rust():
     return rate
 
 
-def bench_mitsuba():
+TWILL = {"type": "woven", "material": "polyester-sateen", "pattern": "twill-2/1",
+         "u_max_deg": 30.0, "gap": 0.3}
+CASES = [
+    ("roughplastic", True, None),
+    ("woven, macro BRDF", True, {"type": "woven", "material": "polyester-sateen"}),
+    ("woven, twill, detail = yarns", True, dict(TWILL, detail="yarns")),
+    ("roughplastic, evaluated mode", False, None),
+    ("woven, twill, detail = auto (library)", False, TWILL),
+]
+
+
+def bench_mitsuba(size, repeats):
+    import drjit as dr
     import mitsuba as mi
 
     mi.set_variant("llvm_ad_rgb")
     import woven.mitsuba
 
-    woven.mitsuba.register()
     sys.path.insert(0, str(REPO / "scripts" / "mitsuba"))
     import scenes as sc
 
     scene = sc.load_scene(REPO / "scenes" / "compare" / "roughplastic-plane.toml")
     out = {}
-    for name in ("roughplastic", "woven"):
-        d = sc.mitsuba_dict(scene, mi, width=512, height=512, spp=64)
-        if name == "woven":
-            d["rect0"]["bsdf"] = {"type": "woven", "material": "polyester-sateen"}
+    for name, symbolic, bsdf in CASES:
+        # register() switches its thread to evaluated mode unless told not to.
+        woven.mitsuba.register(symbolic=symbolic)
+        for flag in ("SymbolicLoops", "SymbolicCalls", "SymbolicConditionals"):
+            dr.set_flag(getattr(dr.JitFlag, flag), symbolic)
+        d = sc.mitsuba_dict(scene, mi, width=size, height=size, spp=64)
+        if bsdf is not None:
+            d["rect0"]["bsdf"] = bsdf
         s = mi.load_dict(d)
-        np.array(mi.render(s, spp=64))  # JIT compilation
+        np.array(mi.render(s, spp=64))  # JIT compilation, tables
         times = []
-        for k in range(5):
+        for k in range(repeats):
             t0 = time.perf_counter()
             np.array(mi.render(s, spp=64, seed=k + 1))
             times.append(time.perf_counter() - t0)
         out[name] = float(np.median(times))
-        print(f"mitsuba llvm_ad_rgb scene (ii) 512² 64 spp, {name}: {out[name]:.3f} s (median of 5)")
-    print(f"woven / roughplastic render time: {out['woven'] / out['roughplastic']:.2f}")
+        base = out[CASES[0][0]]
+        print(f"mitsuba llvm_ad_rgb scene (ii) {size}² 64 spp, {name}: {out[name]:.3f} s"
+              f" (median of {repeats}; {out[name] / base:.2f}× roughplastic)", flush=True)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rust", action="store_true", help="also run the Rust bench")
     ap.add_argument("--mitsuba", action="store_true", help="the Mitsuba render benchmark only")
+    ap.add_argument("--size", type=int, default=256, help="Mitsuba renders' pixels a side")
+    ap.add_argument("--repeats", type=int, default=3, help="Mitsuba renders timed per case")
     args = ap.parse_args()
     print(f"{os.cpu_count()} cores")
     if args.mitsuba:
-        bench_mitsuba()
+        bench_mitsuba(args.size, args.repeats)
         return
     py = bench_numpy()
     if args.rust:
