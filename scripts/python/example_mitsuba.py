@@ -150,7 +150,8 @@ def main():
     mi.set_variant("llvm_ad_rgb")
     import woven.mitsuba
 
-    woven.mitsuba.register()
+    # Every cloth here is traced by Dr.Jit (detail "cloth", linear tilts): symbolic mode.
+    woven.mitsuba.register(symbolic=True)
     with tempfile.TemporaryDirectory() as tmp:
         env = Path(tmp) / "sky.exr"
         sky(env)
