@@ -38,7 +38,7 @@ pub const THETA_DEG: [f64; 9] = [0.0, 20.0, 35.0, 48.0, 59.0, 68.0, 76.0, 82.0, 
 pub const PHI: usize = 24;
 
 /// Entries of a repeat averaged at each node: at least this many, and at least 4 per cell.
-pub const ENTRIES: usize = 1024;
+pub const ENTRIES: usize = 256;
 
 /// The largest ratio kept (where the paper's lobes are all but black and the relief is not).
 pub const MAX_RATIO: f64 = 8.0;
