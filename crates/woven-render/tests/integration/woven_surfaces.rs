@@ -14,6 +14,18 @@ use woven_render::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSp
 
 /// A very coarse grid (about a second per table for a single-orientation yarn): the tests here
 /// compare the renderer with the same tables, so the grid's accuracy does not matter.
+/// `spec` built on the [`tiny`] grid, in a cache of its own.
+fn build_tiny(spec: &WovenSpec) -> WovenMaterial {
+    WovenMaterial::build(
+        spec,
+        &TableGrid::Custom(tiny()),
+        &mut TableCache::default(),
+        &|| {},
+        &|_, _| {},
+    )
+    .unwrap()
+}
+
 fn tiny() -> TableOptions {
     TableOptions {
         n_theta: 8,
@@ -186,14 +198,7 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
         spec: woven::material::PatternSpec::Name("plain".into()),
         pattern: woven::weave::Pattern::plain().unwrap(),
     });
-    let m = WovenMaterial::build(
-        &spec,
-        &TableGrid::Custom(tiny()),
-        &mut TableCache::default(),
-        &|| {},
-        &|_, _| {},
-    )
-    .unwrap();
+    let m = build_tiny(&spec);
     // Plain weave, 2 cells per unit: cell (0, 0) is warp, cell (0, 1) weft.
     let warp = ShadingPoint {
         uv: [0.25, 0.25],
@@ -332,14 +337,7 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
         gap: 0.0,
         irregularity: Default::default(),
     };
-    let m = WovenMaterial::build(
-        &spec,
-        &TableGrid::Custom(tiny()),
-        &mut TableCache::default(),
-        &|| {},
-        &|_, _| {},
-    )
-    .unwrap();
+    let m = build_tiny(&spec);
     let own = woven::table::Albedos::of(&plain);
     // The yarn alone, dyed with one channel's albedos: the reference table.
     let reference = |c: f64| {
@@ -482,14 +480,7 @@ fn a_vertex_answers_as_the_material_does_bit_for_bit() {
         gap: 0.15,
         ..WovenSpec::new(material)
     };
-    let m = WovenMaterial::build(
-        &spec,
-        &TableGrid::Custom(tiny()),
-        &mut TableCache::default(),
-        &|| {},
-        &|_, _| {},
-    )
-    .unwrap();
+    let m = build_tiny(&spec);
     let bits = |c: woven_render::Rgb| c.0.map(f64::to_bits);
     let mut rng = woven::math::rng::SplitMix(27);
     let mut drawn = 0;
