@@ -1044,7 +1044,8 @@ def _bsdf_class(mi):
             if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
                 return bs, mi.Color3f(0.0)
             if self.library:
-                wo, pdf = self._lib_sample(si, sample1, sample2, active)
+                # The library's draw carries its f: no second call to evaluate it.
+                wo, pdf, f = self._lib_sample(si, sample1, sample2, active)
             else:
                 wo, pdf, ok = self._sample_jit(si, sample1, sample2, active)
                 active &= ok
@@ -1056,7 +1057,10 @@ def _bsdf_class(mi):
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
             bs.sampled_component = mi.UInt32(0)
-            f = self.eval(ctx, si, wo, active)
+            if self.library:
+                f = dr.select(active, f * wo.z, 0.0)
+            else:
+                f = self.eval(ctx, si, wo, active)
             active &= pdf > 0
             bs.pdf = dr.select(active, pdf, 0.0)
             weight = dr.select(active, f / dr.select(active, pdf, 1.0), 0.0)
@@ -1097,7 +1101,7 @@ def _bsdf_class(mi):
         def _lib_sample(self, si, sample1, sample2, active):
             lanes = self._lib
             uv, fp = self._lib_points(si, active)
-            d, _f, pdf = self.surface.sample(
+            d, f, pdf = self.surface.sample(
                 uv,
                 lanes.dirs(si.wi, active),
                 lanes.cols(sample1, 1, active, 0.5)[:, 0],
@@ -1105,7 +1109,7 @@ def _bsdf_class(mi):
                 fp,
                 **self._lib_dyes(si, active),
             )
-            return lanes.vector(d), lanes.floats(pdf)
+            return lanes.vector(d), lanes.floats(pdf), lanes.color(f)
 
         def traverse(self, callback):
             pass
