@@ -4,17 +4,17 @@
 #   bash scripts/python/ci.sh            # from anywhere; exit 0 = passed (or skipped, not in CI)
 #
 # Builds the `woven` command line (the tests compare with it) and the wheel (maturin, abi3),
-# installs the wheel into a virtual environment with numpy and pytest, and runs
+# installs the wheel into a virtual environment with numpy, pytest and dask, and runs
 # crates/woven-py/tests. The environment is WOVEN_PY_VENV, default MITSUBA_VENV (default
 # target/mitsuba-venv): the one scripts/mitsuba/ci.sh sets up, so Mitsuba is installed once for
 # both steps; when Mitsuba 3.9.1 is not there this script tries to install it. Outside CI the
 # Mitsuba tests skip when it cannot be had (or when Dr.Jit's LLVM backend finds no libLLVM >= 16:
 # scripts/mitsuba/ci.sh installs Debian's libllvm19 as root), and the step skips, with a message
-# and exit 0, when python3 or its venv module is missing, or PyPI cannot provide maturin, numpy
-# and pytest. With the environment variable CI set (to anything but "", 0 or false) each of these
-# fails the step (exit 1) with a message naming what is missing and how to get it; a test that
-# skips fails too (crates/woven-py/tests/conftest.py, scripts/ci_no_skips.py). Fails (exit 1)
-# when the wheel does not build or a test fails.
+# and exit 0, when python3 or its venv module is missing, or PyPI cannot provide maturin, numpy,
+# pytest and dask[distributed]. With the environment variable CI set (to anything but "", 0 or
+# false) each of these fails the step (exit 1) with a message naming what is missing and how to
+# get it; a test that skips fails too (crates/woven-py/tests/conftest.py,
+# scripts/ci_no_skips.py). Fails (exit 1) when the wheel does not build or a test fails.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -42,6 +42,10 @@ fi
 "$VENV/bin/python" -c "import numpy, pytest" 2>/dev/null \
   || pip_install numpy pytest \
   || skip "pip could not install numpy and pytest into $VENV (no PyPI: give pip a reachable index, PIP_INDEX_URL, or install them into $VENV by hand)"
+# dask's distributed scheduler: woven.batch's cluster test (a LocalCluster of two processes).
+"$VENV/bin/python" -c "import dask.distributed" 2>/dev/null \
+  || pip_install "dask[distributed]>=2024" \
+  || skip "pip could not install dask[distributed]>=2024 into $VENV, which woven.batch's cluster test needs (no PyPI: give pip a reachable index, PIP_INDEX_URL, or install it into $VENV by hand)"
 [ -x "$VENV/bin/maturin" ] || pip_install "maturin>=1.7,<2" \
   || skip "pip could not install maturin>=1.7,<2 into $VENV (no PyPI: give pip a reachable index, PIP_INDEX_URL, or install it into $VENV by hand)"
 if ! "$VENV/bin/python" -c "import mitsuba; assert mitsuba.__version__ == '$MITSUBA_VERSION'" 2>/dev/null; then

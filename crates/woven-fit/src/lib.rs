@@ -41,6 +41,8 @@
 //!   multi-start, then bounded Levenberg–Marquardt).
 //! - [`reference`](mod@reference): fitting to a reference model sampled over the hemisphere (the microcylinder
 //!   fabrics): the samples, dyes per yarn family, the scaled log error, the satin ridge ratio.
+//! - [`request`]: a fit described as plain data (model, start, held and freed parameters,
+//!   options), as `woven fit --data` and the Python bindings run it.
 //! - [`report`]: standard errors, warnings, statistics, the Markdown report, plot data and the
 //!   comparison table.
 
@@ -52,6 +54,7 @@ pub mod microcylinder;
 pub mod params;
 pub mod reference;
 pub mod report;
+pub mod request;
 
 pub use error::FitError;
 pub use fit::{fit, FitOptions, Residual};

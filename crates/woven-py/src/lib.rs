@@ -12,7 +12,9 @@
 
 mod arrays;
 mod bsdf;
+mod fit;
 mod material;
+mod render;
 mod surface;
 mod table;
 
@@ -58,6 +60,12 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;
     m.add_function(wrap_pyfunction!(material::to_spherical, m)?)?;
     m.add_function(wrap_pyfunction!(table::export_merl, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::set_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::threads, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::comparison_table, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::datasets, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PARALLEL_MIN", arrays::PARALLEL_MIN)?;
     m.add("SURFACE_KEYS", surface_keys(m.py())?)?;

@@ -21,6 +21,9 @@ defaults, ranges and meanings are ``woven.SURFACE_KEYS``.
 al. 2013) in colour, and ``woven.Sheen`` and ``woven.RoughPlastic`` the baselines: each a
 ``woven.Bsdf`` with ``eval`` (f per channel, (N, 3)), ``pdf``, ``sample`` and ``albedo``;
 ``woven.open_material(name)`` opens a preset or file of either model.
+``woven.fit(data, model)`` fits measurements as ``woven fit --data`` does, ``woven.render(scene)``
+renders a scene file as ``woven render``; ``woven.batch`` runs many fits, tables or renders on any
+``concurrent.futures.Executor`` (a dask cluster: docs/batch.md).
 ``woven.mitsuba.register()`` adds the ``woven`` BSDF to Mitsuba 3.
 """
 
@@ -37,13 +40,20 @@ from ._woven import (
     Surface,
     Table,
     __version__,
+    comparison_table,
+    datasets,
     export_merl,
+    fit,
     from_spherical,
     gonio,
     open_material,
     presets,
+    render,
+    set_threads,
+    threads,
     to_spherical,
 )
+from . import batch  # noqa: E402  (stdlib only; dask is imported when asked for)
 
 __all__ = [
     "Material",
@@ -61,6 +71,13 @@ __all__ = [
     "to_spherical",
     "gonio",
     "presets",
+    "fit",
+    "datasets",
+    "comparison_table",
+    "render",
+    "set_threads",
+    "threads",
+    "batch",
     "PARALLEL_MIN",
     "SURFACE_KEYS",
     "__version__",

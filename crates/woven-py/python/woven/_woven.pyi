@@ -44,6 +44,53 @@ def to_spherical(d: ArrayLike) -> Tuple[Union[float, FloatArray], Union[float, F
 def export_merl(source: Union["Table", "Model"], path: PathLike, threads: int = 0) -> None:
     """Writes an isotropic BRDF in the MERL binary layout, atomically."""
 
+def fit(
+    data: str,
+    model: str = "cloth",
+    *,
+    init: Optional[str] = None,
+    fix: Optional[List[str]] = None,
+    free: Optional[List[str]] = None,
+    seed: int = 1,
+    starts: Optional[int] = None,
+    refine: Optional[int] = None,
+    max_iterations: Optional[int] = None,
+    subset: Optional[int] = None,
+    final_subset: Optional[int] = None,
+    residual: str = "log",
+    saturation: Optional[float] = None,
+) -> Dict[str, Any]:
+    """Fits ``model`` to the measurements ``data`` (a path or ``FILE#N``), as ``woven fit --data``:
+    a dict ``dataset``, ``model``, ``points``, ``rms_log``, ``relative_rms``, ``material_toml``
+    (what ``woven fit -o`` writes), ``parameters`` (name → value), ``seconds``."""
+
+def datasets(path: str) -> List[str]:
+    """The datasets of a measurement file, each as ``FILE#NAME`` (the path itself for a file of one)."""
+
+def comparison_table(rows: List[Tuple[str, List[Tuple[Any, ...]]]]) -> str:
+    """The Markdown table ``woven fit --compare`` writes, from ``(data, [(model, rms_log,
+    relative_rms) or (model, error)])`` rows."""
+
+def render(
+    scene: PathLike,
+    output: Optional[PathLike] = None,
+    *,
+    spp: Optional[int] = None,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+    cache: bool = True,
+) -> Dict[str, Any]:
+    """Renders a scene file as ``woven render SCENE -o OUTPUT``: a dict ``scene``, ``width``,
+    ``height``, ``spp``, ``seconds``, ``invalid_samples``, ``pixels`` ((height, width, 3) linear RGB)."""
+
+def set_threads(threads: int) -> int:
+    """Sizes rayon's global pool if this process has not used it yet; returns its size."""
+
+def threads() -> int:
+    """The size of rayon's global thread pool in this process."""
+
 class Section:
     """One section of a material file; its keys read as attributes or items."""
 
