@@ -104,7 +104,7 @@ def test_dask_cluster_matches_serial_and_reruns_only_what_is_missing(
     ]
     assert all(t.ok for t in got_tables)
     # Each worker ran with its share of the cores: 2 workers of one slot each.
-    share = max(1, (os.cpu_count() or 1) // 2)
+    share = max(1, batch._cores() // 2)
     assert {o.threads for o in got[:3]} == {share}, [o.threads for o in got]
 
     # Written per item: a fit's record and material, a table and its record.

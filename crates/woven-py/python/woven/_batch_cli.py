@@ -96,11 +96,14 @@ def _parser() -> argparse.ArgumentParser:
                      help="files, globs ('data/**/*.csv') or FILE#N")
     fit.add_argument("--models", type=_models, default=["lambert", "microfacet", "cloth"],
                      help="comma-separated (default lambert,microfacet,cloth)")
-    fit.add_argument("--seed", type=int, default=1)
-    fit.add_argument("--starts", type=int)
-    fit.add_argument("--max-iterations", type=int)
-    fit.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE")
-    fit.add_argument("--free", default="", metavar="NAMES")
+    fit.add_argument("--seed", type=int, default=1, help="scrambles the starts (default 1)")
+    fit.add_argument("--starts", type=int, help="quasi-random starts screened (woven fit's)")
+    fit.add_argument("--max-iterations", type=int,
+                     help="Levenberg-Marquardt iterations of the final run (woven fit's)")
+    fit.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
+                     help="hold a parameter at a value (repeatable; every model must have it)")
+    fit.add_argument("--free", default="", metavar="NAMES",
+                     help="let parameters vary (comma-separated; every model must have them)")
 
     tab = sub.add_parser("tabulate", parents=[common], help="build a table of every material")
     tab.add_argument("--materials", nargs="+", required=True, metavar="MATERIAL")
@@ -117,6 +120,13 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+def batch_cores() -> int:
+    """This machine's usable cores (woven.batch's count: the CPU affinity)."""
+    from woven import batch
+
+    return batch._cores()
+
+
 def _client(args: argparse.Namespace):
     try:
         from dask.distributed import Client, LocalCluster
@@ -125,7 +135,7 @@ def _client(args: argparse.Namespace):
     if args.scheduler:
         return Client(args.scheduler), None
     cluster = LocalCluster(
-        n_workers=args.workers or os.cpu_count() or 1,
+        n_workers=args.workers or batch_cores(),
         threads_per_worker=args.threads_per_worker,
         processes=True,
     )

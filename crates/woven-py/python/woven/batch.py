@@ -22,7 +22,8 @@ runs the items one after another in this process. What the batch layer guarantee
   pickles its tasks can run them; the results come back as plain data too.
 - Each worker caps rayon's threads (fits, table builds, renders) to its share of its machine's
   cores: ``threads`` per task, else the share the executor implies (a dask worker: its host's
-  cores divided among the task slots on that host; a process pool: the cores over its workers;
+  cores (its CPU affinity: a SLURM allocation's, not the node's) divided among the task slots
+  on that host; a process pool: the cores over its workers;
   in-process pools: all cores, as the pool is shared). Each outcome records the size the worker
   ran with (``threads``).
 - Results are those of the serial run bit for bit: every fit is deterministic for its seed, and
@@ -236,6 +237,15 @@ def make_executor(executor: Any) -> Optional[concurrent.futures.Executor]:
     )
 
 
+def _cores() -> int:
+    """The cores this process may run on: its CPU affinity (what a SLURM or cgroup allocation
+    grants), else the machine's count."""
+    try:
+        return len(os.sched_getaffinity(0)) or 1
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
 def _thread_plan(executor: Optional[concurrent.futures.Executor], threads: Optional[int]) -> Dict:
     """What each task needs to size its worker's pool: plain data, resolved in the worker.
 
@@ -249,8 +259,8 @@ def _thread_plan(executor: Optional[concurrent.futures.Executor], threads: Optio
     if executor is None or isinstance(executor, concurrent.futures.ThreadPoolExecutor):
         return {}
     if isinstance(executor, concurrent.futures.ProcessPoolExecutor):
-        workers = getattr(executor, "_max_workers", None) or os.cpu_count() or 1
-        return {"threads": max(1, (os.cpu_count() or 1) // workers)}
+        workers = getattr(executor, "_max_workers", None) or _cores()
+        return {"threads": max(1, _cores() // workers)}
     client = getattr(executor, "_client", None)
     if client is not None and hasattr(client, "scheduler_info"):
         slots: Dict[str, int] = {}
@@ -275,7 +285,7 @@ def _cap_threads(plan: Dict) -> Optional[int]:
             host = worker.address.split("://")[-1].rsplit(":", 1)[0]
             mine = int(worker.state.nthreads)
             here = int(plan["slots"].get(host, mine))
-            n = max(1, (os.cpu_count() or 1) * mine // max(here, 1))
+            n = max(1, _cores() * mine // max(here, 1))
         except (ImportError, ValueError, AttributeError):
             n = None
     if n is None:
@@ -466,8 +476,12 @@ class _Reporter:
         self.start = time.perf_counter()
 
     def _stderr(self, p: Progress) -> None:
-        end = "\n" if p.remaining == 0 else ""
-        sys.stderr.write(f"\r{self.what}: {p.line()}\x1b[K{end}")
+        # On a terminal one line updated in place; in a log, a line per item.
+        if getattr(sys.stderr, "isatty", lambda: False)():
+            end = "\n" if p.remaining == 0 else ""
+            sys.stderr.write(f"\r{self.what}: {p.line()}\x1b[K{end}")
+        else:
+            sys.stderr.write(f"{self.what}: {p.line()}\n")
         sys.stderr.flush()
 
     def count(self, ok: bool, reused: bool) -> None:
