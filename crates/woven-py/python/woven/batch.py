@@ -38,9 +38,9 @@ runs the items one after another in this process. What the batch layer guarantee
   options (its outcome has ``reused=True``) and computes only the rest, so an interrupted batch
   loses nothing. Failures are not recorded: a rerun tries them again. Tables and renders are
   written by the worker, so on a cluster ``output`` must be a folder every worker sees.
-- Progress: items done, failed and remaining and an estimate of the time left, as one line on
-  ``sys.stderr`` updated in place (``progress=None`` or True), nothing (False), or a callable
-  that receives a ``Progress`` after each item.
+- Progress: items done, failed and remaining and an estimate of the time left, on
+  ``sys.stderr`` (``progress=None`` or True: one line updated in place on a terminal, a line per
+  item otherwise), nothing (False), or a callable that receives a ``Progress`` after each item.
 """
 
 from __future__ import annotations
