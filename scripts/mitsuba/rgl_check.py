@@ -2,6 +2,7 @@
 
     python scripts/mitsuba/rgl_check.py [--presets P ...] [--variants V ...] [--pairs N]
                                         [--woven target/release/woven] [--keep DIR]
+                                        [--export-args "--n-grid 64 ..."]
 
 For each preset it writes the file with `woven export --format rgl` (RGB, and spectral when a
 spectral variant is asked for), draws N random pairs of directions up to 80° from the normal,
@@ -25,6 +26,7 @@ import argparse
 import csv
 import io
 import os
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -73,8 +75,8 @@ def woven_eval(woven, preset, light, view):
     return np.array([[float(r["brdf_r"]), float(r["brdf_g"]), float(r["brdf_b"])] for r in table])
 
 
-def export(woven, preset, path, spectral):
-    args = [woven, "export", "--format", "rgl", "-m", preset, "-o", path]
+def export(woven, preset, path, spectral, extra=()):
+    args = [woven, "export", "--format", "rgl", "-m", preset, "-o", path, *extra]
     if spectral:
         args.append("--spectral")
     start = time.perf_counter()
@@ -187,11 +189,14 @@ def main():
     ap.add_argument("--woven", default=os.environ.get("WOVEN_BIN", "target/release/woven"))
     ap.add_argument("--median-limit", type=float, default=MEDIAN_LIMIT)
     ap.add_argument("--p99-limit", type=float, default=P99_LIMIT)
+    ap.add_argument("--export-args", default="", metavar="ARGS",
+                    help="more arguments to `woven export`, e.g. \"--n-grid 64 --n-phi-i 73\"")
     ap.add_argument("--keep", help="write the .bsdf files here (default: a temporary folder)")
     ap.add_argument("--render", nargs="*", default=[], metavar="PRESET",
                     help="also render these presets' planes in both renderers (RGB file)")
     args = ap.parse_args()
 
+    extra = shlex.split(args.export_args)
     rng = np.random.default_rng(20261205)
     failed = False
     folder = args.keep or tempfile.mkdtemp(prefix="woven-rgl-")
@@ -205,7 +210,7 @@ def main():
             spectral = "spectral" in variant
             if spectral not in files:
                 path = os.path.join(folder, f"{preset}{'-spectral' if spectral else ''}.bsdf")
-                files[spectral] = (path, *export(args.woven, preset, path, spectral))
+                files[spectral] = (path, *export(args.woven, preset, path, spectral, extra))
             path, seconds, size = files[spectral]
             if spectral:
                 nms = list(SPECTRAL_CHANNELS)
@@ -223,7 +228,7 @@ def main():
     for preset in args.render:
         path = os.path.join(folder, f"{preset}.bsdf")
         if not os.path.exists(path):
-            export(args.woven, preset, path, False)
+            export(args.woven, preset, path, False, extra)
         for light, (ours, theirs) in render_both(args.woven, preset, path, folder).items():
             diff = theirs / ours - 1.0
             bad = abs(diff) > 0.01

@@ -272,22 +272,39 @@ pub fn points_mean(
 /// yarn's BRDF leaning with the relief: [`ExactResolved`]); returns the worst deviation in
 /// standard errors and relative to the value, per preset.
 fn fibre_identity(pairs: usize, max_deg: f64, seed: u64) -> Vec<(String, f64, f64)> {
+    use rayon::prelude::*;
     let mut rng = Rng(seed);
     let mut out = Vec::new();
     for name in Material::all_preset_names() {
         let surface = weft_only(name, Detail::Fibers);
         let resolved = ExactResolved::new(name);
         let (mut worst_z, mut worst_rel) = (0.0f64, 0.0f64);
-        for _ in 0..pairs {
-            let (s, v) = (view(&mut rng, max_deg), view(&mut rng, max_deg));
-            // Each pick's points shifted by its own random offset: stratified, and unbiased over
-            // picks where a fixed midpoint rule would miss narrow lit bands (a hash, not the
-            // golden-ratio steps the picks' slopes are drawn with, which it would follow).
-            let offset = |y: usize| woven::yarn::point::hash_uniform(y as u64, 0xA11CE);
-            let (mean, se) = fibre_mean(&surface, (s, v), (1000, 32), offset);
-            // The exact yarn costs ~25 µs a look-up and varies smoothly across the yarn: 8
-            // points a pick serve.
-            let (want, _) = points_mean(|at| resolved.eval(at, s, v), (1000, 8), offset);
+        let drawn: Vec<(Vec3, Vec3)> = (0..pairs)
+            .map(|_| (view(&mut rng, max_deg), view(&mut rng, max_deg)))
+            .collect();
+        // The pairs in parallel (this is the default run's longest test), drawn in order above.
+        let means: Vec<_> = drawn
+            .par_iter()
+            .map(|&(s, v)| {
+                // Each pick's points shifted by its own random offset: stratified, and unbiased
+                // over picks where a fixed midpoint rule would miss narrow lit bands (a hash,
+                // not the golden-ratio steps the picks' slopes are drawn with, which it would
+                // follow).
+                let offset = |y: usize| woven::yarn::point::hash_uniform(y as u64, 0xA11CE);
+                let (mean, se) = fibre_mean(&surface, (s, v), (1000, 32), offset);
+                // The exact yarn costs ~25 µs a look-up and varies smoothly across the yarn: 8
+                // points a pick serve.
+                let (want, _) = points_mean(|at| resolved.eval(at, s, v), (1000, 8), offset);
+                (mean, se, want)
+            })
+            .collect();
+        for (&(s, v), &(mean, se, want)) in drawn.iter().zip(&means) {
+            // Yarns differ (each draws its slope): the level is the fibres', not the table's.
+            // (The shot silk's slopes spread by 3e-9 rad: its yarns differ by their twist.)
+            assert!(
+                se > 1e-4 * want || want < 1e-9,
+                "{name} s {s:?} v {v:?}: no spread between yarns ({se} of {want})"
+            );
             // 0.5 %: the midpoint rules across a pick, 32 points for the fibres, 8 for the
             // reference (the shot silk, whose yarns hardly differ, is 1.1 % apart at one pair).
             let z = (mean - want).abs() / (se + 5e-3 * want + 1e-9);

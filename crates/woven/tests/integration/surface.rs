@@ -443,31 +443,6 @@ fn at_fibre_level(name: &str) -> WovenSurface {
     WovenSurface::new(&spec, crate::energy::yarn_table(name)).unwrap()
 }
 
-/// At fibre level a surface's cells average, over many yarns, to its resolved yarn level: the
-/// area mean of `detail = "fibers"` over a weft-only weave (1 200 picks, 64 points across
-/// each) agrees with that of the exact yarn BRDF leaning with the relief at the same points
-/// (`detail = "auto"` without a footprint) within three standard errors of the per-yarn
-/// spread, for each preset.
-#[test]
-fn a_fibre_level_surface_averages_to_the_yarn_brdf() {
-    for name in ["polyester-sateen", "belt-cloth"] {
-        let surface = crate::energy::weft_only(name, Detail::Fibers);
-        let resolved = crate::energy::ExactResolved::new(name);
-        for (s, v) in identity_pairs().into_iter().take(2) {
-            let (mean, se) = crate::energy::fibre_mean(&surface, (s, v), (1200, 64), |_| 0.5);
-            // 64 points across a yarn: the midpoint rule's error, well under the spread.
-            let (want, _) =
-                crate::energy::points_mean(|at| resolved.eval(at, s, v), (1200, 64), |_| 0.5);
-            // Yarns differ (each draws its slope): the level is the fibres', not the table's.
-            assert!(se > 1e-3 * want, "{name}: no spread between yarns ({se})");
-            assert!(
-                (mean - want).abs() <= 3.0 * se + 5e-3 * want,
-                "{name}: fibre level {mean} ± {se} vs yarn {want}"
-            );
-        }
-    }
-}
-
 /// χ² of a BSDF's draws for a viewer at `theta_deg` (azimuth 0.7) against its density in
 /// radiance mode: `(p, share of draws accepted, ∫ pdf)` ([`crate::table::chi2_of`]).
 pub fn radiance_chi2<B: Bsdf + ?Sized>(

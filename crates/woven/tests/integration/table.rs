@@ -62,10 +62,32 @@ fn chi2(t: &Table, s: Vec3, n: usize, seed: u64) -> (f64, f64, f64) {
 /// [`chi2`] of any sampler: `sample` draws a direction (or fails) with uniforms from the given
 /// generator, `pdf` is the density it claims.
 pub fn chi2_of(
+    sample: impl FnMut(&mut SplitMix) -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f64,
+    n: usize,
+    seed: u64,
+) -> (f64, f64, f64) {
+    chi2_with(sample, pdf, n, seed, 4)
+}
+
+/// [`chi2_of`] for a density that is smooth within a cell (an analytic lobe, not a table's
+/// bilinear pieces): its cells are first integrated on 2×2 sub-cells, a quarter of the cost.
+pub fn chi2_of_smooth(
+    sample: impl FnMut(&mut SplitMix) -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f64,
+    n: usize,
+    seed: u64,
+) -> (f64, f64, f64) {
+    chi2_with(sample, pdf, n, seed, 2)
+}
+
+/// [`chi2_of`] with each cell first integrated on `base × base` sub-cells.
+fn chi2_with(
     mut sample: impl FnMut(&mut SplitMix) -> Option<Vec3>,
     pdf: impl Fn(Vec3) -> f64,
     n: usize,
     seed: u64,
+    base: usize,
 ) -> (f64, f64, f64) {
     let (nc, np) = (16usize, 32usize);
     let mut observed = vec![0f64; nc * np];
@@ -80,9 +102,11 @@ pub fn chi2_of(
             observed[i * np + j] += 1.0;
         }
     }
-    // Expected counts: ∫ pdf over each cell (dω = d cos θ dφ), 8×8 Gauss–Legendre on 4×4
-    // sub-cells; cells holding more than 0.5 % of the mass (where a smooth fiber's needle-like
-    // density sits) again on 32×32 sub-cells, so quadrature error stays below sampling noise.
+    // Expected counts: ∫ pdf over each cell (dω = d cos θ dφ), 8×8 Gauss–Legendre on `base`²
+    // sub-cells. A cell holding more than 0.5 % of the mass is integrated again on (2 base)²
+    // sub-cells, and where the two differ by more than 1e-4 of that (a smooth fiber's
+    // needle-like density) on 32×32, so quadrature error stays below sampling noise (a cell of
+    // 0.5 % of 10⁵ draws has a noise of 1.4 %). Most cells of a smooth lobe stop at (2 base)².
     let gl = GaussLegendre::new(8);
     let cell_integral = |i: usize, j: usize, sub: usize| {
         let mut e = 0.0;
@@ -103,9 +127,14 @@ pub fn chi2_of(
     let mut expected = vec![0f64; nc * np];
     for i in 0..nc {
         for j in 0..np {
-            let mut e = cell_integral(i, j, 4);
+            let mut e = cell_integral(i, j, base);
             if e > 0.005 {
-                e = cell_integral(i, j, 32);
+                let finer = cell_integral(i, j, 2 * base);
+                e = if (finer - e).abs() > 1e-4 * finer {
+                    cell_integral(i, j, 32)
+                } else {
+                    finer
+                };
             }
             expected[i * np + j] = e * n as f64;
         }
