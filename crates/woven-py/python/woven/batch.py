@@ -535,6 +535,54 @@ def _drive(
         raise
 
 
+@dataclasses.dataclass
+class _Batch:
+    """One batch's rules per item (by index), which `_run` applies: where the item's record
+    lives (None: nothing kept), the key it was made for, whether a stored record still stands,
+    the task that computes it (given the thread plan), the outcome a result or record becomes,
+    and what is written before the record (a fitted material)."""
+
+    what: str
+    count: int
+    record: Callable[[int], Optional[pathlib.Path]]
+    key: Callable[[int], Dict]
+    task: Callable[[int, Dict], _Job]
+    outcome: Callable[[int, Dict], Any]
+    stands: Callable[[int, Dict], bool] = lambda index, stored: True
+    before_record: Callable[[int, Any], None] = lambda index, outcome: None
+
+
+def _run(batch: _Batch, executor: Optional[concurrent.futures.Executor], progress: Any,
+         threads: Optional[int]) -> List[Any]:
+    """Reuses every item whose record stands, computes the rest on `executor`, writes each new
+    success's record atomically as it arrives, and returns the outcomes in input order."""
+    plan = _thread_plan(executor, threads)
+    outcomes: List[Any] = [None] * batch.count
+    reporter = _Reporter(progress, batch.count, batch.what)
+    jobs = []
+    for index in range(batch.count):
+        path = batch.record(index)
+        stored = None if path is None else _read_record(path, batch.key(index))
+        if stored is not None and batch.stands(index, stored):
+            outcomes[index] = batch.outcome(index, {**stored, "reused": True})
+            reporter.count(True, True)
+        else:
+            jobs.append(batch.task(index, plan))
+
+    def finish(index: int, result: Dict) -> None:
+        outcome = batch.outcome(index, result)
+        path = batch.record(index)
+        if outcome.ok and path is not None:
+            batch.before_record(index, outcome)
+            record = {"key": batch.key(index), "outcome": outcome.to_dict()}
+            _write_atomically(path, json.dumps(record, indent=1))
+        outcomes[index] = outcome
+        reporter.count(outcome.ok, False)
+
+    _drive(jobs, executor, finish)
+    return outcomes
+
+
 def _json_options(options: Dict) -> Dict:
     """The options as JSON values (tuples become lists), so a record's key compares equal."""
     return json.loads(json.dumps(options, sort_keys=True))
@@ -579,14 +627,9 @@ def _fit_pairs(
 ) -> List[FitOutcome]:
     """`fit_many` over `(dataset, model)` pairs, all submitted at once (`woven-batch fit`)."""
     out_dir = _output_dir(output)
-    executor = make_executor(executor)
-    plan = _thread_plan(executor, threads)
     opts = _json_options(options)
-    outcomes: List[Optional[FitOutcome]] = [None] * len(pairs)
-    reporter = _Reporter(progress, len(pairs), what)
-    jobs = []
 
-    def record_path(index: int) -> Optional[pathlib.Path]:
+    def record(index: int) -> Optional[pathlib.Path]:
         item, model = pairs[index]
         return None if out_dir is None else out_dir / f"{_slug(item)}.{model}.json"
 
@@ -595,28 +638,21 @@ def _fit_pairs(
         return {"version": RECORD_VERSION, "kind": "fit", "item": item, "model": model,
                 "options": opts}
 
-    for index, (item, model) in enumerate(pairs):
-        path = record_path(index)
-        stored = None if path is None else _read_record(path, key(index))
-        if stored is not None:
-            outcomes[index] = FitOutcome(**{**stored, "reused": True})
-            reporter.count(True, True)
-        else:
-            jobs.append(_Job(index, _fit_task, (item, model, options, plan)))
-
-    def finish(index: int, result: Dict) -> None:
+    def task(index: int, plan: Dict) -> _Job:
         item, model = pairs[index]
-        outcome = FitOutcome(**{"dataset": item, "model": model, **result})
-        path = record_path(index)
-        if outcome.ok and path is not None:
-            _write_atomically(path.with_suffix(".toml"), outcome.material_toml or "")
-            record = {"key": key(index), "outcome": outcome.to_dict()}
-            _write_atomically(path, json.dumps(record, indent=1))
-        outcomes[index] = outcome
-        reporter.count(outcome.ok, False)
+        return _Job(index, _fit_task, (item, model, options, plan))
 
-    _drive(jobs, executor, finish)
-    return outcomes  # type: ignore[return-value]
+    def outcome(index: int, data: Dict) -> FitOutcome:
+        item, model = pairs[index]
+        return FitOutcome(**{"dataset": item, "model": model, **data})
+
+    def material(index: int, fitted: FitOutcome) -> None:
+        path = record(index)
+        assert path is not None
+        _write_atomically(path.with_suffix(".toml"), fitted.material_toml or "")
+
+    batch = _Batch(what, len(pairs), record, key, task, outcome, before_record=material)
+    return _run(batch, make_executor(executor), progress, threads)
 
 
 def tabulate_many(
@@ -645,39 +681,29 @@ def tabulate_many(
     items = _check_items(materials, "materials")
     out_dir = _output_dir(output)
     assert out_dir is not None
-    executor = make_executor(executor)
-    plan = _thread_plan(executor, threads)
     opts = _json_options(options)
-    outcomes: List[Optional[TableOutcome]] = [None] * len(items)
-    reporter = _Reporter(progress, len(items), "tabulate_many")
-    jobs = []
 
-    def paths(item: str) -> tuple:
-        table = out_dir / f"{_slug(item)}.wtab"
-        return table, table.with_name(table.name + ".json")
+    def table(index: int) -> pathlib.Path:
+        return out_dir / f"{_slug(items[index])}.wtab"
 
-    def key(item: str) -> Dict:
-        return {"version": RECORD_VERSION, "kind": "table", "item": item, "options": opts}
+    def record(index: int) -> pathlib.Path:
+        return table(index).with_name(table(index).name + ".json")
 
-    for index, item in enumerate(items):
-        table, record = paths(item)
-        stored = _read_record(record, key(item))
-        if stored is not None and table.exists() and _sha256_file(table) == stored.get("sha256"):
-            outcomes[index] = TableOutcome(**{**stored, "reused": True})
-            reporter.count(True, True)
-        else:
-            jobs.append(_Job(index, _table_task, (item, options, str(table), plan)))
+    def key(index: int) -> Dict:
+        return {"version": RECORD_VERSION, "kind": "table", "item": items[index], "options": opts}
 
-    def finish(index: int, result: Dict) -> None:
-        outcome = TableOutcome(**{"material": items[index], **result})
-        if outcome.ok:
-            record = {"key": key(items[index]), "outcome": outcome.to_dict()}
-            _write_atomically(paths(items[index])[1], json.dumps(record, indent=1))
-        outcomes[index] = outcome
-        reporter.count(outcome.ok, False)
+    def stands(index: int, stored: Dict) -> bool:
+        path = table(index)
+        return path.exists() and _sha256_file(path) == stored.get("sha256")
 
-    _drive(jobs, executor, finish)
-    return outcomes  # type: ignore[return-value]
+    def task(index: int, plan: Dict) -> _Job:
+        return _Job(index, _table_task, (items[index], options, str(table(index)), plan))
+
+    def outcome(index: int, data: Dict) -> TableOutcome:
+        return TableOutcome(**{"material": items[index], **data})
+
+    batch = _Batch("tabulate_many", len(items), record, key, task, outcome, stands)
+    return _run(batch, make_executor(executor), progress, threads)
 
 
 def render_many(
@@ -703,41 +729,29 @@ def render_many(
         raise ValueError(f"`format` = {format!r}: expected 'exr' or 'png'")
     items = _check_items(scenes, "scenes")
     out_dir = _output_dir(output)
-    executor = make_executor(executor)
-    plan = _thread_plan(executor, threads)
     opts = _json_options(options)
-    outcomes: List[Optional[RenderOutcome]] = [None] * len(items)
-    reporter = _Reporter(progress, len(items), "render_many")
-    jobs = []
 
-    def paths(item: str) -> tuple:
-        if out_dir is None:
-            return None, None
-        image = out_dir / f"{_slug(item)}.{format}"
-        return image, out_dir / f"{_slug(item)}.render.json"
+    def image(index: int) -> Optional[pathlib.Path]:
+        return None if out_dir is None else out_dir / f"{_slug(items[index])}.{format}"
 
-    def key(item: str) -> Dict:
-        return {"version": RECORD_VERSION, "kind": "render", "item": item, "format": format,
-                "options": opts}
+    def record(index: int) -> Optional[pathlib.Path]:
+        return None if out_dir is None else out_dir / f"{_slug(items[index])}.render.json"
 
-    for index, item in enumerate(items):
-        image, record = paths(item)
-        stored = None if record is None else _read_record(record, key(item))
-        if stored is not None and image is not None and image.exists():
-            outcomes[index] = RenderOutcome(**{**stored, "reused": True})
-            reporter.count(True, True)
-        else:
-            target = None if image is None else str(image)
-            jobs.append(_Job(index, _render_task, (item, options, target, plan)))
+    def key(index: int) -> Dict:
+        return {"version": RECORD_VERSION, "kind": "render", "item": items[index],
+                "format": format, "options": opts}
 
-    def finish(index: int, result: Dict) -> None:
-        outcome = RenderOutcome(**{"scene": items[index], **result})
-        record = paths(items[index])[1]
-        if outcome.ok and record is not None:
-            data = {"key": key(items[index]), "outcome": outcome.to_dict()}
-            _write_atomically(record, json.dumps(data, indent=1))
-        outcomes[index] = outcome
-        reporter.count(outcome.ok, False)
+    def stands(index: int, stored: Dict) -> bool:
+        path = image(index)
+        return path is not None and path.exists()
 
-    _drive(jobs, executor, finish)
-    return outcomes  # type: ignore[return-value]
+    def task(index: int, plan: Dict) -> _Job:
+        target = image(index)
+        return _Job(index, _render_task,
+                    (items[index], options, None if target is None else str(target), plan))
+
+    def outcome(index: int, data: Dict) -> RenderOutcome:
+        return RenderOutcome(**{"scene": items[index], **data})
+
+    batch = _Batch("render_many", len(items), record, key, task, outcome, stands)
+    return _run(batch, make_executor(executor), progress, threads)
