@@ -214,3 +214,51 @@ fn starts_of_the_wrong_kind_are_clear_errors() {
         .failure()
         .stderr(predicate::str::contains("thread1.kd").and(predicate::str::contains("[0, 1]")));
 }
+
+/// With --compare, --init is shared: each model starts from it where it is of that model's kind.
+/// A microcylinder file starts the microcylinder, and the Lambert baseline, which takes no start,
+/// ignores it; a single Lambert fit given it is an error naming both flags.
+#[test]
+fn compare_shares_init_with_the_models_of_its_kind() {
+    let dir = tempfile::tempdir().unwrap();
+    let shot = Microcylinder::preset("microcylinder-silk-shot").unwrap();
+    let data = measurements(dir.path(), "shot.csv", &pairs(&[15.0, 35.0]), &|wi, wo| {
+        shot.eval_rgb(wi, wo)
+    });
+    let init = dir.path().join("straight.toml");
+    std::fs::write(
+        &init,
+        "model = \"microcylinder\"\nname = \"straight\"\n\
+         [[thread]]\neta = 1.5\nalbedo = [0.8, 0.6, 0.4]\nkd = 0.3\ngamma_s_deg = 20.0\n\
+         gamma_v_deg = 40.0\ncoverage = 0.6\ntangent_offsets_deg = [0.0]\n\
+         [[thread]]\neta = 1.5\nalbedo = [0.3, 0.5, 0.8]\nkd = 0.5\ngamma_s_deg = 20.0\n\
+         gamma_v_deg = 40.0\ncoverage = 0.4\ntangent_offsets_deg = [0.0]\n",
+    )
+    .unwrap();
+    woven()
+        .args([
+            "fit",
+            "--models",
+            "lambert,microcylinder",
+            "--starts",
+            "2",
+            "--init",
+        ])
+        .arg(&init)
+        .arg("--compare")
+        .arg(&data)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "| dataset | points | lambert | microcylinder |",
+        ))
+        .stderr(predicate::str::contains("failed").not());
+    woven()
+        .args(["fit", "--model", "lambert", "--init"])
+        .arg(&init)
+        .arg("--data")
+        .arg(&data)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("--model lambert --init"));
+}

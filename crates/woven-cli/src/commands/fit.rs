@@ -13,6 +13,7 @@ use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use woven_fit::report::{comparison_table, in_plane_curves, Comparison};
+use woven_fit::request::FitRequest;
 use woven_fit::{fit, FitError, FitOptions, FitResult, ModelKind, ParamSet, Residual};
 
 /// Arguments of `woven fit`.
@@ -213,76 +214,43 @@ fn load(path: &Path) -> Result<woven_fit::data::Dataset> {
     woven_fit::data::load(path).with_context(|| format!("cannot load --data `{}`", path.display()))
 }
 
-/// The parameter set of `model` for `dataset` with the command line's --init, --fix, --free.
+/// The parameter set of `model` for `dataset` with the command line's --init, --fix and --free:
+/// the library's [`FitRequest`], its errors in the flags' words.
 fn param_set(
     args: &FitArgs,
     model: ModelKind,
     dataset: &woven_fit::data::Dataset,
 ) -> Result<ParamSet> {
-    let channels = match dataset.samples.first().map(|s| s.value) {
-        Some(woven_fit::data::Value::Rgb(_)) => 3,
-        _ => 1,
+    let request = FitRequest {
+        init: init_for(args, model),
+        fix: args.fix.clone(),
+        free: args.free.clone(),
+        ..FitRequest::new(model)
     };
-    let mut set = if model == ModelKind::Microcylinder {
-        microcylinder_set(args, channels, dataset.relative)?
+    request
+        .param_set(dataset)
+        .with_context(|| match &request.init {
+            Some(init) => format!("--model {model} --init {init}"),
+            None => format!("--model {model}"),
+        })
+}
+
+/// --init as `model`'s start. A single fit takes it as given (a baseline given one is an error:
+/// the library says so). With --compare it is shared: each model takes it where it is of that
+/// model's kind (a microcylinder preset or file for microcylinder, a woven material for cloth
+/// and fiber), and the others start at their defaults.
+fn init_for(args: &FitArgs, model: ModelKind) -> Option<String> {
+    let init = args.init.as_ref()?.to_string();
+    if args.compare.is_empty() {
+        return Some(init);
+    }
+    let fabric = woven_fit::microcylinder::Fabric::from_preset_or_path(&init).is_ok();
+    let fits = if model == ModelKind::Microcylinder {
+        fabric
     } else {
-        woven_set(args, model, channels, dataset.relative)?
+        model.is_material() && !fabric
     };
-    for f in &args.fix {
-        set.fix_arg(f).with_context(|| format!("--fix {f}"))?;
-    }
-    for f in &args.free {
-        set.free(f.trim()).with_context(|| format!("--free {f}"))?;
-    }
-    Ok(set)
-}
-
-/// The microcylinder's parameter set from --init (a microcylinder preset or file). With
-/// --compare, an --init of another kind is the other models' and this one starts at its default.
-fn microcylinder_set(args: &FitArgs, channels: usize, relative: bool) -> Result<ParamSet> {
-    let fabric = match &args.init {
-        Some(src) => {
-            match woven_fit::microcylinder::Fabric::from_preset_or_path(&src.to_string()) {
-                Ok(f) => Some(f),
-                Err(_) if !args.compare.is_empty() => None,
-                Err(e) => {
-                    return Err(anyhow::Error::from(e)
-                        .context(format!("--model microcylinder --init {src}")))
-                }
-            }
-        }
-        None => None,
-    };
-    ParamSet::microcylinder(fabric.as_ref(), channels, relative).context("--model microcylinder")
-}
-
-/// The parameter set of a woven model or a baseline from --init.
-fn woven_set(
-    args: &FitArgs,
-    model: ModelKind,
-    channels: usize,
-    relative: bool,
-) -> Result<ParamSet> {
-    // With --compare, --init is the woven models' start and the baselines ignore it; a single
-    // baseline fit given one is an error (ParamSet::new says so).
-    // With --compare, a microcylinder --init is the microcylinder's start alone.
-    let theirs = |src: &MaterialSource| {
-        !args.compare.is_empty()
-            && woven_fit::microcylinder::Fabric::from_preset_or_path(&src.to_string()).is_ok()
-    };
-    let init = match &args.init {
-        Some(src) if (model.is_material() || args.compare.is_empty()) && !theirs(src) => {
-            Some(src.load()?)
-        }
-        _ => None,
-    };
-    // The library names its parameters (`init`, `fix`); the context names the flags.
-    ParamSet::new(model, init.as_ref(), channels, relative).with_context(|| {
-        match (&args.init, &init) {
-            (Some(src), Some(_)) => format!("--model {model} --init {src}"),
-            _ => format!("--model {model}"),
-        }
-    })
+    fits.then_some(init)
 }
 
 fn run_fit(
