@@ -52,6 +52,24 @@ pub enum Residual {
     Relative,
 }
 
+impl Residual {
+    /// The residual named `name`: `"log"` or `"relative"`.
+    ///
+    /// # Errors
+    /// [`FitError::InvalidParameter`] naming `residual` for any other name.
+    pub fn parse(name: &str) -> Result<Residual, FitError> {
+        match name {
+            "log" => Ok(Residual::Log),
+            "relative" => Ok(Residual::Relative),
+            _ => Err(FitError::invalid(
+                "residual",
+                format!("{name:?}"),
+                "\"log\" or \"relative\"",
+            )),
+        }
+    }
+}
+
 /// How a fit runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
@@ -76,6 +94,29 @@ pub struct FitOptions {
     pub polish_iterations: usize,
     /// Measurements at or above this value are dropped as saturated.
     pub saturation: Option<f64>,
+}
+
+impl FitOptions {
+    /// Checks the options [`fit`] cannot run with: a `saturation` that is not finite and
+    /// positive, and a `subset` or `final_subset` of no measurements.
+    ///
+    /// # Errors
+    /// [`FitError::InvalidParameter`] naming the option, its value and its range.
+    pub fn check(&self) -> Result<(), FitError> {
+        if let Some(s) = self.saturation.filter(|s| !s.is_finite() || *s <= 0.0) {
+            return Err(FitError::invalid(
+                "saturation",
+                s,
+                "a finite value > 0 (1/sr)",
+            ));
+        }
+        for (name, value) in [("subset", self.subset), ("final_subset", self.final_subset)] {
+            if value == 0 {
+                return Err(FitError::invalid(name, 0, "at least 1 measurement"));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for FitOptions {
@@ -628,6 +669,7 @@ pub fn fit(
     options: &FitOptions,
     progress: ProgressFn<'_>,
 ) -> Result<FitResult, FitError> {
+    options.check()?;
     let data = Observations::new(dataset, options.saturation)?;
     if data.channels != set.channels {
         return Err(FitError::Data {

@@ -582,3 +582,40 @@ fn every_preset_is_recovered_at_the_curet_geometry() {
         let _ = FRAC_PI_2;
     }
 }
+
+/// Options a fit cannot run with are refused before any work, naming the option, its value and
+/// its range; the residual's names parse to their kinds and nothing else does.
+#[test]
+fn options_out_of_range_are_clear_errors() {
+    let data = synthesize_flat(1);
+    let set = ParamSet::new(ModelKind::Lambert, None, 1, false).unwrap();
+    let refused = |options: FitOptions, needle: &str| {
+        let err = fit(&data, &set, &options, &|_, _| {}).unwrap_err();
+        assert!(
+            matches!(err, FitError::InvalidParameter { .. }) && err.to_string().contains(needle),
+            "{err}"
+        );
+    };
+    for s in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let options = FitOptions {
+            saturation: Some(s),
+            ..FitOptions::default()
+        };
+        refused(options, "`saturation`");
+    }
+    let none = FitOptions {
+        subset: 0,
+        ..FitOptions::default()
+    };
+    refused(none, "`subset` = 0: expected at least 1 measurement");
+    let none = FitOptions {
+        final_subset: 0,
+        ..FitOptions::default()
+    };
+    refused(none, "`final_subset` = 0");
+    assert!(FitOptions::default().check().is_ok());
+    assert_eq!(Residual::parse("log").unwrap(), Residual::Log);
+    assert_eq!(Residual::parse("relative").unwrap(), Residual::Relative);
+    let err = Residual::parse("square").unwrap_err().to_string();
+    assert!(err.contains("`residual` = \"square\""), "{err}");
+}

@@ -40,29 +40,8 @@ fn options(
     saturation: Option<f64>,
 ) -> PyResult<FitOptions> {
     let base = FitOptions::default();
-    let residual = match residual {
-        "log" => Residual::Log,
-        "relative" => Residual::Relative,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "`residual` = {other:?}: expected \"log\" or \"relative\""
-            )))
-        }
-    };
-    if let Some(s) = saturation.filter(|s| !s.is_finite() || *s <= 0.0) {
-        return Err(PyValueError::new_err(format!(
-            "`saturation` = {s}: expected a finite value > 0 (1/sr)"
-        )));
-    }
-    for (name, value) in [("subset", subset), ("final_subset", final_subset)] {
-        if value == Some(0) {
-            return Err(PyValueError::new_err(format!(
-                "`{name}` = 0: expected at least 1 measurement"
-            )));
-        }
-    }
-    Ok(FitOptions {
-        residual,
+    let options = FitOptions {
+        residual: Residual::parse(residual).map_err(fit_err)?,
         seed,
         starts: starts.unwrap_or(base.starts),
         refine: refine.unwrap_or(base.refine),
@@ -71,7 +50,9 @@ fn options(
         final_subset: final_subset.unwrap_or(base.final_subset),
         saturation,
         ..base
-    })
+    };
+    options.check().map_err(fit_err)?;
+    Ok(options)
 }
 
 /// Fits `model` to the measurements `data`, as `woven fit --data DATA --model MODEL` does.

@@ -133,11 +133,7 @@ fn parse_model(s: &str) -> Result<ModelKind, String> {
 }
 
 fn parse_residual(s: &str) -> Result<Residual, String> {
-    match s {
-        "log" => Ok(Residual::Log),
-        "relative" => Ok(Residual::Relative),
-        _ => Err(format!("`{s}`: expected log or relative")),
-    }
+    Residual::parse(s).map_err(|e| e.to_string())
 }
 
 /// Runs `woven fit`.
