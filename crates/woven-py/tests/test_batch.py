@@ -1,6 +1,6 @@
 """woven.batch: fits and tables of many items on any executor (docs/batch.md).
 
-The first test is issue 28's: a 2-worker dask LocalCluster with processes fits three small
+The first test is the batch layer's contract: a 2-worker dask LocalCluster with processes fits three small
 datasets and builds two small tables; the results equal the serial run's bit for bit, an item
 given a corrupt file fails alone, and a rerun after deleting one result recomputes only that one.
 The rest are cheap: the serial and thread-pool executors, progress, errors, the bindings.
@@ -152,6 +152,31 @@ def test_serial_and_thread_pool_agree():
         got = batch.fit_many(DATASETS, "sheen", executor=pool, progress=False)
     assert [fit_key(o) for o in got] == [fit_key(o) for o in fits]
     assert all(o.ok for o in got) and got[0].material_toml.count('model = "sheen"') == 1
+
+
+class _Recorder(concurrent.futures.Executor):
+    """Records what is submitted, in order, and runs nothing (each task fails at once)."""
+
+    def __init__(self):
+        self.submitted = []
+
+    def submit(self, fn, *args, **kwargs):
+        self.submitted.append(args[:2])
+        future = concurrent.futures.Future()
+        future.set_exception(RuntimeError("not run"))
+        return future
+
+
+def test_the_dearest_fits_are_submitted_first():
+    pairs = [(d, m) for d in DATASETS[:2] for m in ("lambert", "cloth", "sheen", "microcylinder")]
+    recorder = _Recorder()
+    outcomes = batch._fit_pairs(pairs, recorder, None, False, None, {}, "test")
+    models = [m for _, m in recorder.submitted]
+    assert models == ["cloth"] * 2 + ["microcylinder"] * 2 + ["sheen"] * 2 + ["lambert"] * 2
+    # Within a model the input order stands, and the outcomes keep the input order.
+    assert [d for d, m in recorder.submitted if m == "cloth"] == DATASETS[:2]
+    assert [(o.dataset, o.model) for o in outcomes] == pairs
+    assert all(not o.ok and "not run" in o.error for o in outcomes)
 
 
 def test_outcomes_follow_the_contract(serial):

@@ -101,6 +101,10 @@ RENDER_OPTIONS = ("spp", "width", "height", "seed", "cache")
 # Bumped when a record's layout changes, so older records are recomputed, never misread.
 RECORD_VERSION = 1
 
+# The models' relative cost per fit, from the median task times of the bundled corpus's run
+# (docs/fitting.md, "The whole corpus"): the order in which fit batches submit their items.
+FIT_COST = {"cloth": 100.0, "microcylinder": 10.0, "fiber": 7.0, "sheen": 0.3}
+
 
 class _Record:
     """Outcomes read like the dict they are stored as: ``o.ok`` or ``o["ok"]``."""
@@ -550,6 +554,9 @@ class _Batch:
     outcome: Callable[[int, Dict], Any]
     stands: Callable[[int, Dict], bool] = lambda index, stored: True
     before_record: Callable[[int, Any], None] = lambda index, outcome: None
+    # A rough cost: the dearest items are submitted first, so a many-worker run's last wave is
+    # not one long item started late (the outcomes keep the input order).
+    cost: Callable[[int], float] = lambda index: 0.0
 
 
 def _run(batch: _Batch, executor: Optional[concurrent.futures.Executor], progress: Any,
@@ -568,6 +575,8 @@ def _run(batch: _Batch, executor: Optional[concurrent.futures.Executor], progres
             reporter.count(True, True)
         else:
             jobs.append(batch.task(index, plan))
+
+    jobs.sort(key=lambda job: -batch.cost(job.index))  # stable: ties keep the input order
 
     def finish(index: int, result: Dict) -> None:
         outcome = batch.outcome(index, result)
@@ -651,7 +660,11 @@ def _fit_pairs(
         assert path is not None
         _write_atomically(path.with_suffix(".toml"), fitted.material_toml or "")
 
-    batch = _Batch(what, len(pairs), record, key, task, outcome, before_record=material)
+    def cost(index: int) -> float:
+        return FIT_COST.get(pairs[index][1], 0.0)
+
+    batch = _Batch(what, len(pairs), record, key, task, outcome, before_record=material,
+                   cost=cost)
     return _run(batch, make_executor(executor), progress, threads)
 
 
