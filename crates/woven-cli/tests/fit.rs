@@ -123,6 +123,30 @@ fn bad_input_is_a_clear_error() {
     woven().args(["fit"]).assert().code(2);
 }
 
+/// In-plane data cannot separate the microcylinder's second thread: the refusal's example of
+/// `--fix` names that thread's parameter at its starting value, not another model's.
+#[test]
+fn a_refusal_suggests_fixing_a_parameter_of_the_model_fitted() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = measurements(dir.path(), "a.csv", 0.5);
+    woven()
+        .args([
+            "fit",
+            "--model",
+            "microcylinder",
+            "--init",
+            "microcylinder-silk-shot",
+        ])
+        .arg("--data")
+        .arg(&data)
+        .assert()
+        .failure()
+        .stderr(
+            predicate::str::contains("(e.g. --fix thread2.")
+                .and(predicate::str::contains("fiber.roughness").not()),
+        );
+}
+
 /// One measurement cannot decide the cloth model's parameters: the fit is refused with the
 /// counts and the flag that helps, and nothing is written.
 #[test]

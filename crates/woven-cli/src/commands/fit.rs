@@ -260,16 +260,25 @@ fn run_fit(
     });
     progress.finish();
     result.map_err(|e| {
-        // The library names its fixed parameters; here they are the --fix flag.
-        let hint = matches!(e, FitError::Underdetermined { .. });
+        // The library names its fixed parameters; here they are the --fix flag, shown on the
+        // first parameter the data leaves undetermined, at its starting value.
+        let example = match &e {
+            FitError::Underdetermined { undetermined, .. } => Some(
+                undetermined
+                    .first()
+                    .and_then(|name| set.params.iter().find(|p| &p.name == name))
+                    .map(|p| format!("{}={}", p.name, woven_fit::report::fmt(p.value)))
+                    .unwrap_or_else(|| "fiber.roughness=0.2".into()),
+            ),
+            _ => None,
+        };
         let e = anyhow::Error::from(e);
-        if hint {
-            e.context(
+        match example {
+            Some(example) => e.context(format!(
                 "the data cannot determine this fit: hold parameters at a value with \
-                 --fix name=value (e.g. --fix fiber.roughness=0.2), or measure more geometries",
-            )
-        } else {
-            e
+                 --fix name=value (e.g. --fix {example}), or measure more geometries"
+            )),
+            None => e,
         }
     })
 }
