@@ -101,9 +101,10 @@ RENDER_OPTIONS = ("spp", "width", "height", "seed", "cache")
 # Bumped when a record's layout changes, so older records are recomputed, never misread.
 RECORD_VERSION = 1
 
-# The models' relative cost per fit, from the median task times of the bundled corpus's run
-# (docs/fitting.md, "The whole corpus"): the order in which fit batches submit their items.
-FIT_COST = {"cloth": 100.0, "microcylinder": 10.0, "fiber": 7.0, "sheen": 0.3}
+# Each model's median seconds per fit on one core, in the bundled corpus's run (docs/fitting.md,
+# "The whole corpus"; lambert and microfacet under 0.1 s): the order in which fit batches submit
+# their items, dearest first.
+FIT_COST = {"cloth": 283.0, "microcylinder": 10.8, "fiber": 7.8, "sheen": 0.4}
 
 
 class _Record:
