@@ -261,14 +261,16 @@ fn run_fit(
     progress.finish();
     result.map_err(|e| {
         // The library names its fixed parameters; here they are the --fix flag, shown on the
-        // first parameter the data leaves undetermined, at its starting value.
+        // first parameter the data leaves undetermined (else the first free one), at its start.
         let example = match &e {
             FitError::Underdetermined { undetermined, .. } => Some(
                 undetermined
                     .first()
                     .and_then(|name| set.params.iter().find(|p| &p.name == name))
-                    .map(|p| format!("{}={}", p.name, woven_fit::report::fmt(p.value)))
-                    .unwrap_or_else(|| "fiber.roughness=0.2".into()),
+                    .or_else(|| set.free_indices().first().map(|&i| &set.params[i]))
+                    .map_or("name=value".into(), |p| {
+                        format!("{}={}", p.name, woven_fit::report::fmt(p.value))
+                    }),
             ),
             _ => None,
         };
