@@ -102,7 +102,7 @@ RENDER_OPTIONS = ("spp", "width", "height", "seed", "cache")
 RECORD_VERSION = 1
 
 # Each model's median seconds per fit on one core, in the bundled corpus's run (docs/fitting.md,
-# "The whole corpus"; lambert and microfacet under 0.1 s): the order in which fit batches submit
+# "The whole corpus"; lambert and microfacet under 0.2 s): the order in which fit batches submit
 # their items, dearest first.
 FIT_COST = {"cloth": 284.0, "microcylinder": 7.9, "fiber": 7.4, "sheen": 0.3}
 
