@@ -8,11 +8,10 @@
 //! draws `wi` for a given `wo`, and [`SurfaceMaterial::pdf`] is the density of that draw.
 //!
 //! A path tracer asks a material at each vertex through a [`MaterialAt`]: the material's BSDF
-//! at the point ([`SurfaceMaterial::point_bsdf`]) is built there once, on the first question,
-//! and answers the vertex's eval, sample and pdf.
+//! at the point ([`SurfaceMaterial::point_bsdf`]) is built there once, in place, and answers the
+//! vertex's eval, sample and pdf.
 
 use crate::color::Rgb;
-use std::cell::OnceCell;
 use std::f64::consts::FRAC_1_PI;
 use woven::bsdf::{Bsdf, BsdfSample, LobeFlags, Transport};
 use woven::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
@@ -67,30 +66,33 @@ pub trait SurfaceMaterial: Send + Sync {
 }
 
 /// A material at one path vertex: what a path tracer asks there. The material's BSDF at the
-/// point ([`SurfaceMaterial::point_bsdf`]) is built on the first question and answers the rest,
-/// as the material's own methods would, bit for bit.
+/// point ([`SurfaceMaterial::point_bsdf`]) is built with it and answers every question, as the
+/// material's own methods would, bit for bit.
+///
+/// It is built eagerly, straight into its place: a vertex that reaches its material always asks
+/// it something, and a lazily filled cell moved the BSDF (over a kilobyte of lobes) once more,
+/// 13 % of a plane's render time.
 pub struct MaterialAt<'a> {
     material: &'a dyn SurfaceMaterial,
     at: ShadingPoint,
-    bsdf: OnceCell<Option<PointBsdf<'a>>>,
+    bsdf: Option<PointBsdf<'a>>,
 }
 
 impl<'a> MaterialAt<'a> {
-    /// `material` at `at` (nothing is built yet).
+    /// `material` at `at`, its BSDF there built.
+    #[inline]
     pub fn new(material: &'a dyn SurfaceMaterial, at: ShadingPoint) -> MaterialAt<'a> {
         MaterialAt {
             material,
+            bsdf: material.point_bsdf(&at),
             at,
-            bsdf: OnceCell::new(),
         }
     }
 
-    /// The material's BSDF here, built on first use; `None` for a material without one.
+    /// The material's BSDF here; `None` for a material without one.
     #[inline]
     fn bsdf(&self) -> Option<&PointBsdf<'a>> {
-        self.bsdf
-            .get_or_init(|| self.material.point_bsdf(&self.at))
-            .as_ref()
+        self.bsdf.as_ref()
     }
 
     /// [`SurfaceMaterial::eval`] here.

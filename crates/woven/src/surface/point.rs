@@ -6,22 +6,25 @@ use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transpo
 use crate::color::Rgb;
 use crate::table::Albedos;
 use crate::Vec3;
+use std::borrow::Cow;
 
 impl WovenSurface {
     /// The surface's BSDF at `at`.
     #[inline]
     pub fn at(&self, at: &SurfacePoint) -> PointBsdf<'_> {
-        let (mix, entry) = self.split(at);
         let factors = self.dye_factors(at);
-        PointBsdf {
+        // Built where it is returned, its lobes filled in place.
+        let mut point = PointBsdf {
             surface: self,
-            entry,
-            mix,
+            entry: None,
+            mix: LobeMix::default(),
             seen: std::sync::OnceLock::new(),
             weft: scaled(self.weft, factors[0]),
             warp: scaled(self.warp, factors[1]),
             factors,
-        }
+        };
+        point.entry = self.split_into(at, &mut point.mix);
+        point
     }
 
     /// The weft's and the warp's dye factors at `at` ([`Irregularity::factor`](super::Irregularity::factor) of the yarns
@@ -74,26 +77,27 @@ pub struct PointBsdf<'a> {
 impl PointBsdf<'_> {
     /// The lobes mixed here.
     pub fn mix(&self) -> LobeMix {
-        self.mix_seen_from(Vec3::new(0.0, 0.0, 1.0))
+        self.mix_seen_from(Vec3::new(0.0, 0.0, 1.0)).into_owned()
     }
 
     /// The lobes mixed here for a viewer toward `view` (or, drawing for a known light, toward
-    /// it): on a relief, the yarn that the ray toward `view` meets first.
+    /// it): on a relief, the yarn that the ray toward `view` meets first. Borrowed where it can
+    /// be: a mix is over half a kilobyte, and eval, sample and pdf each ask for it.
     #[inline]
-    pub fn mix_seen_from(&self, view: Vec3) -> LobeMix {
+    pub fn mix_seen_from(&self, view: Vec3) -> Cow<'_, LobeMix> {
         let Some(e) = &self.entry else {
-            return self.mix;
+            return Cow::Borrowed(&self.mix);
         };
         // A renderer asks for the same view several times at a vertex (eval, sample, pdf): the
         // first view's march is kept.
-        if let Some((seen, mix)) = self.seen.get() {
-            if *seen == view {
-                return *mix;
-            }
+        let (seen, mix) = self
+            .seen
+            .get_or_init(|| (view, self.surface.with_relief(self.mix, e, view)));
+        if *seen == view {
+            Cow::Borrowed(mix)
+        } else {
+            Cow::Owned(self.surface.with_relief(self.mix, e, view))
         }
-        let mix = self.surface.with_relief(self.mix, e, view);
-        let _ = self.seen.set((view, mix));
-        mix
     }
 
     /// The same point with other dyes where given (a textured colour, read at the point), each

@@ -212,7 +212,7 @@ impl ExactResolved {
 
     /// The value at `at` for the light `s` and the viewer `v`.
     pub fn eval(&self, at: &SurfacePoint, s: Vec3, v: Vec3) -> f64 {
-        let mix = self.surface.at(at).mix_seen_from(v);
+        let mix = self.surface.at(at).mix_seen_from(v).into_owned();
         mix.lobes()
             .iter()
             .map(|lobe| match lobe.tilt {
