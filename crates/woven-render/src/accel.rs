@@ -8,7 +8,7 @@
 //! hierarchy was 2.3× slower on the showcase (its traversal iterator was a quarter of the
 //! render's time).
 
-use crate::geometry::{Crossing, Hit, Mesh, Primitive, Ray};
+use crate::geometry::{Crossing, Hit, Mesh, Prepared, Primitive, Ray};
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
@@ -27,6 +27,8 @@ impl Boundable for Bounds {
 /// The scene's primitives and their hierarchy.
 pub struct Accel {
     prims: Vec<Primitive>,
+    /// Each primitive's [`Prepared`] form, in the same order.
+    prepared: Vec<Prepared>,
     meshes: Vec<Mesh>,
     bvh: CwBvh,
 }
@@ -77,7 +79,13 @@ impl Accel {
                 &mut std::time::Duration::default(),
             )
         };
-        Accel { prims, meshes, bvh }
+        let prepared = prims.iter().map(Primitive::prepare).collect();
+        Accel {
+            prims,
+            prepared,
+            meshes,
+            bvh,
+        }
     }
 
     /// Every primitive, in scene order.
@@ -88,6 +96,12 @@ impl Accel {
     /// The triangle meshes the primitives index into.
     pub fn meshes(&self) -> &[Mesh] {
         &self.meshes
+    }
+
+    /// Where `ray` crosses primitive `index` ([`Primitive::crossing`], through its prepared form).
+    #[inline]
+    fn crossing(&self, index: usize, ray: &Ray, t_min: f64, t_max: f64) -> Option<Crossing> {
+        self.prepared[index].crossing(&self.prims[index], ray, t_min, t_max, &self.meshes)
     }
 
     /// The ray in single precision, over `[0, t_max]` (rounded up): `t_min` is applied to the
@@ -111,8 +125,8 @@ impl Accel {
         let mut best: Option<(usize, Crossing)> = None;
         let mut best_t = t_max;
         if self.prims.len() <= BRUTE_FORCE_MAX {
-            for (index, p) in self.prims.iter().enumerate() {
-                if let Some(c) = p.crossing(ray, t_min, best_t, &self.meshes) {
+            for index in 0..self.prims.len() {
+                if let Some(c) = self.crossing(index, ray, t_min, best_t) {
                     best_t = c.t;
                     best = Some((index, c));
                 }
@@ -122,7 +136,7 @@ impl Accel {
             self.bvh
                 .ray_traverse(Self::ray_f32(ray, t_max), &mut hit, |_, id| {
                     let index = self.bvh.primitive_indices[id] as usize;
-                    match self.prims[index].crossing(ray, t_min, best_t, &self.meshes) {
+                    match self.crossing(index, ray, t_min, best_t) {
                         Some(c) => {
                             best_t = c.t;
                             best = Some((index, c));
@@ -138,16 +152,13 @@ impl Accel {
     /// Whether anything lies on the ray with `t` in `(t_min, t_max)` (stops at the first hit).
     pub fn occluded(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         if self.prims.len() <= BRUTE_FORCE_MAX {
-            return self
-                .prims
-                .iter()
-                .any(|p| p.crossing(ray, t_min, t_max, &self.meshes).is_some());
+            return (0..self.prims.len()).any(|i| self.crossing(i, ray, t_min, t_max).is_some());
         }
         !self
             .bvh
             .ray_traverse_miss(Self::ray_f32(ray, t_max), |_, id| {
                 let index = self.bvh.primitive_indices[id] as usize;
-                match self.prims[index].crossing(ray, t_min, t_max, &self.meshes) {
+                match self.crossing(index, ray, t_min, t_max) {
                     Some(_) => 0.0,
                     None => f32::INFINITY,
                 }
