@@ -19,6 +19,7 @@ use crate::material::{MaterialAt, ShadingPoint};
 use crate::rng::Sampler;
 use crate::scene::{Scene, Strategy};
 use woven::math::sampling::power_heuristic as power;
+use woven::surface::PointBsdf;
 use woven::Vec3;
 
 /// The offset of a spawned ray's origin from its surface, relative to the point's magnitude
@@ -69,30 +70,46 @@ impl FirstHit {
     };
 }
 
-/// The radiance arriving at `camera` (the scene's, or its inset's) along `ray`.
-pub fn radiance(scene: &Scene, camera: &Camera, ray: Ray, sampler: &mut Sampler) -> Rgb {
-    trace(scene, camera, ray, sampler, &mut None)
+/// What a path tracer keeps from one path to the next so that no vertex allocates or moves
+/// much: the slot its vertices build their material's BSDF in ([`MaterialAt`]). One per
+/// thread; `'a` is the scene's lifetime.
+#[derive(Default)]
+pub struct Scratch<'a> {
+    bsdf: Option<PointBsdf<'a>>,
 }
 
-/// [`radiance`], and what the ray first meets.
-pub fn radiance_and_first_hit(
-    scene: &Scene,
+/// The radiance arriving at `camera` (the scene's, or its inset's) along `ray`.
+pub fn radiance<'a>(
+    scene: &'a Scene,
     camera: &Camera,
     ray: Ray,
     sampler: &mut Sampler,
+    scratch: &mut Scratch<'a>,
+) -> Rgb {
+    trace(scene, camera, ray, sampler, &mut None, scratch)
+}
+
+/// [`radiance`], and what the ray first meets.
+pub fn radiance_and_first_hit<'a>(
+    scene: &'a Scene,
+    camera: &Camera,
+    ray: Ray,
+    sampler: &mut Sampler,
+    scratch: &mut Scratch<'a>,
 ) -> (Rgb, FirstHit) {
     let mut first = Some(FirstHit::MISS);
-    let l = trace(scene, camera, ray, sampler, &mut first);
+    let l = trace(scene, camera, ray, sampler, &mut first, scratch);
     (l, first.unwrap_or(FirstHit::MISS))
 }
 
 /// The path tracer's loop; `first`, when `Some`, receives what the camera ray meets.
-fn trace(
-    scene: &Scene,
+fn trace<'a>(
+    scene: &'a Scene,
     camera: &Camera,
     mut ray: Ray,
     sampler: &mut Sampler,
     first: &mut Option<FirstHit>,
+    scratch: &mut Scratch<'a>,
 ) -> Rgb {
     let settings = &scene.integrator;
     let max_depth = settings.max_depth.unwrap_or(u32::MAX);
@@ -182,7 +199,7 @@ fn trace(
             footprint: footprint.map_or([[0.0; 2]; 2], |f| f.uv(&ray, &hit)),
         };
         // The material here: its BSDF at the point is built once, for every question below.
-        let material = MaterialAt::new(scene.materials[mi].as_ref(), at);
+        let material = MaterialAt::new(scene.materials[mi].as_ref(), at, &mut scratch.bsdf);
 
         // Next-event estimation.
         if use_lights {

@@ -56,12 +56,14 @@ pub trait SurfaceMaterial: Send + Sync {
     }
 
     /// The material's BSDF at `at`, where building it costs more than a call: a woven
-    /// surface's lobes at the point (and on a relief, the yarn the viewer's ray meets). A
+    /// surface's lobes at the point (and on a relief, the yarn the viewer's ray meets), built
+    /// into `slot` (over what a previous vertex left there: a path keeps one slot). A
     /// [`MaterialAt`] builds it once per path vertex and asks it what it would ask
     /// [`eval`](Self::eval), [`sample`](Self::sample) and [`pdf`](Self::pdf), which must answer
-    /// as it does ([`Transport::Radiance`]). `None` (the default): the vertex asks those.
-    fn point_bsdf(&self, _at: &ShadingPoint) -> Option<PointBsdf<'_>> {
-        None
+    /// as it does ([`Transport::Radiance`]). Returns whether it built one; `false` (the
+    /// default): the vertex asks those.
+    fn point_bsdf<'a>(&'a self, _at: &ShadingPoint, _slot: &mut Option<PointBsdf<'a>>) -> bool {
+        false
     }
 }
 
@@ -69,30 +71,37 @@ pub trait SurfaceMaterial: Send + Sync {
 /// point ([`SurfaceMaterial::point_bsdf`]) is built with it and answers every question, as the
 /// material's own methods would, bit for bit.
 ///
-/// It is built eagerly, straight into its place: a vertex that reaches its material always asks
-/// it something, and a lazily filled cell moved the BSDF (over a kilobyte of lobes) once more,
-/// 13 % of a plane's render time.
-pub struct MaterialAt<'a> {
+/// It is built eagerly, into a slot the path keeps (`'s`): a vertex that reaches its material
+/// always asks it something, and building a point's BSDF (over a kilobyte of lobes) anew and
+/// moving it into place was a tenth of a plane's render time.
+pub struct MaterialAt<'a, 's> {
     material: &'a dyn SurfaceMaterial,
     at: ShadingPoint,
-    bsdf: Option<PointBsdf<'a>>,
+    bsdf: Option<&'s PointBsdf<'a>>,
 }
 
-impl<'a> MaterialAt<'a> {
-    /// `material` at `at`, its BSDF there built.
+impl<'a, 's> MaterialAt<'a, 's> {
+    /// `material` at `at`, its BSDF there built into `slot` (one per path; whatever an earlier
+    /// vertex left there is overwritten).
     #[inline]
-    pub fn new(material: &'a dyn SurfaceMaterial, at: ShadingPoint) -> MaterialAt<'a> {
+    pub fn new(
+        material: &'a dyn SurfaceMaterial,
+        at: ShadingPoint,
+        slot: &'s mut Option<PointBsdf<'a>>,
+    ) -> MaterialAt<'a, 's> {
+        let built = material.point_bsdf(&at, slot);
+        let slot: &'s Option<PointBsdf<'a>> = slot;
         MaterialAt {
             material,
-            bsdf: material.point_bsdf(&at),
             at,
+            bsdf: if built { slot.as_ref() } else { None },
         }
     }
 
     /// The material's BSDF here; `None` for a material without one.
     #[inline]
-    fn bsdf(&self) -> Option<&PointBsdf<'a>> {
-        self.bsdf.as_ref()
+    fn bsdf(&self) -> Option<&'s PointBsdf<'a>> {
+        self.bsdf
     }
 
     /// [`SurfaceMaterial::eval`] here.

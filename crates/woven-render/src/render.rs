@@ -121,6 +121,7 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
             let (tx, ty) = (t % tiles_x, t / tiles_x);
             let mut out = Vec::with_capacity(TILE * TILE);
             let mut bad = 0;
+            let mut scratch = integrator::Scratch::default();
             for y in ty * TILE..((ty + 1) * TILE).min(h) {
                 for x in tx * TILE..((tx + 1) * TILE).min(w) {
                     let pixel = (y * w + x) as u64;
@@ -152,11 +153,12 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
                                 camera,
                                 ray,
                                 &mut sampler,
+                                &mut scratch,
                             );
                             guide.add(&first);
                             l
                         } else {
-                            integrator::radiance(scene, camera, ray, &mut sampler)
+                            integrator::radiance(scene, camera, ray, &mut sampler, &mut scratch)
                         };
                         if !l.is_valid() {
                             // Guard: a NaN, infinite or negative sample counts as black.

@@ -111,8 +111,9 @@ impl SurfaceMaterial for WovenMaterial {
     }
 
     #[inline]
-    fn point_bsdf(&self, at: &ShadingPoint) -> Option<PointBsdf<'_>> {
-        Some(self.surface.at(at))
+    fn point_bsdf<'a>(&'a self, at: &ShadingPoint, slot: &mut Option<PointBsdf<'a>>) -> bool {
+        self.surface.at_into(at, slot);
+        true
     }
 
     fn warp_share(&self, at: &ShadingPoint) -> f64 {

@@ -469,7 +469,7 @@ fn a_cloth_draped_over_a_sphere_renders() {
 /// A path vertex ([`MaterialAt`]) builds the woven surface's BSDF once and answers with it: bit
 /// for bit what the material's own `eval`, `sample` and `pdf` answer (each building it anew),
 /// on a resolved relief (tilted floats, gaps, fibres and yarns under `auto`), in any order of
-/// questions.
+/// questions, its BSDF built over the previous point's (one slot, as a path keeps it).
 #[test]
 fn a_vertex_answers_as_the_material_does_bit_for_bit() {
     let mut material = Material::preset("polyester-sateen").unwrap();
@@ -484,6 +484,7 @@ fn a_vertex_answers_as_the_material_does_bit_for_bit() {
     let bits = |c: woven_render::Rgb| c.0.map(f64::to_bits);
     let mut rng = woven::math::rng::SplitMix(27);
     let mut drawn = 0;
+    let mut slot = None;
     for k in 0..400 {
         // Footprints from none (yarns) through fibres to a few cells (toward the macro BRDF).
         let size = [0.0, 0.002, 0.02, 0.1, 0.4][k % 5];
@@ -491,7 +492,7 @@ fn a_vertex_answers_as_the_material_does_bit_for_bit() {
             uv: [rng.uniform(), rng.uniform()],
             footprint: [[size, 0.0], [0.0, size * 0.7]],
         };
-        let vertex = MaterialAt::new(&m, at);
+        let vertex = MaterialAt::new(&m, at, &mut slot);
         let (wo, wi) = (rng.direction(1.45), rng.direction(1.45));
         let (uc, u) = (rng.uniform(), [rng.uniform(), rng.uniform()]);
         let ask_sample = |v: &MaterialAt| v.sample(wo, uc, u);

@@ -133,6 +133,12 @@ impl LobeMix {
         }
     }
 
+    /// Empties the mix (its lobes' storage is kept, unread).
+    #[inline]
+    pub(super) fn clear(&mut self) {
+        self.n = 0;
+    }
+
     /// Marks every lobe from the `from`-th on as scaled by the relief's ratio.
     pub(super) fn resolve_from(&mut self, from: usize) {
         for l in &mut self.lobes[from..self.n] {
