@@ -146,7 +146,9 @@ impl Accel {
                     }
                 });
         }
-        best.map(|(index, c)| self.prims[index].hit(ray, c, &self.meshes, index))
+        best.map(|(index, c)| {
+            self.prepared[index].hit(&self.prims[index], ray, c, &self.meshes, index)
+        })
     }
 
     /// Whether anything lies on the ray with `t` in `(t_min, t_max)` (stops at the first hit).

@@ -20,6 +20,9 @@ pub struct Camera {
     half_width: f64,
     /// The half height at distance 1.
     half_height: f64,
+    /// `2 tan(fov/2) / W` and `2 (H/W) tan(fov/2) / H`: the image plane's step per pixel (no
+    /// division per ray).
+    step: [f64; 2],
     width: usize,
     height: usize,
 }
@@ -40,13 +43,18 @@ impl Camera {
         let right = forward.cross(up).normalize();
         let up = right.cross(forward);
         let half_width = (fov_deg.to_radians() / 2.0).tan();
+        let half_height = half_width * height as f64 / width as f64;
         Camera {
             origin,
             forward,
             right,
             up,
             half_width,
-            half_height: half_width * height as f64 / width as f64,
+            half_height,
+            step: [
+                2.0 * half_width / width as f64,
+                2.0 * half_height / height as f64,
+            ],
             width,
             height,
         }
@@ -54,8 +62,8 @@ impl Camera {
 
     /// The ray through film point `(x, y)` (pixels, `x ∈ [0, W]`, `y ∈ [0, H]`, `y` down).
     pub fn ray(&self, x: f64, y: f64) -> Ray {
-        let sx = (2.0 * x / self.width as f64 - 1.0) * self.half_width;
-        let sy = (1.0 - 2.0 * y / self.height as f64) * self.half_height;
+        let sx = x * self.step[0] - self.half_width;
+        let sy = self.half_height - y * self.step[1];
         Ray {
             o: self.origin,
             d: (self.forward + self.right * sx + self.up * sy).normalize(),
@@ -67,8 +75,8 @@ impl Camera {
     pub fn footprint(&self) -> RayFootprint {
         RayFootprint {
             forward: self.forward,
-            dd_dx: self.right * (2.0 * self.half_width / self.width as f64),
-            dd_dy: self.up * (-2.0 * self.half_height / self.height as f64),
+            dd_dx: self.right * self.step[0],
+            dd_dy: self.up * -self.step[1],
         }
     }
 

@@ -110,6 +110,8 @@ pub enum Prepared {
         to_a: Vec3,
         /// `(n × edge_u) / |n|²`.
         to_b: Vec3,
+        /// The unit normal, as [`Primitive::hit`] works it out.
+        unit_n: Vec3,
     },
     /// A cylinder: its base, its frame (`[x, y, axis]`, unit vectors) and its length.
     Cylinder {
@@ -126,7 +128,40 @@ pub enum Prepared {
     AsIs,
 }
 
+/// A rectangle's hit at crossing `c`: its unit normal `n`, its edges `[∂p/∂u, ∂p/∂v]`.
+#[inline]
+fn rectangle_hit(ray: &Ray, c: Crossing, n: Vec3, [dpdu, dpdv]: [Vec3; 2], prim: usize) -> Hit {
+    Hit {
+        t: c.t,
+        p: ray.at(c.t),
+        ng: n,
+        ns: n,
+        uv: [c.a, c.b],
+        dpdu,
+        dpdv,
+        prim,
+    }
+}
+
 impl Prepared {
+    /// [`Primitive::hit`] of `prim`, which this was prepared from (a rectangle's normal is kept).
+    #[inline]
+    pub fn hit(
+        &self,
+        prim: &Primitive,
+        ray: &Ray,
+        c: Crossing,
+        meshes: &[Mesh],
+        index: usize,
+    ) -> Hit {
+        match (*self, prim) {
+            (Prepared::Rectangle { unit_n, .. }, &Primitive::Rectangle { edge_u, edge_v, .. }) => {
+                rectangle_hit(ray, c, unit_n, [edge_u, edge_v], index)
+            }
+            _ => prim.hit(ray, c, meshes, index),
+        }
+    }
+
     /// [`Primitive::crossing`] of `prim`, which this was prepared from.
     #[inline]
     pub fn crossing(
@@ -143,6 +178,7 @@ impl Prepared {
                 n,
                 to_a,
                 to_b,
+                ..
             } => {
                 let denom = n.dot(ray.d);
                 let num = n.dot(corner - ray.o);
@@ -356,6 +392,7 @@ impl Primitive {
                     n,
                     to_a: edge_v.cross(n) * (1.0 / nn),
                     to_b: n.cross(edge_u) * (1.0 / nn),
+                    unit_n: edge_u.cross(edge_v).normalize(),
                 }
             }
             Primitive::Cylinder { base, axis, radius } => {
@@ -411,19 +448,13 @@ impl Primitive {
                     prim,
                 }
             }
-            Primitive::Rectangle { edge_u, edge_v, .. } => {
-                let nu = edge_u.cross(edge_v).normalize();
-                Hit {
-                    t,
-                    p,
-                    ng: nu,
-                    ns: nu,
-                    uv: [c.a, c.b],
-                    dpdu: edge_u,
-                    dpdv: edge_v,
-                    prim,
-                }
-            }
+            Primitive::Rectangle { edge_u, edge_v, .. } => rectangle_hit(
+                ray,
+                c,
+                edge_u.cross(edge_v).normalize(),
+                [edge_u, edge_v],
+                prim,
+            ),
             Primitive::Cylinder { base, axis, radius } => {
                 let len = axis.length();
                 let w = axis * (1.0 / len);

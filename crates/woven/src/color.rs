@@ -14,39 +14,48 @@ impl Rgb {
     pub const WHITE: Rgb = Rgb([1.0; 3]);
 
     /// A grey of value `v`.
+    #[inline]
     pub const fn grey(v: f64) -> Rgb {
         Rgb([v, v, v])
     }
 
     /// The largest channel.
+    #[inline]
     pub fn max(self) -> f64 {
         self.0[0].max(self.0[1]).max(self.0[2])
     }
 
     /// Rec. 709 luminance.
+    #[inline]
     pub fn luminance(self) -> f64 {
         0.2126 * self.0[0] + 0.7152 * self.0[1] + 0.0722 * self.0[2]
     }
 
     /// Whether every channel is 0.
+    #[inline]
     pub fn is_black(self) -> bool {
         self.0 == [0.0; 3]
     }
 
     /// Whether every channel is finite and non-negative.
+    #[inline]
     pub fn is_valid(self) -> bool {
-        self.0.iter().all(|c| c.is_finite() && *c >= 0.0)
+        // Each comparison is false for NaN; ∞ fails the bound.
+        let ok = |c: f64| (0.0..f64::INFINITY).contains(&c);
+        ok(self.0[0]) & ok(self.0[1]) & ok(self.0[2])
     }
 }
 
 impl Add for Rgb {
     type Output = Rgb;
+    #[inline]
     fn add(self, o: Rgb) -> Rgb {
         Rgb([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
     }
 }
 
 impl AddAssign for Rgb {
+    #[inline]
     fn add_assign(&mut self, o: Rgb) {
         *self = *self + o;
     }
@@ -54,12 +63,14 @@ impl AddAssign for Rgb {
 
 impl Mul for Rgb {
     type Output = Rgb;
+    #[inline]
     fn mul(self, o: Rgb) -> Rgb {
         Rgb([self.0[0] * o.0[0], self.0[1] * o.0[1], self.0[2] * o.0[2]])
     }
 }
 
 impl MulAssign for Rgb {
+    #[inline]
     fn mul_assign(&mut self, o: Rgb) {
         *self = *self * o;
     }
@@ -67,12 +78,14 @@ impl MulAssign for Rgb {
 
 impl Mul<f64> for Rgb {
     type Output = Rgb;
+    #[inline]
     fn mul(self, k: f64) -> Rgb {
         Rgb([self.0[0] * k, self.0[1] * k, self.0[2] * k])
     }
 }
 
 impl MulAssign<f64> for Rgb {
+    #[inline]
     fn mul_assign(&mut self, k: f64) {
         *self = *self * k;
     }
@@ -80,6 +93,7 @@ impl MulAssign<f64> for Rgb {
 
 impl Div<f64> for Rgb {
     type Output = Rgb;
+    #[inline]
     fn div(self, k: f64) -> Rgb {
         self * (1.0 / k)
     }
