@@ -2,7 +2,7 @@
 //! elements/s = samples/s).
 //!
 //! `cargo bench -p woven-render --bench render` (`-- "showcase detail"` for the levels of detail
-//! alone)
+//! alone, `-- "tilted sateen"` for cloth at real thread counts against its yarn-level twin)
 
 // criterion_group! and criterion_main! generate undocumented items.
 #![allow(missing_docs)]
@@ -140,5 +140,40 @@ fn detail(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, detail);
+/// The tilted sateen plane at real thread counts (0.2 mm yarns: cloth level everywhere, the
+/// tilted yarns' macro BRDF) and its yarn-level twin with cells 100 times larger
+/// (scenes/speed/tilted-sateen*.toml, which `scripts/mitsuba/speed.sh` renders at full size) at
+/// 160 × 120, one sample a pixel, on the renderer's default tables (from the user's table cache):
+/// what a tilted cloth costs a sample.
+fn tilted(c: &mut Criterion) {
+    let cache = || match Cache::user() {
+        Ok(c) => TableCache::with_disk(c),
+        Err(_) => TableCache::default(),
+    };
+    let mut group = c.benchmark_group("tilted sateen");
+    group.sample_size(10);
+    let scenes = [
+        (
+            "cloth level",
+            include_str!("../../../scenes/speed/tilted-sateen.toml"),
+        ),
+        (
+            "yarn level",
+            include_str!("../../../scenes/speed/tilted-sateen-yarns.toml"),
+        ),
+    ];
+    for (name, text) in scenes {
+        let mut desc = SceneDescription::from_str(text, name, Path::new(".")).unwrap();
+        (desc.film.width, desc.film.height, desc.film.spp) = (160, 120, 1);
+        let scene =
+            Scene::build_with(&desc, &TableGrid::Default, cache(), &|_| {}, &|_, _| {}).unwrap();
+        group.throughput(Throughput::Elements(160 * 120));
+        group.bench_function(name, |b| {
+            b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, detail, tilted);
 criterion_main!(benches);
