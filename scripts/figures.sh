@@ -87,9 +87,9 @@ fi
 
 if want mitsuba; then
 echo
-echo "== woven render against Mitsuba 3 (scene (ii), 512x512, 64 spp; needs scripts/mitsuba/ci.sh's venv)"
+echo "== woven render against Mitsuba 3 (scripts/mitsuba/speed.sh: the comparison scenes at 512x512, 64 spp, and the speed scenes; needs scripts/mitsuba/ci.sh's venv)"
 if [ -x "$venv/bin/python" ]; then
-  "$venv/bin/python" scripts/mitsuba/bench.py --woven "$woven"
+  WOVEN_BIN="$woven" PYTHON="$venv/bin/python" bash scripts/mitsuba/speed.sh
 else
   echo "   (skipped: no Mitsuba venv at $venv; run bash scripts/mitsuba/ci.sh first)"
 fi
