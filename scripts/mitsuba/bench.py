@@ -104,7 +104,7 @@ def woven_row(
             if r.returncode != 0:
                 raise SystemExit(f"bench.py: `{shlex.join(argv)}` failed:\n{r.stderr[-3000:]}")
             own = re.search(
-                r"\((\d+)×(\d+), (\d+) spp\) in ([0-9.]+) s", r.stdout + r.stderr
+                r"\((\d+)×(\d+), (\d+) spp[^)]*\) in ([0-9.]+) s", r.stdout + r.stderr
             )
             if not own:
                 raise SystemExit(f"bench.py: no timing line from `{shlex.join(argv)}`")
