@@ -109,15 +109,19 @@ fn bench(c: &mut Criterion) {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The user's table cache (in memory only when it has none).
+fn user_cache() -> TableCache {
+    match Cache::user() {
+        Ok(c) => TableCache::with_disk(c),
+        Err(_) => TableCache::default(),
+    }
+}
+
 /// The built-in showcase at its own 960 × 540, one sample a pixel, on the renderer's default
 /// tables (from the user's table cache, built there on the first run): as it is (`detail =
 /// "auto"`), and with every woven material at `"fibers"` and at `"yarns"` — the cost per sample
 /// of resolving yarns in space (the denoiser off: samples alone).
 fn detail(c: &mut Criterion) {
-    let cache = || match Cache::user() {
-        Ok(c) => TableCache::with_disk(c),
-        Err(_) => TableCache::default(),
-    };
     let mut group = c.benchmark_group("showcase detail");
     group.sample_size(10);
     for level in ["auto", "fibers", "yarns"] {
@@ -128,8 +132,14 @@ fn detail(c: &mut Criterion) {
         let mut desc = SceneDescription::from_str(&text, "showcase", Path::new(".")).unwrap();
         desc.film.spp = 1;
         desc.film.denoise = false;
-        let scene =
-            Scene::build_with(&desc, &TableGrid::Default, cache(), &|_| {}, &|_, _| {}).unwrap();
+        let scene = Scene::build_with(
+            &desc,
+            &TableGrid::Default,
+            user_cache(),
+            &|_| {},
+            &|_, _| {},
+        )
+        .unwrap();
         group.throughput(Throughput::Elements(
             (desc.film.width * desc.film.height) as u64,
         ));
@@ -146,10 +156,6 @@ fn detail(c: &mut Criterion) {
 /// 160 × 120, one sample a pixel, on the renderer's default tables (from the user's table cache):
 /// what a tilted cloth costs a sample.
 fn tilted(c: &mut Criterion) {
-    let cache = || match Cache::user() {
-        Ok(c) => TableCache::with_disk(c),
-        Err(_) => TableCache::default(),
-    };
     let mut group = c.benchmark_group("tilted sateen");
     group.sample_size(10);
     let scenes = [
@@ -165,8 +171,14 @@ fn tilted(c: &mut Criterion) {
     for (name, text) in scenes {
         let mut desc = SceneDescription::from_str(text, name, Path::new(".")).unwrap();
         (desc.film.width, desc.film.height, desc.film.spp) = (160, 120, 1);
-        let scene =
-            Scene::build_with(&desc, &TableGrid::Default, cache(), &|_| {}, &|_, _| {}).unwrap();
+        let scene = Scene::build_with(
+            &desc,
+            &TableGrid::Default,
+            user_cache(),
+            &|_| {},
+            &|_, _| {},
+        )
+        .unwrap();
         group.throughput(Throughput::Elements(160 * 120));
         group.bench_function(name, |b| {
             b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
