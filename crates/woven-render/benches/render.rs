@@ -7,7 +7,8 @@
 // criterion_group! and criterion_main! generate undocumented items.
 #![allow(missing_docs)]
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use std::path::Path;
 use woven::table::cache::Cache;
 use woven::table::TableOptions;
@@ -117,6 +118,18 @@ fn user_cache() -> TableCache {
     }
 }
 
+/// Renders `desc` on the renderer's default tables (from the user's table cache) as bench `name`
+/// of `group`, its throughput in camera samples.
+fn bench_scene(group: &mut BenchmarkGroup<WallTime>, name: &str, desc: &SceneDescription) {
+    let scene =
+        Scene::build_with(desc, &TableGrid::Default, user_cache(), &|_| {}, &|_, _| {}).unwrap();
+    let samples = desc.film.width * desc.film.height * desc.film.spp;
+    group.throughput(Throughput::Elements(samples as u64));
+    group.bench_function(name, |b| {
+        b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
+    });
+}
+
 /// The built-in showcase at its own 960 × 540, one sample a pixel, on the renderer's default
 /// tables (from the user's table cache, built there on the first run): as it is (`detail =
 /// "auto"`), and with every woven material at `"fibers"` and at `"yarns"` — the cost per sample
@@ -132,20 +145,7 @@ fn detail(c: &mut Criterion) {
         let mut desc = SceneDescription::from_str(&text, "showcase", Path::new(".")).unwrap();
         desc.film.spp = 1;
         desc.film.denoise = false;
-        let scene = Scene::build_with(
-            &desc,
-            &TableGrid::Default,
-            user_cache(),
-            &|_| {},
-            &|_, _| {},
-        )
-        .unwrap();
-        group.throughput(Throughput::Elements(
-            (desc.film.width * desc.film.height) as u64,
-        ));
-        group.bench_function(level, |b| {
-            b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
-        });
+        bench_scene(&mut group, level, &desc);
     }
     group.finish();
 }
@@ -171,18 +171,7 @@ fn tilted(c: &mut Criterion) {
     for (name, text) in scenes {
         let mut desc = SceneDescription::from_str(text, name, Path::new(".")).unwrap();
         (desc.film.width, desc.film.height, desc.film.spp) = (160, 120, 1);
-        let scene = Scene::build_with(
-            &desc,
-            &TableGrid::Default,
-            user_cache(),
-            &|_| {},
-            &|_, _| {},
-        )
-        .unwrap();
-        group.throughput(Throughput::Elements(160 * 120));
-        group.bench_function(name, |b| {
-            b.iter(|| render(&scene, &RenderOptions::default()).unwrap())
-        });
+        bench_scene(&mut group, name, &desc);
     }
     group.finish();
 }
