@@ -194,6 +194,7 @@ impl Prepared {
                     return None;
                 }
                 let t = num / denom;
+                // The division's rounding can still land on an end of the range.
                 if t <= t_min || t >= t_max {
                     return None;
                 }
@@ -392,7 +393,7 @@ impl Primitive {
                     n,
                     to_a: edge_v.cross(n) * (1.0 / nn),
                     to_b: n.cross(edge_u) * (1.0 / nn),
-                    unit_n: edge_u.cross(edge_v).normalize(),
+                    unit_n: n.normalize(),
                 }
             }
             Primitive::Cylinder { base, axis, radius } => {

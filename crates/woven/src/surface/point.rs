@@ -12,18 +12,18 @@ impl WovenSurface {
     /// The surface's BSDF at `at`.
     #[inline]
     pub fn at(&self, at: &SurfacePoint) -> PointBsdf<'_> {
-        let factors = self.dye_factors(at);
-        // Built where it is returned, its lobes filled in place.
+        // A blank point made this surface's at `at` by the one routine that also rebuilds a
+        // renderer's slot (`at_into`).
         let mut point = PointBsdf {
             surface: self,
             entry: None,
             mix: LobeMix::default(),
             seen: std::sync::OnceLock::new(),
-            weft: scaled(self.weft, factors[0]),
-            warp: scaled(self.warp, factors[1]),
-            factors,
+            weft: self.weft,
+            warp: self.warp,
+            factors: [1.0, 1.0],
         };
-        point.entry = self.split_into(at, &mut point.mix);
+        point.reset(self, at);
         point
     }
 
@@ -112,7 +112,8 @@ impl<'a> PointBsdf<'a> {
         }
     }
 
-    /// This BSDF made `surface`'s at `at`, as [`WovenSurface::at`] makes it, in place.
+    /// This BSDF made `surface`'s at `at`, in place: every field set anew (what
+    /// [`WovenSurface::at`] and [`WovenSurface::at_into`] build with).
     #[inline]
     fn reset(&mut self, surface: &'a WovenSurface, at: &SurfacePoint) {
         let factors = surface.dye_factors(at);
