@@ -122,7 +122,7 @@ def woven_row(
 
 
 def table(rows: list[Row]) -> str:
-    """The Markdown table: each scene's rows, each with its rate over the scene's llvm row."""
+    """The Markdown table: each scene's rows, each Mitsuba row with woven's rate over its own."""
     out = [
         "| scene | renderer | time (s) | M samples/s | woven / this |",
         "|---|---|---|---|---|",
