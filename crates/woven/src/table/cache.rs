@@ -370,10 +370,17 @@ fn key(material: &Material, wavelength_nm: f64, options: &TableOptions) -> Strin
         wavelength_nm.to_bits(),
         material.to_self_contained_toml_string()
     );
-    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    });
-    format!("{hash:016x}")
+    format!("{:016x}", fnv1a(FNV_BASIS, text.as_bytes()))
+}
+
+/// FNV-1a's offset basis: the hash of nothing (every cache key's start).
+pub(crate) const FNV_BASIS: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// The 64-bit FNV-1a hash `h` extended by `bytes` (a cache file's key).
+pub(crate) fn fnv1a(h: u64, bytes: &[u8]) -> u64 {
+    bytes.iter().fold(h, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
 }
 
 /// Why a loaded `table` is not the one asked for (a hash collision or an edited file), if it is

@@ -23,7 +23,7 @@
 
 use super::build::fill;
 use super::grid::Axis;
-use super::{Colour, Half, Symmetry, Table, TableOptions};
+use super::{Colour, Half, Table, TableOptions};
 use crate::math::quadrature::GaussLegendre;
 use crate::math::Vec3;
 use crate::yarn::profile::Profile;
@@ -164,20 +164,7 @@ impl Table {
                 (values, None)
             }
         };
-        let mut table = Table::assemble(
-            Symmetry::Mirror,
-            theta,
-            phi,
-            t,
-            values,
-            self.provenance.clone(),
-            self.wavelength_nm,
-            None,
-            colour,
-            None,
-        );
-        table.crown_deg = crown_deg;
-        table
+        self.derived((theta, phi, t), values, colour, crown_deg)
     }
 }
 

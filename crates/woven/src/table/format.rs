@@ -399,12 +399,8 @@ fn check_header(header: &toml::Table, count: u64, cell_count: u64) -> Result<Hea
         None => 0.0,
         Some(_) => float("crown_deg", 0.0, super::options::MAX_CROWN_DEG)?,
     };
-    if parts == 3 && crown_deg == 0.0 {
-        return Err(
-            "header key `parts` = 3 (a crown's interreflection factor) without a `crown_deg`"
-                .into(),
-        );
-    }
+    // `parts` = 3 holds an interreflection factor per node: a crowned table's (`crown_deg` > 0)
+    // or a tilted float's (`Table::tilted`, of a plain table or a crowned one).
     // Absent before it was an option: kept (a single-orientation yarn's table then keeps it).
     let exact_regions = match header.get("exact_regions") {
         None => true,

@@ -54,6 +54,8 @@ mod options;
 mod raw;
 pub mod report;
 mod sampler;
+mod tilt;
+pub use tilt::TILTED_MIN_GRID;
 
 pub use options::{
     grid_of, value_count, TableOptions, MAX_VALUES, N_H_NARROW_LOBE, N_H_SMOOTH, N_H_WIDE_LOBE,
@@ -341,6 +343,32 @@ impl Table {
             Some(c) => Sampler::from_cell_pdf(&table, c),
             None => Sampler::build(&table),
         };
+        table
+    }
+
+    /// A table on the mirror grid `(θ, φ, t)` derived from this one by averaging its look-ups
+    /// (crowned, [`crowned_with`](Self::crowned_with); tilted, [`tilted`](Self::tilted)): this
+    /// table's provenance and wavelength, no exact regions, sampled by its own values.
+    fn derived(
+        &self,
+        (theta, phi, t): (Axis, Axis, Axis),
+        values: Vec<f32>,
+        colour: Option<Colour>,
+        crown_deg: f64,
+    ) -> Table {
+        let mut table = Table::assemble(
+            Symmetry::Mirror,
+            theta,
+            phi,
+            t,
+            values,
+            self.provenance.clone(),
+            self.wavelength_nm,
+            None,
+            colour,
+            None,
+        );
+        table.crown_deg = crown_deg;
         table
     }
 

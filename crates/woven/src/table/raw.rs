@@ -31,6 +31,10 @@ pub struct Raw<'a> {
     pub per_interreflection: f64,
     /// The albedos `values` hold, for dyeable tables.
     pub own: Option<Albedos>,
+    /// What `∂f/∂ρ` is multiplied by at every node, laid out as `values`, for dyeable tables
+    /// averaged over a crown ([`Table::crowned_with`](super::Table::crowned_with)) or a float
+    /// ([`Table::tilted`](super::Table::tilted)); `None`: 1.
+    pub crown: Option<&'a [f32]>,
     /// Per incidence node (`iθ·n_φ + iφ`): the CDF over the `n_h − 1` rows, `n_h` entries.
     pub marginal: &'a [f32],
     /// Per incidence node and row: the CDF over the row's cells, `n_h` entries.
@@ -60,6 +64,7 @@ impl Table {
             body: self.colour.as_ref().map(|c| c.body.as_slice()),
             per_interreflection: self.colour.as_ref().map_or(0.0, |c| c.per_interreflection),
             own: self.colour.as_ref().map(|c| c.own),
+            crown: self.colour.as_ref().and_then(|c| c.crown.as_deref()),
             marginal,
             conditional,
             horizon_weight: super::HORIZON_WEIGHT,
