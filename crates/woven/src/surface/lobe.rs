@@ -1,9 +1,10 @@
 //! One lobe ([`Lobe`]) in its own frame: the warp turned onto the weft, tilted with its float
 //! or leaning with the relief; its BRDF, its density and its draws, from the yarn's table (the
-//! crowned table for a resolved macro lobe) or, at fibre level, from the point on its yarn.
+//! crowned table for a resolved macro lobe, a whole float's own table for a whole tilted float)
+//! or, at fibre level, from the point on its yarn.
 
 use super::fibers::{point_eval, point_pdf, point_sample};
-use super::{Lobe, Tilt, WovenSurface, TILT_NODES};
+use super::{Lobe, Tilt, WovenSurface};
 use crate::color::Rgb;
 use crate::relief::Lean;
 use crate::table::{Albedos, Table};
@@ -17,7 +18,9 @@ impl WovenSurface {
     /// for unit irradiance on the cloth, its own incident cosine over the cloth's — so no point
     /// is brighter than its facet. The whole float ([`Tilt::Float`]) is those points' mean: the
     /// facets both lit and seen, each over its projected area toward the viewer,
-    /// `cos θ′o / (cos θo cos ψ)` per unit of cloth ([`TILT_NODES`] Gauss–Legendre nodes). At
+    /// `cos θ′o / (cos θo cos ψ)` per unit of cloth
+    /// ([`FloatProfile::average`](crate::yarn::float::FloatProfile::average)), tabulated: one
+    /// look-up in the float's table ([`Table::tilted`]). At
     /// fibre level the same holds for the point's BRDF, whose profile lies in the tilted frame
     /// (the tilt turns the yarn about its cross axis; the profile runs across it).
     #[inline]
@@ -62,14 +65,15 @@ impl WovenSurface {
 
     /// A lobe's value from `value(table, s′, v′)`, the BRDF of a facet in its own frame read
     /// from `table`: the yarn's, or for a resolved macro lobe the crowned yarn's on the relief's
-    /// floats.
+    /// floats; for a whole float, that table's average over the float, tabulated
+    /// ([`tilted_table`](Self::tilted_table)).
     #[inline]
     fn lobe_with<V>(
         &self,
         lobe: &Lobe,
         wi: Vec3,
         wo: Vec3,
-        value: impl Fn(&Table, Vec3, Vec3) -> V,
+        read: impl Fn(&Table, Vec3, Vec3) -> V,
     ) -> V
     where
         V: Default + std::ops::AddAssign + std::ops::Mul<f64, Output = V>,
@@ -79,7 +83,7 @@ impl WovenSurface {
             (Some(relief), true) => (self.crowned(), &relief.float(lobe.warp)),
             _ => (&*self.yarn, &self.float),
         };
-        let value = |a: Vec3, b: Vec3| value(table, a, b);
+        let value = |a: Vec3, b: Vec3| read(table, a, b);
         // A leaning facet's radiance for unit irradiance on the cloth: its BRDF in its own
         // frame, times its incident cosine over the cloth's.
         let leaning = |lean: Lean| {
@@ -100,41 +104,36 @@ impl WovenSurface {
                 leaning(Lean::tilted(float.tilt(t).sin_cos()))
             }
             Tilt::Relief { lean, .. } => leaning(lean),
-            Tilt::Float => float.average(wi, wo, value),
+            Tilt::Float => read(self.tilted_table(lobe.warp, lobe.resolved), wi, wo),
         }
     }
 
-    /// The tilt (sine, cosine) a draw for `known` (in the lobe's frame) uses, drawing a tilt
-    /// node of a whole float with `u` (returned stretched back to `[0, 1)`): the facet that
-    /// `known`'s ray meets for a point, the [`TILT_NODES`] midpoints of a whole float. `None`
-    /// for a flat lobe.
+    /// The tilt (sine, cosine) a draw for `known` (in the lobe's frame) uses: the facet that
+    /// `known`'s ray meets for a point. `None` for a flat lobe and a whole float (drawn from its
+    /// own table).
     #[inline]
-    fn draw_tilt(&self, lobe: &Lobe, known: Vec3, u: f64) -> (Option<Lean>, f64) {
+    fn draw_tilt(&self, lobe: &Lobe, known: Vec3) -> Option<Lean> {
         let float = &self.float;
         match lobe.tilt {
-            Tilt::Flat => (None, u),
+            Tilt::Flat | Tilt::Float => None,
             Tilt::Entering(entry) => {
                 let t = float.seen_at(entry, known);
-                (Some(Lean::tilted(float.tilt(t).sin_cos())), u)
+                Some(Lean::tilted(float.tilt(t).sin_cos()))
             }
-            Tilt::Relief { lean, .. } => (Some(lean), u),
-            Tilt::Float => {
-                let x = u * TILT_NODES as f64;
-                let i = (x as usize).min(TILT_NODES - 1);
-                let t = (i as f64 + 0.5) / TILT_NODES as f64;
-                (
-                    Some(Lean::tilted(float.tilt(t).sin_cos())),
-                    (x - i as f64).clamp(0.0, 1.0 - f64::EPSILON),
-                )
-            }
+            Tilt::Relief { lean, .. } => Some(lean),
         }
     }
 
     /// The density of drawing `drawn` for `known` from one lobe (a rotation keeps densities per
-    /// solid angle); for a whole float, the mean over its tilt nodes.
+    /// solid angle); for a whole float, its own table's.
     #[inline]
     pub(super) fn lobe_pdf(&self, lobe: &Lobe, known: Vec3, drawn: Vec3) -> f64 {
         let (k, d) = into_lobe_frame(lobe, known, drawn);
+        if lobe.tilt == Tilt::Float {
+            return self
+                .tilted_table(lobe.warp, lobe.resolved)
+                .pdf_direction(k, d);
+        }
         let untilted = |k: Vec3, d: Vec3| match (&lobe.point, &self.fibers) {
             (Some(p), Some(f)) => point_pdf(f, p, k, d),
             _ => self.yarn.pdf_direction(k, d),
@@ -147,31 +146,18 @@ impl WovenSurface {
                 untilted(k, d)
             }
         };
-        match lobe.tilt {
-            Tilt::Flat => untilted(k, d),
-            Tilt::Entering(_) | Tilt::Relief { .. } => {
-                tilted(self.draw_tilt(lobe, k, 0.0).0.unwrap_or(Lean::FLAT))
-            }
-            Tilt::Float => {
-                let float = &self.float;
-                (0..TILT_NODES)
-                    .map(|i| {
-                        let t = (i as f64 + 0.5) / TILT_NODES as f64;
-                        tilted(Lean::tilted(float.tilt(t).sin_cos()))
-                    })
-                    .sum::<f64>()
-                    / TILT_NODES as f64
-            }
+        match self.draw_tilt(lobe, k) {
+            None => untilted(k, d),
+            Some(lean) => tilted(lean),
         }
     }
 
     /// Draws a direction for `known` from one lobe, with its density
-    /// ([`lobe_pdf`](Self::lobe_pdf)); for a whole float, the density of the tilt node it was
-    /// drawn from (the lobe's is the nodes' mean, which [`PointBsdf`](super::PointBsdf)'s `sample` takes).
+    /// ([`lobe_pdf`](Self::lobe_pdf)).
     #[inline]
     pub(super) fn lobe_sample(&self, lobe: &Lobe, known: Vec3, u: [f64; 2]) -> Option<(Vec3, f64)> {
         let k0 = if lobe.warp { to_warp(known) } else { known };
-        let (lean, u0) = self.draw_tilt(lobe, k0, u[0]);
+        let lean = self.draw_tilt(lobe, k0);
         let k = match lean {
             Some(lean) => lean.into_frame(k0),
             None => k0,
@@ -180,8 +166,11 @@ impl WovenSurface {
             return None;
         }
         let (mut d, pdf) = match (&lobe.point, &self.fibers) {
-            (Some(p), Some(f)) => point_sample(f, p, k, [u0, u[1]])?,
-            _ => self.yarn.sample_direction(k, u0, u[1])?,
+            (Some(p), Some(f)) => point_sample(f, p, k, u)?,
+            _ if lobe.tilt == Tilt::Float => self
+                .tilted_table(lobe.warp, lobe.resolved)
+                .sample_direction(k, u[0], u[1])?,
+            _ => self.yarn.sample_direction(k, u[0], u[1])?,
         };
         if d.z <= 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;

@@ -106,8 +106,8 @@ pub use spec::{
     Detail, SurfaceKey, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG, SURFACE_KEYS,
 };
 
-/// Gauss–Legendre nodes over a whole float's lit and seen part (the surface's whole-float lobe
-/// and its draws' midpoint tilts).
+/// Gauss–Legendre nodes over a whole float's lit and seen part (what a whole float's table,
+/// [`Table::tilted`](crate::table::Table::tilted), tabulates).
 pub use crate::yarn::float::TILT_NODES;
 
 /// What a surface lays on its uv.
@@ -155,6 +155,9 @@ pub struct WovenSurface {
     /// The yarn's table averaged over its crown ([`Table::crowned`]), built on first use: the
     /// resolved macro lobes' BRDF before the ratio.
     crowned: std::sync::OnceLock<Arc<Table>>,
+    /// Whole tilted floats' tables ([`Table::tilted`]), each built on first use: the yarn's on
+    /// the surface's floats, and the crowned yarn's on the relief's weft and warp floats.
+    tilted: [std::sync::OnceLock<Arc<Table>>; 3],
 }
 
 impl WovenSurface {
@@ -239,6 +242,7 @@ impl WovenSurface {
             fibers,
             ratio: std::sync::OnceLock::new(),
             crowned: std::sync::OnceLock::new(),
+            tilted: Default::default(),
         })
     }
 
@@ -294,6 +298,7 @@ impl WovenSurface {
             relief: None,
             ratio: std::sync::OnceLock::new(),
             crowned: std::sync::OnceLock::new(),
+            tilted: Default::default(),
         })
     }
 

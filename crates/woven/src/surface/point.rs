@@ -1,7 +1,7 @@
 //! A woven surface's BSDF at one point ([`PointBsdf`]): the point's lobes, its dyes (varied
 //! along the yarns by an [`Irregularity`](super::Irregularity)), and the [`Bsdf`] that mixes the lobes.
 
-use super::{Entry, Layout, LobeMix, SurfacePoint, Tilt, WovenSurface};
+use super::{Entry, Layout, LobeMix, SurfacePoint, WovenSurface};
 use crate::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
 use crate::color::Rgb;
 use crate::table::Albedos;
@@ -219,9 +219,8 @@ impl Bsdf for PointBsdf<'_> {
             pick += 1;
         }
         let (drawn, pdf) = self.surface.lobe_sample(&lobes[pick], known, u)?;
-        // A whole float's draw came from one of its tilt nodes: its density is the nodes'
-        // mean, as is that of a mixture of lobes.
-        let pdf = if lobes.len() == 1 && lobes[pick].tilt != Tilt::Float {
+        // A mixture's density is the mean of its lobes'.
+        let pdf = if lobes.len() == 1 {
             pdf
         } else {
             self.pdf_mix(&mix, known, drawn)

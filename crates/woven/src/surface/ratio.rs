@@ -49,19 +49,17 @@ const NODES: usize = THETA_DEG.len() * PHI;
 const MAGIC: &[u8; 4] = b"WRAT";
 
 /// What a build computes, beyond its inputs (part of the file and of its key): a change to the
-/// relief, the crown or the sampling of entries bumps it.
-const REVISION: u32 = 1;
+/// relief, the crown, the sampling of entries or the macro lobes' evaluation bumps it (2: a
+/// whole float read from its own table).
+const REVISION: u32 = 2;
 
 /// The cache key of `surface`'s ratio table: an FNV-1a hash of everything that decides it — the
 /// yarn table's values (and dye derivatives), the pattern, the cells' aspect (the relief scales
 /// with the cells), the gap, the floats' profile and the table's constants.
 fn key(surface: &WovenSurface) -> String {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    let mut eat = |bytes: &[u8]| {
-        for &b in bytes {
-            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
-        }
-    };
+    use crate::table::cache::{fnv1a, FNV_BASIS};
+    let mut h = FNV_BASIS;
+    let mut eat = |bytes: &[u8]| h = fnv1a(h, bytes);
     let table = &surface.yarn;
     for x in table.values() {
         eat(&x.to_le_bytes());

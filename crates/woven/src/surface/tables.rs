@@ -2,10 +2,11 @@
 //! ratio ([`ReliefRatio`]), each built on first use or prepared ahead (from a renderer's table
 //! cache and its folder).
 
-use super::{ReliefRatio, WovenSurface};
+use super::{Layout, ReliefRatio, WovenSurface};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::table::{Table, TableOptions};
+use crate::yarn::float::FloatProfile;
 use crate::Vec3;
 use std::sync::Arc;
 
@@ -17,6 +18,7 @@ impl WovenSurface {
     /// `"auto"`, or no pattern). `note` hears why a stored ratio was not used, or why a built
     /// one could not be stored (the surface works either way).
     pub fn prepare(&self, dir: Option<&std::path::Path>, note: &dyn Fn(&str)) {
+        self.prepare_tilted(dir, note);
         if self.relief.is_none() {
             return;
         }
@@ -52,6 +54,8 @@ impl WovenSurface {
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<WovenSurface> {
         if !self.resolves_relief() {
+            let dir = tables.disk().map(|d| d.dir().to_path_buf());
+            self.prepare_tilted(dir.as_deref(), &|m| tables.note(m));
             return Ok(self);
         }
         let crowned = TableOptions {
@@ -107,6 +111,63 @@ impl WovenSurface {
             };
             Arc::new(self.yarn.crowned(crate::relief::CROWN_DEG, &options))
         })
+    }
+
+    /// Builds now the tables of whole tilted floats the surface's macro lobes read
+    /// ([`tilted_table`](Self::tilted_table)), read from `dir` when stored there before (and
+    /// stored there when built, [`Table::tilted_in`]): none without a tilt.
+    fn prepare_tilted(&self, dir: Option<&std::path::Path>, note: &dyn Fn(&str)) {
+        if self.u_max == 0.0
+            || !matches!(self.layout, Layout::Macro { .. } | Layout::Pattern { .. })
+        {
+            return;
+        }
+        let build = |base: &Table, float: &FloatProfile| {
+            Arc::new(match dir {
+                Some(dir) => base.tilted_in(float, dir, note),
+                None => base.tilted(float),
+            })
+        };
+        match &self.relief {
+            Some(relief) => {
+                let [weft, warp] = [false, true].map(|warp| relief.float(warp));
+                let first = self.tilted[1].get_or_init(|| build(self.crowned(), &weft));
+                self.tilted[2].get_or_init(|| match warp == weft {
+                    true => Arc::clone(first),
+                    false => build(self.crowned(), &warp),
+                });
+            }
+            None => {
+                self.tilted[0].get_or_init(|| build(&self.yarn, &self.float));
+            }
+        }
+    }
+
+    /// The table a whole tilted float ([`Tilt::Float`](super::Tilt::Float)) of the family
+    /// `warp` reads, in that family's frame ([`Table::tilted`], built on first use): for a
+    /// resolved macro lobe the crowned yarn's table on the relief's float of that family (one
+    /// table when both families' floats are the same), else the yarn's table on the surface's
+    /// floats (the same for both families).
+    #[inline]
+    pub(super) fn tilted_table(&self, warp: bool, resolved: bool) -> &Arc<Table> {
+        match (&self.relief, resolved) {
+            (Some(relief), true) => self.tilted[1 + usize::from(warp)].get_or_init(|| {
+                let float = relief.float(warp);
+                match warp && float == relief.float(false) {
+                    true => Arc::clone(self.tilted_table(false, true)),
+                    false => Arc::new(self.crowned().tilted(&float)),
+                }
+            }),
+            _ => self.tilted[0].get_or_init(|| Arc::new(self.yarn.tilted(&self.float))),
+        }
+    }
+
+    /// The yarn's table averaged over a whole float of the surface ([`Table::tilted`], built on
+    /// first use): what a whole tilted float reads in its family's frame, outside the resolved
+    /// levels. `None` without a tilt (a flat surface, a whole table, `u_max` 0).
+    pub fn float_table(&self) -> Option<&Arc<Table>> {
+        (self.u_max > 0.0 && matches!(self.layout, Layout::Macro { .. } | Layout::Pattern { .. }))
+            .then(|| self.tilted_table(false, false))
     }
 
     /// Both families' relief ratios `[R_weft, R_warp]` at `(s, v)` ([`relief_ratio`](Self::relief_ratio)).

@@ -208,24 +208,40 @@ fn the_visible_share_of_weft_and_warp_changes_with_the_view() {
 
 /// A resolving surface's ratio table is stored in the folder it is prepared with, read back by
 /// the next surface of the same kind (the same values), and rebuilt, with a note, when the
-/// file is damaged.
+/// file is damaged; beside it, its tilted floats' tables (one per family, one for both when
+/// their floats are the same, as here), read back too.
 #[test]
 fn the_relief_ratio_is_kept_on_disk() {
     let name = "belt-cloth";
     // Any table serves what is kept: the small one the energy tests share.
     let t = crate::energy::yarn_table(name);
+    let tilted = || {
+        let spec = SurfaceSpec {
+            yarns_per_unit: [1.0, 1.0],
+            detail: Detail::Auto,
+            u_max: 25f64.to_radians(),
+            ..SurfaceSpec::new(Material::preset(name).unwrap())
+        };
+        WovenSurface::new(&spec, Arc::clone(&t)).unwrap()
+    };
     let dir = std::env::temp_dir().join(format!("woven-ratio-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let notes = std::sync::Mutex::new(Vec::<String>::new());
     let note = |m: &str| notes.lock().unwrap().push(m.to_string());
-    let first = surface(name, Detail::Auto, &t);
+    let first = tilted();
     first.prepare(Some(&dir), &note);
-    let files: Vec<_> = std::fs::read_dir(&dir)
+    let (files, floats): (Vec<_>, Vec<_>) = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .collect();
+        .partition(|p| p.extension().is_some_and(|e| e == "wrat"));
     assert_eq!(files.len(), 1, "{files:?}");
-    assert!(files[0].extension().is_some_and(|e| e == "wrat"));
+    assert!(
+        floats.len() == 1
+            && floats
+                .iter()
+                .all(|p| p.extension().is_some_and(|e| e == "wtab")),
+        "{floats:?}"
+    );
     let pairs = [
         (0.3, 0.2, 0.9, 2.5),
         (1.1, 4.0, 0.4, 0.7),
@@ -240,11 +256,24 @@ fn the_relief_ratio_is_kept_on_disk() {
             })
             .collect::<Vec<_>>()
     };
-    let second = surface(name, Detail::Auto, &t);
+    let second = tilted();
     let started = std::time::Instant::now();
     second.prepare(Some(&dir), &note);
     let loaded = started.elapsed();
     assert_eq!(ratios(&first), ratios(&second));
+    let cloth = SurfacePoint {
+        uv: [0.3, 0.6],
+        footprint: [[1e3, 0.0], [0.0, 1e3]],
+    };
+    let (wi, wo) = (
+        Vec3::from_spherical(0.4, 0.2),
+        Vec3::from_spherical(1.1, 2.9),
+    );
+    assert_eq!(
+        first.at(&cloth).eval(wi, wo),
+        second.at(&cloth).eval(wi, wo),
+        "the tilted tables read back"
+    );
     assert!(
         notes.lock().unwrap().is_empty(),
         "{:?}",
@@ -254,7 +283,7 @@ fn the_relief_ratio_is_kept_on_disk() {
     let mut bytes = std::fs::read(&files[0]).unwrap();
     bytes[100] ^= 0xff;
     std::fs::write(&files[0], bytes).unwrap();
-    let third = surface(name, Detail::Auto, &t);
+    let third = tilted();
     third.prepare(Some(&dir), &note);
     assert_eq!(ratios(&first), ratios(&third));
     let notes = notes.lock().unwrap();
