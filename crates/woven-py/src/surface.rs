@@ -550,6 +550,16 @@ impl Surface {
         self.material.clone().map(|inner| Material { inner })
     }
 
+    /// The yarn's table averaged over a whole tilted float (what a whole float reads in its
+    /// family's frame, outside the resolved levels; built on first use), or None without a
+    /// tilt.
+    #[getter]
+    fn float_table(&self, py: Python<'_>) -> Option<Table> {
+        let inner = &self.inner;
+        py.detach(|| inner.float_table().cloned())
+            .map(|inner| Table { inner })
+    }
+
     /// Whether the surface reads footprints (only patterns filter).
     #[getter]
     fn uses_footprint(&self) -> bool {

@@ -423,6 +423,10 @@ impl Table {
             Some(a) => d.set_item("own", (a.diffuse, a.interreflection))?,
             None => d.set_item("own", py.None())?,
         }
+        match r.crown {
+            Some(g) => d.set_item("crown", PyArray1::from_slice(py, g))?,
+            None => d.set_item("crown", py.None())?,
+        }
         d.set_item("marginal", PyArray1::from_slice(py, r.marginal))?;
         d.set_item("conditional", PyArray1::from_slice(py, r.conditional))?;
         d.set_item("horizon_weight", r.horizon_weight)?;

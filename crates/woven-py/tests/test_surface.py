@@ -63,6 +63,28 @@ def test_tilted_floats_report_where_the_viewer_enters_them(yarn):
     assert np.all(along[weight > 0] == 2.0) and np.allclose(weight.sum(axis=1), 1.0)
 
 
+def test_a_whole_float_is_one_look_up_in_its_own_table(yarn):
+    """Surface.float_table: None without a tilt; with one, the table a whole float reads (the
+    yarn's averaged over the float, dyeable: its raw arrays carry the interreflection factor), so
+    a weft-only macro surface is that table's look-up, dyed."""
+    assert woven.Surface(table=yarn, weft_fraction=1.0).float_table is None
+    weft = [0.7, 0.2, 0.1]
+    s = woven.Surface(table=yarn, weft_fraction=1.0, u_max_deg=30, weft_color=weft)
+    table = s.float_table
+    raw = table.raw()
+    assert raw["crown"] is not None and raw["crown"].shape == raw["values"].shape
+    rng = np.random.default_rng(8)
+    n = 300
+    wi, wo = random_dirs(rng, n), random_dirs(rng, n)
+    own = raw["own"]
+    dye = [(x, min(own[1] * x / own[0], 1.0)) for x in weft]
+    f = s.eval(rng.uniform(0, 1, (n, 2)), wi, wo)
+    for k in range(n):
+        np.testing.assert_allclose(f[k], np.ravel(table.eval_dyed(wi[k], wo[k], dye)), rtol=1e-12)
+    # Not the flat yarn's: the float's tilt moves its sheen.
+    assert np.abs(f - s.table.eval_dyed(wi, wo, dye)).max() > 0.01 * f.max()
+
+
 @pytest.mark.parametrize("detail", ["auto", "fibers", "yarns"])
 @pytest.mark.parametrize("mode", ["radiance", "importance"])
 def test_draws_have_the_density_pdf_reports(yarn, mode, detail):

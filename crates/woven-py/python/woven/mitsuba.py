@@ -38,7 +38,8 @@ missing reciprocity is handled exactly: the weight is the true f(wi, wo) cos θ 
 Dr.Jit can gather: a surface at ``detail`` "yarns" or "cloth" (and any surface without a
 pattern) is the yarn table's interpolation and sampling (``JitTable``) at the lobes of each lane's
 cell, float and gap (``JitLayout``, from the constants ``Surface.layout()`` hands over; the
-tilted floats' geometry in ``JitFloat``), compiled into Mitsuba's kernels. What the library
+tilted floats' geometry in ``JitFloat``; a whole tilted float is one look-up in its own table,
+``Surface.float_table``), compiled into Mitsuba's kernels. What the library
 computes and Dr.Jit does not trace — ``detail`` "auto" (the default) and "fibers" on a pattern
 (the weave's relief, its crowned table, the fibres' draws), floats shaped by
 ``float_crest``/``float_flank``, ``irregularity``, and microcylinder fabrics — the library
@@ -151,6 +152,7 @@ class JitTable:
         self.slopes = F(np.tan(self.K * tn * np.abs(tn)))
         self.values = F(raw["values"])
         self.body = F(raw["body"]) if raw["body"] is not None else None
+        self.crown = F(raw["crown"]) if raw.get("crown") is not None else None
         self.own = raw["own"]
         self.per_interreflection = raw["per_interreflection"]
         self.marginal = F(raw["marginal"])
@@ -310,9 +312,14 @@ class JitTable:
         if self.body is None:
             f = self.eval(s, v, active)
             return diffuse * 0.0 + f
-        f, body = self._eval_arrays(s, v, [self.values, self.body], active)
         d0, r0 = self.own
-        out = f + (diffuse - d0) * body + (interreflection - r0) * self.per_interreflection
+        if self.crown is None:
+            f, body = self._eval_arrays(s, v, [self.values, self.body], active)
+            per = self.per_interreflection
+        else:
+            f, body, g = self._eval_arrays(s, v, [self.values, self.body, self.crown], active)
+            per = self.per_interreflection * g
+        out = f + (diffuse - d0) * body + (interreflection - r0) * per
         return dr.maximum(out, 0.0)
 
     # -- sampling (grid.rs, sampler.rs) --------------------------------------------------------
@@ -706,11 +713,6 @@ class JitLayout:
 # A lobe's ``along`` (JitLayout): a flat yarn, a whole tilted float.
 FLAT, FLOAT = -1.0, 2.0
 
-# TILT_NODES (crates/woven/src/surface.rs): a whole float's Gauss–Legendre nodes on [−1, 1], and
-# the midpoints its density and draws use.
-TILT_NODES = 8
-_GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(TILT_NODES)
-
 # Bisection steps of the float's roots: 2⁻²⁴ of [0, 1], float32's resolution.
 _ROOT_STEPS = 24
 
@@ -718,20 +720,6 @@ _ROOT_STEPS = 24
 def _const(along, value):
     """Whether a lobe's ``along`` is the constant ``value`` (not lanes)."""
     return isinstance(along, float) and along == value
-
-
-def _sum_over_nodes(mi, term, zero):
-    """``zero`` + Σ ``term(k)`` over the tilt nodes k = 0 … TILT_NODES − 1, in a symbolic loop:
-    one copy of a node's table look-up in the kernel (eight unrolled made kernels that LLVM took
-    half a minute to compile)."""
-    import drjit as dr
-
-    _, total = dr.while_loop(
-        state=(mi.UInt32(0), zero),
-        cond=lambda k, _: k < TILT_NODES,
-        body=lambda k, acc: (k + 1, acc + term(k)),
-    )
-    return total
 
 
 class JitFloat:
@@ -791,14 +779,6 @@ class JitFloat:
         minus = d.x < 0
         lo, hi = dr.select(minus, 1.0 - hi, lo), dr.select(minus, 1.0 - lo, hi)
         return dr.select(along, lo, 0.0), dr.select(along, hi, 1.0), ok
-
-    def lit_and_visible(self, s, v):
-        """``FloatProfile::lit_and_visible``: (lo, hi, ok)."""
-        dr = self.dr
-        a0, a1, oka = self.lit(s)
-        b0, b1, okb = self.lit(v)
-        lo, hi = dr.maximum(a0, b0), dr.minimum(a1, b1)
-        return lo, hi, oka & okb & (lo < hi)
 
     def seen_at(self, entry, v):
         """``FloatProfile::seen_at``: the fraction along the float of the point that the ray
@@ -861,7 +841,9 @@ def _bsdf_class(mi):
             if jit and not self.library:
                 self.jt = JitTable(self.table, mi)
                 self.layout = JitLayout(self.surface, mi, self.filter)
-                self.gl_nodes, self.gl_weights = mi.Float(_GL_NODES), mi.Float(_GL_WEIGHTS)
+                # A whole tilted float's table (Table::tilted): one look-up.
+                tilted = self.layout.float is not None
+                self.jt_float = JitTable(self.surface.float_table, mi) if tilted else None
 
         # -- colour ---------------------------------------------------------------------------
 
@@ -892,7 +874,7 @@ def _bsdf_class(mi):
         def _lobe_eval(self, lobe, s, v, si, active):
             """One lobe's f per channel for light from ``s`` seen from ``v``: flat, a point of a
             tilted float (the facet the viewer's ray meets, if lit: f′ cos θ′i / cos θi) or a
-            whole float (its lit-and-visible part, Gauss–Legendre nodes)."""
+            whole float (its own table's look-up)."""
             warp, along, _ = lobe
             a, b = _turn(mi, dr, s, warp), _turn(mi, dr, v, warp)
             rho0, rho = self._albedos(warp, si, active)
@@ -900,19 +882,7 @@ def _bsdf_class(mi):
             if _const(along, FLAT) or fl is None:
                 return self.jt.eval_dyed(a, b, rho0, rho, active)
             if _const(along, FLOAT):
-                lo, hi, seen = fl.lit_and_visible(a, b)
-                mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
-
-                def node(k):
-                    x = dr.gather(mi.Float, self.gl_nodes, k)
-                    sn, cs = dr.sincos(fl.tilt(mid + half * x))
-                    ta, tb = _tilt_into(mi, a, sn, cs), _tilt_into(mi, b, sn, cs)
-                    ok = active & seen & (ta.z > 0) & (tb.z > 0)
-                    w = half * dr.gather(mi.Float, self.gl_weights, k)
-                    scale = w * ta.z * tb.z / dr.select(ok, a.z * b.z * cs, 1.0)
-                    return dr.select(ok, self.jt.eval_dyed(ta, tb, rho0, rho, ok) * scale, 0.0)
-
-                return _sum_over_nodes(mi, node, dr.zeros(mi.Color3f, dr.width(a)))
+                return self.jt_float.eval_dyed(a, b, rho0, rho, active)
             # Lanes: an entry fraction, or flat (ψ = 0: the same look-up, bit for bit).
             flat = along < 0
             t = fl.seen_at(dr.select(flat, 0.0, along), b)
@@ -931,19 +901,14 @@ def _bsdf_class(mi):
 
         def _lobe_pdf(self, lobe, known, drawn, active):
             """One lobe's density: a point of a float in the tilt of the facet ``known``'s ray
-            meets, a whole float the mean over its TILT_NODES midpoint tilts."""
+            meets, a whole float its own table's."""
             warp, along, _ = lobe
             k, d = _turn(mi, dr, known, warp), _turn(mi, dr, drawn, warp)
             fl = self.layout.float
             if _const(along, FLAT) or fl is None:
                 return dr.select(active, self.jt.pdf(k, d, active), 0.0)
             if _const(along, FLOAT):
-
-                def node(i):
-                    sn, cs = dr.sincos(fl.tilt((mi.Float(i) + 0.5) / TILT_NODES))
-                    return self._tilted_pdf(k, d, sn, cs, active)
-
-                return _sum_over_nodes(mi, node, dr.zeros(mi.Float, dr.width(k))) / TILT_NODES
+                return dr.select(active, self.jt_float.pdf(k, d, active), 0.0)
             flat = along < 0
             t = fl.seen_at(dr.select(flat, 0.0, along), k)
             sn, cs = dr.sincos(dr.select(flat, 0.0, fl.tilt(t)))
@@ -970,8 +935,8 @@ def _bsdf_class(mi):
         def _sample_jit(self, si, sample1, sample2, active):
             """(wo, pdf, ok): a lobe picked with ``sample1`` in proportion to its weight, a
             direction drawn from it with ``sample2`` (``WovenSurface::lobe_sample``: a point of
-            a float in the tilt its facet seen from ``si.wi`` has, a whole float in one of its
-            TILT_NODES midpoint tilts, picked with ``sample2.x``), the mixture's density."""
+            a float in the tilt its facet seen from ``si.wi`` has, a whole float from its own
+            table), the mixture's density."""
             lobes = self.layout.lobes(si)
             total = mi.Float(0.0)
             for lobe in lobes:
@@ -991,26 +956,26 @@ def _bsdf_class(mi):
             known = _turn(mi, dr, si.wi, warp)
             u0 = sample2.x
             fl = self.layout.float
-            if fl is not None:
-                whole, flat = along > 1.5, along < 0
-                node = dr.minimum(dr.floor(u0 * TILT_NODES), TILT_NODES - 1)
-                t = (node + 0.5) / TILT_NODES
-                if any(not isinstance(lt, float) for _, lt, _ in lobes):
-                    seen = fl.seen_at(dr.select(whole | flat, 0.0, along), known)
-                    t = dr.select(whole, t, seen)
-                u0 = dr.select(whole, u0 * TILT_NODES - node, u0)
-                sn, cs = dr.sincos(dr.select(flat, 0.0, fl.tilt(t)))
+            # Lanes on a point of a tilted float draw in the tilt of the facet their ray meets.
+            points = fl is not None and any(not isinstance(lt, float) for _, lt, _ in lobes)
+            if points:
+                plain = (along < 0) | (along > 1.5)
+                t = fl.seen_at(dr.select(plain, 0.0, along), known)
+                sn, cs = dr.sincos(dr.select(plain, 0.0, fl.tilt(t)))
                 known = _tilt_into(mi, known, sn, cs)
             active &= known.z > 0
             d, pdf, ok = self.jt.sample_direction(known, u0, sample2.y, active)
-            if fl is not None:
+            if fl is not None and any(not isinstance(lt, float) or lt == FLOAT for _, lt, _ in lobes):
+                # Lanes on a whole float draw from its own table.
+                whole = along > 1.5
+                dw, pw, okw = self.jt_float.sample_direction(known, u0, sample2.y, active & whole)
+                d, pdf, ok = dr.select(whole, dw, d), dr.select(whole, pw, pdf), dr.select(whole, okw, ok)
+            if points:
                 d = _tilt_from(mi, d, sn, cs)
             wo = _unturn(mi, dr, d, warp)
             ok &= active & (wo.z > 0)
             if len(lobes) > 1:
                 pdf = self._pdf_mix(lobes, si.wi, wo, ok)
-            elif _const(lobes[0][1], FLOAT):
-                pdf = self._lobe_pdf(lobes[0], si.wi, wo, ok)
             return wo, pdf, ok
 
         # -- the BSDF interface ----------------------------------------------------------------
