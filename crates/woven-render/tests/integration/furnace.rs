@@ -159,7 +159,7 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
 
 #[path = "../support/white_plane.rs"]
 mod white_plane_scene;
-pub use white_plane_scene::{furnace_figures, white_plane};
+pub use white_plane_scene::{furnace_figures, furnace_figures_with_noise, white_plane};
 
 /// Renders the white plane of every preset at fibre, auto and yarn level, flat and tilted with
 /// gaps, at 16 cells and at 128 (many yarns, whose drawn slopes average out);
@@ -169,11 +169,12 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
     for preset in presets.iter().copied() {
         for (u_max, gap) in [(0.0, 0.0), (60.0, 0.3)] {
             for cells in [16, 128] {
-                let mut means = Vec::new();
+                let (mut means, mut noise) = (Vec::new(), Vec::new());
                 for detail in ["fibers", "auto", "yarns"] {
                     let text = white_plane(preset, (detail, u_max, gap), cells, px, spp);
                     let image = crate::render_text(&text);
-                    let (brightest, above, mean, excess) = furnace_figures(&image);
+                    let (brightest, above, mean, excess, mean_se) =
+                        furnace_figures_with_noise(&image);
                     let what = format!("{preset} {detail} u_max {u_max}° gap {gap}, {cells} cells");
                     eprintln!(
                         "white furnace: {what}: brightest {brightest:.3}, above 1.05 {:.1} %, \
@@ -187,14 +188,18 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
                         "{what}: a pixel {excess} standard errors above 1"
                     );
                     means.push(mean);
+                    noise.push(mean_se);
                 }
                 // Far away `auto` is the resolved yarns' cell average (the ratio-scaled macro
-                // lobes): the fibres keep its mean. (The paper's yarns, unshadowed by their
+                // lobes): the fibres keep its mean, within 2 % and the two means' noise (3
+                // standard errors of their difference). (The paper's yarns, unshadowed by their
                 // neighbours, are brighter: printed, not held.)
                 if cells == 128 {
+                    let se = noise[0].hypot(noise[1]);
                     assert!(
-                        (means[0] - means[1]).abs() <= 0.02 * means[1],
-                        "{preset} u_max {u_max}° gap {gap}: fibres' mean {} vs resolved yarns' {}",
+                        (means[0] - means[1]).abs() <= 0.02 * means[1] + 3.0 * se,
+                        "{preset} u_max {u_max}° gap {gap}: fibres' mean {} vs resolved yarns' {} \
+                         (± {se:.4})",
                         means[0],
                         means[1]
                     );

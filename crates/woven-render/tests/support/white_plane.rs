@@ -53,6 +53,14 @@ pub fn white_plane(
 /// The brightest pixel (its largest channel), the share of pixels above 1.05, the image mean
 /// and the largest excess over 1 in the pixel's own standard errors, of a white plane's furnace.
 pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f64) {
+    let (brightest, above, mean, excess, _) = furnace_figures_with_noise(image);
+    (brightest, above, mean, excess)
+}
+
+/// [`furnace_figures`] and the standard error of the image mean (from the pixels' own).
+pub fn furnace_figures_with_noise(
+    image: &woven_render::render::Image,
+) -> (f64, f64, f64, f64, f64) {
     let values: Vec<f64> = image.pixels.iter().map(|p| p.max()).collect();
     let n = values.len() as f64;
     let brightest = values.iter().copied().fold(0.0, f64::max);
@@ -64,5 +72,12 @@ pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f
         .zip(&image.std_error)
         .map(|(p, se)| (p.max() - 1.0) / se.max().max(1e-9))
         .fold(f64::NEG_INFINITY, f64::max);
-    (brightest, above, mean, excess)
+    let mean_se = image
+        .std_error
+        .iter()
+        .map(|se| se.0[1].powi(2))
+        .sum::<f64>()
+        .sqrt()
+        / n;
+    (brightest, above, mean, excess, mean_se)
 }
