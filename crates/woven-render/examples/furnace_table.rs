@@ -51,7 +51,7 @@ fn main() {
         ("fibers", 60.0, 0.3),
     ] {
         let image = render_text(&white_plane("polyester-sateen", config, 16, 128, 256));
-        let (brightest, above, mean, excess) = furnace_figures(&image);
+        let (brightest, above, mean, excess, _) = furnace_figures(&image);
         println!(
             "| {config:?} | {brightest:.3} | {:.2} % | {mean:.4} | {excess:.1} |",
             100.0 * above

@@ -159,7 +159,7 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
 
 #[path = "../support/white_plane.rs"]
 mod white_plane_scene;
-pub use white_plane_scene::{furnace_figures, furnace_figures_with_noise, white_plane};
+pub use white_plane_scene::{furnace_figures, white_plane};
 
 /// Renders the white plane of every preset at fibre, auto and yarn level, flat and tilted with
 /// gaps, at 16 cells and at 128 (many yarns, whose drawn slopes average out);
@@ -173,8 +173,7 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
                 for detail in ["fibers", "auto", "yarns"] {
                     let text = white_plane(preset, (detail, u_max, gap), cells, px, spp);
                     let image = crate::render_text(&text);
-                    let (brightest, above, mean, excess, mean_se) =
-                        furnace_figures_with_noise(&image);
+                    let (brightest, above, mean, excess, mean_se) = furnace_figures(&image);
                     let what = format!("{preset} {detail} u_max {u_max}° gap {gap}, {cells} cells");
                     eprintln!(
                         "white furnace: {what}: brightest {brightest:.3}, above 1.05 {:.1} %, \

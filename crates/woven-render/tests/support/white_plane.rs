@@ -50,17 +50,10 @@ pub fn white_plane(
     )
 }
 
-/// The brightest pixel (its largest channel), the share of pixels above 1.05, the image mean
-/// and the largest excess over 1 in the pixel's own standard errors, of a white plane's furnace.
-pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f64) {
-    let (brightest, above, mean, excess, _) = furnace_figures_with_noise(image);
-    (brightest, above, mean, excess)
-}
-
-/// [`furnace_figures`] and the standard error of the image mean (from the pixels' own).
-pub fn furnace_figures_with_noise(
-    image: &woven_render::render::Image,
-) -> (f64, f64, f64, f64, f64) {
+/// The brightest pixel (its largest channel), the share of pixels above 1.05, the image mean,
+/// the largest excess over 1 in the pixel's own standard errors, and the standard error of the
+/// image mean (from the pixels' own), of a white plane's furnace.
+pub fn furnace_figures(image: &woven_render::render::Image) -> (f64, f64, f64, f64, f64) {
     let values: Vec<f64> = image.pixels.iter().map(|p| p.max()).collect();
     let n = values.len() as f64;
     let brightest = values.iter().copied().fold(0.0, f64::max);
