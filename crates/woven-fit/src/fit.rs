@@ -115,9 +115,38 @@ impl FitOptions {
                 return Err(FitError::invalid(name, 0, "at least 1 measurement"));
             }
         }
+        // The budgets: every start is a parameter set kept until the starts are ranked, every
+        // iteration a run of the model over the measurements.
+        for (name, value, max) in [
+            ("starts", self.starts, MAX_STARTS),
+            ("refine", self.refine, MAX_STARTS),
+            ("refine_iterations", self.refine_iterations, MAX_ITERATIONS),
+            ("max_iterations", self.max_iterations, MAX_ITERATIONS),
+            ("polish_iterations", self.polish_iterations, MAX_ITERATIONS),
+        ] {
+            if value > max {
+                return Err(FitError::invalid(
+                    name,
+                    value,
+                    format!(
+                        "at most {max} (the fit's budget; {value} is {:.0}x it)",
+                        value as f64 / max as f64
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 }
+
+/// The most multi-start points a fit draws ([`FitOptions::starts`], and the refined
+/// [`FitOptions::refine`]): each is a parameter set held until they are ranked, and 10⁵ take
+/// hours on the default subset.
+pub const MAX_STARTS: usize = 100_000;
+
+/// The most iterations of a run ([`FitOptions::max_iterations`], `refine_iterations`,
+/// `polish_iterations`).
+pub const MAX_ITERATIONS: usize = 100_000;
 
 impl Default for FitOptions {
     fn default() -> Self {
@@ -201,6 +230,16 @@ impl Observations {
             return Err(err(format!(
                 "no usable measurement ({} dropped: negative, not finite, saturated or of zero weight)",
                 dropped
+            )));
+        }
+        if obs
+            .iter()
+            .all(|o| o.value[..channels].iter().all(|&x| x == 0.0))
+        {
+            return Err(err(format!(
+                "all {} usable measurements are 0: nothing to fit (a model scaled to 0 fits any \
+                 such data exactly)",
+                obs.len()
             )));
         }
         let mut eps = [1e-12; 3];
@@ -813,7 +852,7 @@ pub fn fit(
     evaluations += problem.evaluations.get();
     fitted = problem.set.clone();
     let parts = problem.parts.clone();
-    Ok(report::assemble(
+    let result = report::assemble(
         dataset,
         fitted,
         &data,
@@ -823,7 +862,27 @@ pub fn fit(
         &res,
         evaluations,
         termination,
-    ))
+    );
+    if !(result.relative_rms.is_finite() && result.rms_log.is_finite()) {
+        return Err(FitError::Data {
+            name: dataset.name.clone(),
+            message: format!(
+                "the fit's error is not finite (relative RMS {}, log RMS {}): values too large \
+                 for the model to reach in floating point, or parameters held where the model \
+                 overflows",
+                result.relative_rms, result.rms_log
+            ),
+        });
+    }
+    if result.predicted.iter().all(|p| p.iter().all(|&x| x == 0.0)) {
+        return Err(FitError::Data {
+            name: dataset.name.clone(),
+            message: "the fitted model is 0 at every measurement (a parameter held at a value \
+                      that blanks it?)"
+                .into(),
+        });
+    }
+    Ok(result)
 }
 
 /// Runs of the microcylinder's energy guard ([`crate::microcylinder`]) before the final run is

@@ -970,11 +970,14 @@ impl ParamSet {
     pub fn fix(&mut self, name: &str, value: f64) -> Result<(), FitError> {
         for i in self.matching(name)? {
             let p = &mut self.params[i];
-            if !value.is_finite() || value < p.lo || value > p.hi {
+            // A log-scaled parameter (a scale, a roughness) never reaches its lower bound.
+            let open = p.transform == Transform::Log;
+            if !value.is_finite() || value < p.lo || (open && value <= p.lo) || value > p.hi {
+                let lo = if open { "(" } else { "[" };
                 return Err(FitError::invalid(
                     &p.name,
                     value,
-                    format!("a value in [{}, {}]", p.lo, p.hi),
+                    format!("a finite value in {lo}{}, {}]", p.lo, p.hi),
                 ));
             }
             p.value = value;

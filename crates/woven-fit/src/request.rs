@@ -100,6 +100,7 @@ impl FitRequest {
             }
             (model, None) => ParamSet::new(model, None, channels, relative)?,
         };
+        self.check_named_once()?;
         for f in &self.fix {
             set.fix_arg(f)?;
         }
@@ -107,6 +108,29 @@ impl FitRequest {
             set.free(f.trim())?;
         }
         Ok(set)
+    }
+
+    /// Refuses a parameter named twice across `fix` and `free`: held twice, freed twice, or held
+    /// and freed at once (which wins would depend on the order).
+    fn check_named_once(&self) -> Result<(), FitError> {
+        let fixed = self
+            .fix
+            .iter()
+            .map(|f| ("fix", f.split_once('=').map_or(f.as_str(), |(n, _)| n)));
+        let freed = self.free.iter().map(|f| ("free", f.as_str()));
+        let mut seen: Vec<(&str, &str)> = Vec::new();
+        for (key, name) in fixed.chain(freed) {
+            let name = name.trim();
+            if let Some((first, _)) = seen.iter().find(|(_, n)| *n == name) {
+                return Err(FitError::invalid(
+                    key,
+                    name,
+                    format!("each parameter named once across fix and free (already in {first})"),
+                ));
+            }
+            seen.push((key, name));
+        }
+        Ok(())
     }
 
     /// Fits `dataset`: [`param_set`](Self::param_set), then [`fit`](crate::fit()) with
