@@ -9,7 +9,7 @@ use super::parse::{
 use super::{
     CameraSpec, Film, InsetSpec, IntegratorSettings, LightDesc, MaterialDesc, MeshSource,
     SceneDescription, ShapeDesc, Strategy, MAX_EXPOSURE, MAX_FILM_SIDE, MAX_GAP, MAX_SPP,
-    MAX_U_MAX_DEG,
+    MAX_U_MAX_DEG, SAMPLING_WEIGHT_RANGE,
 };
 use crate::color::Rgb;
 use crate::rng::SamplerKind;
@@ -254,11 +254,12 @@ fn lights(c: &Checker, raw: Vec<Spanned<RawLight>>) -> Result<(Vec<LightDesc>, V
         let key = format!("light[{k}]");
         let l = l.into_inner();
         let weight = l.sampling_weight();
-        if !(weight.is_finite() && weight > 0.0) {
+        let (lo, hi) = SAMPLING_WEIGHT_RANGE;
+        if !(lo..=hi).contains(&weight) {
             return Err(c.err(
                 &format!("{key}.sampling_weight"),
                 at,
-                format!("{weight}: expected a finite number > 0"),
+                format!("{weight:e}: expected a number in [{lo:e}, {hi:e}] (only ratios matter)"),
             ));
         }
         light_weights.push(weight);

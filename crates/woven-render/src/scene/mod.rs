@@ -55,6 +55,9 @@ pub const MAX_FILM_SIDE: usize = 1 << 14;
 pub const MAX_SPP: usize = 1 << 20;
 /// The largest `[film] exposure`, stops either way.
 pub const MAX_EXPOSURE: f64 = 20.0;
+/// The range of a light's `sampling_weight`: only ratios matter, and within it any number of
+/// lights' weights sum without overflow.
+pub const SAMPLING_WEIGHT_RANGE: (f64, f64) = (1e-12, 1e12);
 
 /// The camera as the file gives it.
 #[derive(Clone, Debug, PartialEq)]
