@@ -5,6 +5,7 @@ use crate::args::parse_finite;
 use crate::progress::Progress;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use woven::table::TableOptions;
@@ -236,7 +237,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     )?;
     bar.finish();
     for path in &outputs {
-        output::write(&image, path, &desc.film.display)?;
+        // Encoded here, written by the command line's atomic writer: an interruption while
+        // writing removes the temporary file.
+        let format = output::format_of(path)?;
+        let bytes = output::encode(&image, format, &desc.film.display, path)?;
+        crate::io::write_atomically(path, |w| Ok(w.write_all(&bytes)?))?;
     }
     println!(
         "rendered {} ({}×{}, {} spp{}) in {:.1} s ({:.2} M samples/s; {:.1} s in all):",
