@@ -922,3 +922,13 @@ def test_the_documented_example_scene_renders(llvm, cache, tmp_path):
     image = np.array(mi.render(scene, spp=4))
     assert np.isfinite(image).all()
     assert 0.05 < image.mean() < 2.0, image.mean()
+
+
+def test_a_boolean_key_must_be_a_boolean(llvm, interpolated_sateen):
+    """`footprint_filter` = "false" (a string, truthy in Python) is refused naming the key, not
+    read as on."""
+    base = {"type": "woven", "table": str(interpolated_sateen), "pattern": "plain"}
+    for bad in ("false", 0, "true"):
+        with pytest.raises(Exception, match="footprint_filter"):
+            mi.load_dict({**base, "footprint_filter": bad})
+    assert not mi.load_dict({**base, "footprint_filter": False}).filter

@@ -530,6 +530,19 @@ if set(_READERS) | set(_OWN_KEYS) != set(_KEYS):
 # The plugin's default for ``footprint_filter`` (scenes: the ``[integrator]`` key's).
 _FILTER_DEFAULT = _KEYS["footprint_filter"]["default"] == "true"
 
+
+def _boolean(props, key, default):
+    """A boolean property: True or False (XML's ``<boolean>``), ``default`` when absent. Anything
+    else is refused, naming the key: the string "false" is not false."""
+    if key not in props:
+        return default
+    value = props[key]
+    if isinstance(value, bool):
+        return value
+    raise ValueError(
+        f"woven: `{key}` = {value!r}: expected a boolean (True or False; <boolean> in XML)"
+    )
+
 # The keys of the woven cloth that a microcylinder fabric has no use for.
 _WOVEN_ONLY_KEYS = tuple(name for name in _KEYS if name != "material")
 
@@ -815,9 +828,7 @@ def _bsdf_class(mi):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             self.surface, self.textures, self.irregular = _surface(props, mi)
-            self.filter = (
-                bool(props["footprint_filter"]) if "footprint_filter" in props else _FILTER_DEFAULT
-            )
+            self.filter = _boolean(props, "footprint_filter", _FILTER_DEFAULT)
             self.table = self.surface.table
             self.material = self.surface.material
             self.own = self.table.raw()["own"]
