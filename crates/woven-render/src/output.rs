@@ -65,18 +65,18 @@ pub fn encode(image: &Image, format: Format, display: &Display, path: &Path) -> 
     Ok(bytes.into_inner())
 }
 
-/// Writes `image` as linear float32 RGB OpenEXR ([`write`]).
+/// Writes `image` as linear float32 RGB OpenEXR ([`write`](fn@write)).
 ///
 /// # Errors
-/// As [`write`].
+/// As [`write`](fn@write).
 pub fn write_exr(image: &Image, path: &Path) -> Result<()> {
     write_as(image, Format::Exr, &Display::default(), path)
 }
 
-/// Writes `image` as an 8-bit sRGB PNG through `display` ([`write`]).
+/// Writes `image` as an 8-bit sRGB PNG through `display` ([`write`](fn@write)).
 ///
 /// # Errors
-/// As [`write`].
+/// As [`write`](fn@write).
 pub fn write_png(image: &Image, path: &Path, display: &Display) -> Result<()> {
     write_as(image, Format::Png, display, path)
 }
