@@ -79,6 +79,9 @@ impl WovenSurface {
         V: Default + std::ops::AddAssign + std::ops::Mul<f64, Output = V>,
     {
         let (wi, wo) = into_lobe_frame(lobe, wi, wo);
+        if lobe.tilt == Tilt::Float {
+            return read(self.tilted_table(lobe.warp, lobe.resolved), wi, wo);
+        }
         let (table, float) = match (&self.relief, lobe.resolved) {
             (Some(relief), true) => (self.crowned(), &relief.float(lobe.warp)),
             _ => (&*self.yarn, &self.float),
@@ -104,7 +107,7 @@ impl WovenSurface {
                 leaning(Lean::tilted(float.tilt(t).sin_cos()))
             }
             Tilt::Relief { lean, .. } => leaning(lean),
-            Tilt::Float => read(self.tilted_table(lobe.warp, lobe.resolved), wi, wo),
+            Tilt::Float => unreachable!("a whole float reads its own table, above"),
         }
     }
 
