@@ -31,6 +31,47 @@ pub struct Accel {
     prepared: Vec<Prepared>,
     meshes: Vec<Mesh>,
     bvh: CwBvh,
+    /// Primitives whose padded boxes are identical share one leaf of the hierarchy: the
+    /// builder's nearest-neighbour merging (PLOC) finds no pair to merge among equal boxes
+    /// and goes quadratic (30 000 coincident triangles took 27 s). `None` when every box is
+    /// distinct; otherwise leaf `i` holds `order[starts[i]..starts[i + 1]]`.
+    groups: Option<Groups>,
+}
+
+/// The primitives of each distinct box, in compressed rows.
+struct Groups {
+    starts: Vec<u32>,
+    order: Vec<u32>,
+}
+
+impl Groups {
+    /// Groups equal boxes; `None` when all are distinct. The kept boxes are each group's, in
+    /// group order.
+    fn of(bounds: &mut Vec<Bounds>) -> Option<Groups> {
+        let key = |b: &Bounds| {
+            let (lo, hi) = (b.0.min, b.0.max);
+            [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z].map(f32::to_bits)
+        };
+        let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
+        order.sort_unstable_by_key(|&i| key(&bounds[i as usize]));
+        if order
+            .windows(2)
+            .all(|w| key(&bounds[w[0] as usize]) != key(&bounds[w[1] as usize]))
+        {
+            return None;
+        }
+        let mut starts = Vec::new();
+        let mut unique = Vec::new();
+        for (k, &i) in order.iter().enumerate() {
+            if k == 0 || key(&bounds[i as usize]) != key(&bounds[order[k - 1] as usize]) {
+                starts.push(k as u32);
+                unique.push(Bounds(bounds[i as usize].0));
+            }
+        }
+        starts.push(order.len() as u32);
+        *bounds = unique;
+        Some(Groups { starts, order })
+    }
 }
 
 /// Scenes of at most this many primitives are intersected by a loop over all of them: a
@@ -70,7 +111,9 @@ impl Accel {
                 ))
             })
             .collect();
-        let bvh = if bounds.len() <= BRUTE_FORCE_MAX {
+        let mut bounds = bounds;
+        let groups = Groups::of(&mut bounds);
+        let bvh = if prims.len() <= BRUTE_FORCE_MAX {
             CwBvh::default()
         } else {
             obvhs::cwbvh::builder::build_cwbvh(
@@ -85,7 +128,22 @@ impl Accel {
             prepared,
             meshes,
             bvh,
+            groups,
         }
+    }
+
+    /// The primitives of the hierarchy's primitive `id`: one, or a group of coincident ones.
+    #[inline]
+    fn members(&self, id: u32) -> impl Iterator<Item = usize> + '_ {
+        let leaf = self.bvh.primitive_indices[id as usize];
+        let range = match &self.groups {
+            None => leaf..leaf + 1,
+            Some(g) => g.starts[leaf as usize]..g.starts[leaf as usize + 1],
+        };
+        range.map(move |k| match &self.groups {
+            None => k as usize,
+            Some(g) => g.order[k as usize] as usize,
+        })
     }
 
     /// Every primitive, in scene order.
@@ -135,14 +193,18 @@ impl Accel {
             let mut hit = RayHit::none();
             self.bvh
                 .ray_traverse(Self::ray_f32(ray, t_max), &mut hit, |_, id| {
-                    let index = self.bvh.primitive_indices[id] as usize;
-                    match self.crossing(index, ray, t_min, best_t) {
-                        Some(c) => {
+                    let mut found = false;
+                    for index in self.members(id as u32) {
+                        if let Some(c) = self.crossing(index, ray, t_min, best_t) {
                             best_t = c.t;
                             best = Some((index, c));
-                            f32_up(best_t)
+                            found = true;
                         }
-                        None => f32::INFINITY,
+                    }
+                    if found {
+                        f32_up(best_t)
+                    } else {
+                        f32::INFINITY
                     }
                 });
         }
@@ -159,10 +221,13 @@ impl Accel {
         !self
             .bvh
             .ray_traverse_miss(Self::ray_f32(ray, t_max), |_, id| {
-                let index = self.bvh.primitive_indices[id] as usize;
-                match self.crossing(index, ray, t_min, t_max) {
-                    Some(_) => 0.0,
-                    None => f32::INFINITY,
+                let hit = self
+                    .members(id as u32)
+                    .any(|index| self.crossing(index, ray, t_min, t_max).is_some());
+                if hit {
+                    0.0
+                } else {
+                    f32::INFINITY
                 }
             })
     }

@@ -37,6 +37,15 @@ pub enum Error {
     /// The model library refused a material or table.
     #[error(transparent)]
     Woven(#[from] woven::Error),
+    /// An input within its ranges that would take more than a budget allows (memory, above
+    /// all), refused before anything is allocated.
+    #[error("over the {budget} budget: {message}")]
+    OverBudget {
+        /// Which budget: `film`, `triangles`.
+        budget: String,
+        /// What the input would take, the budget, and what fits.
+        message: String,
+    },
     /// An invalid render setting (from the command line or a caller).
     #[error("invalid setting `{name}` = {value}: expected {expected}")]
     InvalidSetting {

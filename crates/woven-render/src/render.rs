@@ -18,6 +18,63 @@ pub const INSET_BORDER: Rgb = Rgb([4.0, 4.0, 4.0]);
 /// Tile side, pixels: small enough to balance the cores, large enough to amortize the overhead.
 pub const TILE: usize = 16;
 
+/// How many pixels a band of tiles holds at least, rendered over all cores before the next
+/// band starts: enough tiles to keep every core busy, few enough that the band's samples,
+/// kept until it ends, are small beside the film (a million pixels, some 140 MB).
+const BAND_PIXELS: usize = 1 << 20;
+
+/// The film budget, bytes: the most memory a render's film may take ([`film_bytes`]), 8 GiB.
+/// Over it a render is refused before anything is allocated; 8192 × 8192 fits (4096 × 4096
+/// with the denoiser, whose guides and working set take four times the memory).
+pub const FILM_BUDGET_BYTES: u64 = 8 << 30;
+
+/// The memory a `width` × `height` render holds, bytes: the film's means and standard errors
+/// (and the denoiser's guides, its second colour and weights when `denoise`), the band being
+/// rendered, and the encoded output file.
+pub fn film_bytes(width: usize, height: usize, denoise: bool) -> u64 {
+    let rgb = std::mem::size_of::<Rgb>();
+    // Means and errors, and the output encoded (at most 4 bytes a channel, RGBA).
+    let mut per_pixel = 2 * rgb + 16;
+    if denoise {
+        // The guides; the denoiser's working set at its peak: the raw means, a pass's colour
+        // in and out, its variance in, out, blurred and given, the distance gradients and the
+        // lonely flags.
+        per_pixel += std::mem::size_of::<Guide>() + 3 * rgb + 4 * 8 + 16 + 1;
+    }
+    let pixels = width as u64 * height as u64;
+    let band = (BAND_PIXELS as u64)
+        .max(width as u64 * TILE as u64)
+        .min(pixels);
+    pixels * per_pixel as u64 + band * std::mem::size_of::<Pixel>() as u64
+}
+
+/// Refuses a film over [`FILM_BUDGET_BYTES`], saying by how much.
+///
+/// # Errors
+/// [`Error::OverBudget`] naming the film budget, what the film would take and the largest
+/// square film within it.
+pub fn check_film_budget(width: usize, height: usize, denoise: bool) -> Result<()> {
+    let need = film_bytes(width, height, denoise);
+    if need <= FILM_BUDGET_BYTES {
+        return Ok(());
+    }
+    let mut side = 1usize;
+    while film_bytes(side * 2, side * 2, denoise) <= FILM_BUDGET_BYTES {
+        side *= 2;
+    }
+    Err(Error::OverBudget {
+        budget: "film".into(),
+        message: format!(
+            "a {width} × {height} film{} takes about {:.1} GiB while it renders, {:.1}× the \
+             budget of {} GiB (a square film of {side} × {side} fits)",
+            if denoise { " with the denoiser" } else { "" },
+            need as f64 / (1u64 << 30) as f64,
+            need as f64 / FILM_BUDGET_BYTES as f64,
+            FILM_BUDGET_BYTES >> 30,
+        ),
+    })
+}
+
 /// How to run a render.
 #[derive(Clone, Debug, Default)]
 pub struct RenderOptions {
@@ -74,12 +131,15 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Image> {
 /// out of order: keep the largest). The library draws nothing itself; the CLI draws a bar.
 ///
 /// # Errors
-/// [`Error::InvalidSetting`] for zero threads or when the thread pool cannot start.
+/// [`Error::InvalidSetting`] for zero threads or when the thread pool cannot start;
+/// [`Error::OverBudget`] for a film over [`FILM_BUDGET_BYTES`] ([`check_film_budget`]).
 pub fn render_with_progress(
     scene: &Scene,
     options: &RenderOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<Image> {
+    let film = &scene.film;
+    check_film_budget(film.width, film.height, film.denoise)?;
     match options.threads {
         None => Ok(render_in_pool(scene, progress)),
         Some(n) => {
@@ -115,100 +175,105 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
     let start = Instant::now();
 
     let want_guides = film.denoise;
-    let tiles: Vec<Vec<Pixel>> = (0..tiles_x * tiles_y)
-        .into_par_iter()
-        .map(|t| {
-            let (tx, ty) = (t % tiles_x, t / tiles_x);
-            let mut out = Vec::with_capacity(TILE * TILE);
-            let mut bad = 0;
-            let mut scratch = integrator::Scratch::default();
-            for y in ty * TILE..((ty + 1) * TILE).min(h) {
-                for x in tx * TILE..((tx + 1) * TILE).min(w) {
-                    let pixel = (y * w + x) as u64;
-                    let mut sum = Rgb::BLACK;
-                    let mut sum_sq = Rgb::BLACK;
-                    let mut guide = GuideSums::default();
-                    let view = scene.view_at(x, y);
-                    for s in 0..spp {
-                        let mut sampler = Sampler::new(
-                            film.sampler,
-                            film.seed,
-                            pixel,
-                            film.first_sample + s as u64,
-                        );
-                        let (dx, dy) = sampler.next2();
-                        let (camera, [px, py]) = match view {
-                            View::Main => (&scene.camera, [x, y]),
-                            View::Inset(camera, at) => (camera, at),
-                            View::Border => {
-                                sum += INSET_BORDER;
-                                sum_sq += INSET_BORDER * INSET_BORDER;
-                                continue;
-                            }
-                        };
-                        let ray = camera.ray(px as f64 + dx, py as f64 + dy);
-                        let mut l = if want_guides {
-                            let (l, first) = integrator::radiance_and_first_hit(
-                                scene,
-                                camera,
-                                ray,
-                                &mut sampler,
-                                &mut scratch,
-                            );
-                            guide.add(&first);
-                            l
-                        } else {
-                            integrator::radiance(scene, camera, ray, &mut sampler, &mut scratch)
-                        };
-                        if !l.is_valid() {
-                            // Guard: a NaN, infinite or negative sample counts as black.
-                            bad += 1;
-                            l = Rgb::BLACK;
-                        }
-                        sum += l;
-                        sum_sq += l * l;
-                    }
-                    let n = spp as f64;
-                    let mean = sum / n;
-                    let var = if spp > 1 {
-                        Rgb(std::array::from_fn(|c| {
-                            ((sum_sq.0[c] - sum.0[c] * mean.0[c]) / (n - 1.0)).max(0.0)
-                        }))
-                    } else {
-                        Rgb::BLACK
-                    };
-                    let se = Rgb(var.0.map(|v| (v / n).sqrt()));
-                    let view = match view {
-                        View::Main => 0,
-                        View::Inset(..) => 1,
-                        View::Border => 2,
-                    };
-                    out.push(Pixel {
-                        index: y * w + x,
-                        mean,
-                        se,
-                        guide: guide.guide(view),
-                    });
-                }
-            }
-            invalid.fetch_add(bad, Ordering::Relaxed);
-            let samples = (out.len() * spp) as u64;
-            progress(done.fetch_add(samples, Ordering::Relaxed) + samples, total);
-            out
-        })
-        .collect();
-
     let mut pixels = vec![Rgb::BLACK; w * h];
     let mut std_error = vec![Rgb::BLACK; w * h];
     let mut guides = Vec::new();
     if want_guides {
         guides.resize(w * h, GuideSums::default().guide(0));
     }
-    for p in tiles.into_iter().flatten() {
-        pixels[p.index] = p.mean;
-        std_error[p.index] = p.se;
-        if want_guides {
-            guides[p.index] = p.guide;
+    // Bands of tile rows, each rendered over all cores and written into the film before the
+    // next starts: what is held besides the film is one band's pixels, not the whole image's.
+    let band_rows = (BAND_PIXELS / (w * TILE)).max(1);
+    for band in (0..tiles_y).step_by(band_rows) {
+        let rows = band..(band + band_rows).min(tiles_y);
+        let tiles: Vec<Vec<Pixel>> = (rows.start * tiles_x..rows.end * tiles_x)
+            .into_par_iter()
+            .map(|t| {
+                let (tx, ty) = (t % tiles_x, t / tiles_x);
+                let mut out = Vec::with_capacity(TILE * TILE);
+                let mut bad = 0;
+                let mut scratch = integrator::Scratch::default();
+                for y in ty * TILE..((ty + 1) * TILE).min(h) {
+                    for x in tx * TILE..((tx + 1) * TILE).min(w) {
+                        let pixel = (y * w + x) as u64;
+                        let mut sum = Rgb::BLACK;
+                        let mut sum_sq = Rgb::BLACK;
+                        let mut guide = GuideSums::default();
+                        let view = scene.view_at(x, y);
+                        for s in 0..spp {
+                            let mut sampler = Sampler::new(
+                                film.sampler,
+                                film.seed,
+                                pixel,
+                                film.first_sample + s as u64,
+                            );
+                            let (dx, dy) = sampler.next2();
+                            let (camera, [px, py]) = match view {
+                                View::Main => (&scene.camera, [x, y]),
+                                View::Inset(camera, at) => (camera, at),
+                                View::Border => {
+                                    sum += INSET_BORDER;
+                                    sum_sq += INSET_BORDER * INSET_BORDER;
+                                    continue;
+                                }
+                            };
+                            let ray = camera.ray(px as f64 + dx, py as f64 + dy);
+                            let mut l = if want_guides {
+                                let (l, first) = integrator::radiance_and_first_hit(
+                                    scene,
+                                    camera,
+                                    ray,
+                                    &mut sampler,
+                                    &mut scratch,
+                                );
+                                guide.add(&first);
+                                l
+                            } else {
+                                integrator::radiance(scene, camera, ray, &mut sampler, &mut scratch)
+                            };
+                            if !l.is_valid() {
+                                // Guard: a NaN, infinite or negative sample counts as black.
+                                bad += 1;
+                                l = Rgb::BLACK;
+                            }
+                            sum += l;
+                            sum_sq += l * l;
+                        }
+                        let n = spp as f64;
+                        let mean = sum / n;
+                        let var = if spp > 1 {
+                            Rgb(std::array::from_fn(|c| {
+                                ((sum_sq.0[c] - sum.0[c] * mean.0[c]) / (n - 1.0)).max(0.0)
+                            }))
+                        } else {
+                            Rgb::BLACK
+                        };
+                        let se = Rgb(var.0.map(|v| (v / n).sqrt()));
+                        let view = match view {
+                            View::Main => 0,
+                            View::Inset(..) => 1,
+                            View::Border => 2,
+                        };
+                        out.push(Pixel {
+                            index: y * w + x,
+                            mean,
+                            se,
+                            guide: guide.guide(view),
+                        });
+                    }
+                }
+                invalid.fetch_add(bad, Ordering::Relaxed);
+                let samples = (out.len() * spp) as u64;
+                progress(done.fetch_add(samples, Ordering::Relaxed) + samples, total);
+                out
+            })
+            .collect();
+        for p in tiles.into_iter().flatten() {
+            pixels[p.index] = p.mean;
+            std_error[p.index] = p.se;
+            if want_guides {
+                guides[p.index] = p.guide;
+            }
         }
     }
     let noisy = want_guides.then(|| {

@@ -6,8 +6,29 @@ use std::f64::consts::PI;
 use std::path::Path;
 use woven::Vec3;
 
-/// The most triangles one mesh may hold (a guard against a runaway file or resolution).
+/// The triangle budget: the most triangles a scene may hold, all its meshes together (20
+/// million). A triangle takes some 300 bytes once the scene is built (its primitive, its share
+/// of the mesh's vertices, the hierarchy), so the budget is about 6 GB; over it a scene is
+/// refused before the meshes are generated or the hierarchy is built.
 pub const MAX_TRIANGLES: usize = 20_000_000;
+
+/// Refuses `count` triangles over [`MAX_TRIANGLES`]; `what` says whose they are.
+///
+/// # Errors
+/// [`Error::OverBudget`] naming the triangle budget and by how much `count` exceeds it.
+pub fn check_triangle_budget(count: usize, what: &str) -> Result<()> {
+    if count <= MAX_TRIANGLES {
+        return Ok(());
+    }
+    Err(Error::OverBudget {
+        budget: "triangles".into(),
+        message: format!(
+            "{what} makes {count} triangles, {:.2}× the budget of {MAX_TRIANGLES} a scene may \
+             hold",
+            count as f64 / MAX_TRIANGLES as f64
+        ),
+    })
+}
 
 /// The largest OBJ file [`load_obj`] reads, in bytes (4 GiB): room for a mesh of
 /// [`MAX_TRIANGLES`] with uv and normals (about 115 bytes a triangle as exporters write them).
@@ -177,9 +198,7 @@ fn mesh_of(
     if mesh.indices.is_empty() {
         return Err(bad("the OBJ file holds no triangles"));
     }
-    if mesh.indices.len() > MAX_TRIANGLES {
-        return Err(bad("the OBJ file holds more than 20 million triangles"));
-    }
+    check_triangle_budget(mesh.indices.len(), "the OBJ file")?;
     if mesh.normals.len() != n && !mesh.normals.is_empty()
         || mesh.uvs.len() != n && !mesh.uvs.is_empty()
     {

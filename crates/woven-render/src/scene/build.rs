@@ -87,6 +87,8 @@ struct Geometry {
     prims: Vec<Primitive>,
     prim_info: Vec<PrimInfo>,
     meshes: Vec<Mesh>,
+    /// The triangles of `meshes`, all together.
+    triangles: usize,
 }
 
 impl Geometry {
@@ -97,7 +99,14 @@ impl Geometry {
         self.prims.len() - 1
     }
 
-    /// Adds a mesh's triangles.
+    /// Counts `count` more triangles, those of `key`, refused when they take the scene over
+    /// its triangle budget (called before a procedural mesh is generated).
+    fn budget(&mut self, count: usize, key: &str) -> Result<()> {
+        self.triangles += count;
+        shapes::check_triangle_budget(self.triangles, &format!("the scene up to `{key}`"))
+    }
+
+    /// Adds a mesh's triangles (counted by [`budget`](Self::budget)).
     fn add_mesh(&mut self, mesh: Mesh, info: PrimInfo) {
         let m = self.meshes.len();
         for t in 0..mesh.indices.len() {
@@ -193,6 +202,11 @@ fn build_lights(desc: &SceneDescription, geometry: &mut Geometry) -> Result<Vec<
     Ok(lights)
 }
 
+/// How the scene file names shape `k`.
+fn shape_key(k: usize) -> String {
+    format!("shape[{k}]")
+}
+
 /// Adds the shapes to `geometry` (meshes loaded, cloths generated), each with its material's
 /// index from `index_of`.
 fn build_shapes(
@@ -251,10 +265,19 @@ fn build_shapes(
                         shapes::builtin_mesh(name, *scale, *translate, &key)?
                     }
                 };
+                geometry.budget(mesh.indices.len(), &key)?;
                 geometry.add_mesh(mesh, info)
             }
-            ShapeDesc::Cloth(cloth) => geometry.add_mesh(cloth.mesh(), info),
-            ShapeDesc::Drape(drape) => geometry.add_mesh(drape.mesh(), info),
+            ShapeDesc::Cloth(cloth) => {
+                let [na, nb] = cloth.resolution;
+                geometry.budget(2 * na * nb, &shape_key(k))?;
+                geometry.add_mesh(cloth.mesh(), info)
+            }
+            ShapeDesc::Drape(drape) => {
+                let [na, nb] = drape.resolution;
+                geometry.budget(2 * na * nb, &shape_key(k))?;
+                geometry.add_mesh(drape.mesh(), info)
+            }
         }
     }
     Ok(())

@@ -401,3 +401,116 @@ fn builtin_meshes_are_cloths_with_uv_in_metres() {
         );
     }
 }
+
+/// A film over the film budget is refused with the budget named, from the scene file (with its
+/// line) and from a render asked for it after the file was read, before its pixels are
+/// allocated; one within the budget is not.
+#[test]
+fn a_film_over_its_budget_is_refused_before_allocating() {
+    use woven_render::render::{check_film_budget, FILM_BUDGET_BYTES};
+    let scene = |w: usize, h: usize| {
+        format!(
+            "[camera]\norigin = [0, 0, 1]\ntarget = [0, 0, 0]\nup = [0, 1, 0]\nfov_deg = 10\n\
+             [film]\nwidth = {w}\nheight = {h}\nspp = 1\n\
+             [[light]]\ntype = \"point\"\nposition = [0, 0, 1]\nintensity = [1, 1, 1]\n"
+        )
+    };
+    let e = SceneDescription::from_str(&scene(16384, 16384), "big.toml", std::path::Path::new("."))
+        .err()
+        .expect("a 16384² film is over the budget")
+        .to_string();
+    assert!(
+        e.contains("big.toml:6: `film`: over the film budget: a 16384 × 16384 film takes about")
+            && e.contains(&format!("the budget of {} GiB", FILM_BUDGET_BYTES >> 30)),
+        "{e}"
+    );
+    let mut desc =
+        SceneDescription::from_str(&scene(8, 8), "small.toml", std::path::Path::new(".")).unwrap();
+    (desc.film.width, desc.film.height) = (16384, 16384);
+    let built = Scene::build(&desc, &coarse_grid(), &|_| {}, &|_, _| {}).unwrap();
+    let e = render(&built, &RenderOptions::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.starts_with("over the film budget: a 16384 × 16384 film"),
+        "{e}"
+    );
+    // What the documentation promises fits: 8192² plain, 4096² with the denoiser.
+    check_film_budget(8192, 8192, false).unwrap();
+    check_film_budget(4096, 4096, true).unwrap();
+    assert!(check_film_budget(8192, 8192, true).is_err());
+}
+
+/// A cloth whose resolution makes more triangles than a scene's budget is refused from the
+/// scene file, naming the budget, before its mesh is generated.
+#[test]
+fn a_cloth_over_the_triangle_budget_is_refused() {
+    let text = format!(
+        "{CAMERA}\n[[shape]]\ntype = \"cloth\"\ncorner = [-1, -1, 0]\nedge_u = [2, 0, 0]\n\
+         edge_v = [0, 2, 0]\nresolution = [4096, 4096]\nmaterial = \"m\"\n\
+         [material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n"
+    );
+    let e = SceneDescription::from_str(&text, "cloth.toml", std::path::Path::new("."))
+        .err()
+        .expect("33.5 million triangles are over the budget")
+        .to_string();
+    assert!(
+        e.contains(
+            "`shape[0].resolution`: over the triangles budget: a cloth of resolution \
+                    [4096, 4096] makes 33554432 triangles, 1.68× the budget of 20000000"
+        ),
+        "{e}"
+    );
+}
+
+/// Coincident triangles (a mesh exported twice over itself, or a degenerate file) share one
+/// leaf of the hierarchy: 30 000 of them build at once, where the hierarchy's builder went
+/// quadratic on them (27 s), and rays find them as a loop over all would.
+#[test]
+fn coincident_triangles_build_and_are_found() {
+    use woven_render::accel::Accel;
+    use woven_render::geometry::{Primitive, Ray};
+    use woven_render::shapes::read_obj;
+    let mut obj = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 1\nv 6 5 1\nv 5 6 1\n");
+    for _ in 0..30_000 {
+        obj.push_str("f 1 2 3\n");
+    }
+    obj.push_str("f 4 5 6\n");
+    let mesh = read_obj(
+        obj.as_bytes(),
+        "twice.obj",
+        1.0,
+        woven::Vec3::new(0.0, 0.0, 0.0),
+        "k",
+    )
+    .unwrap();
+    let prims: Vec<Primitive> = (0..mesh.indices.len())
+        .map(|index| Primitive::Triangle { mesh: 0, index })
+        .collect();
+    let accel = Accel::new(prims, vec![mesh]);
+    let down = woven::Vec3::new(0.0, 0.0, -1.0);
+    let ray = |x: f64, y: f64| Ray {
+        o: woven::Vec3::new(x, y, 2.0),
+        d: down,
+    };
+    let hit = accel.intersect(&ray(0.2, 0.2), 0.0, f64::INFINITY).unwrap();
+    assert!(
+        hit.prim < 30_000 && (hit.t - 2.0).abs() < 1e-12,
+        "{} at {}",
+        hit.prim,
+        hit.t
+    );
+    let hit = accel.intersect(&ray(5.2, 5.2), 0.0, f64::INFINITY).unwrap();
+    assert!(
+        hit.prim == 30_000 && (hit.t - 1.0).abs() < 1e-12,
+        "{} at {}",
+        hit.prim,
+        hit.t
+    );
+    assert!(accel.occluded(&ray(0.2, 0.2), 0.0, f64::INFINITY));
+    assert!(!accel.occluded(&ray(0.9, 0.9), 0.0, f64::INFINITY));
+    assert!(accel
+        .intersect(&ray(2.0, 2.0), 0.0, f64::INFINITY)
+        .is_none());
+}
