@@ -27,6 +27,13 @@ pub const MAX_EXR_BYTES: u64 = 4 << 30;
 /// that declares a huge image allocates nothing.
 pub const MAX_ENVIRONMENT_PIXELS: usize = 16384 * 8192;
 
+/// The most an EXR file's pixels can be compressed, as a ratio of their raw bytes to the
+/// file's: 2048, above what any of the codecs the reader knows reaches on a constant image
+/// (deflate, in ZIP, ZIPS and PXR24, tops out near 1032:1; RLE at 64:1; PIZ's Huffman runs
+/// near 400:1; B44 at 32:3). A file smaller than its header's pixels, so compressed, cannot
+/// hold them: it is refused before they are allocated.
+pub const MAX_EXR_COMPRESSION: u64 = 2048;
+
 /// What the path tracer asks of a light source.
 pub trait Emitter {
     /// Draws a direction from the shading point `p` toward the light from two uniforms in
@@ -278,7 +285,9 @@ impl Environment {
     ///
     /// # Errors
     /// [`Error::Image`] when it cannot be read as an RGB(A) EXR, a layer holds more than
-    /// [`MAX_ENVIRONMENT_PIXELS`], or a pixel is negative, infinite or NaN.
+    /// [`MAX_ENVIRONMENT_PIXELS`], the file is too short to hold the pixels its header
+    /// declares (their offset tables, and their bytes compressed [`MAX_EXR_COMPRESSION`]:1),
+    /// or a pixel is negative, infinite or NaN.
     pub fn read_exr(
         mut reader: impl std::io::Read + std::io::Seek,
         path: &Path,
@@ -301,6 +310,7 @@ impl Environment {
                 )));
             }
         }
+        check_declared_size(&meta.headers, &mut reader).map_err(image_error)?;
         reader
             .seek(std::io::SeekFrom::Start(0))
             .map_err(|e| image_error(format!("cannot read the environment map: {e}")))?;
@@ -401,6 +411,34 @@ fn pixel_of(d: Vec3, width: usize, height: usize) -> (usize, usize) {
     let x = ((phi / (2.0 * PI) * width as f64) as usize).min(width - 1);
     let y = ((theta / PI * height as f64) as usize).min(height - 1);
     (x, y)
+}
+
+/// Refuses an EXR whose `headers` declare more than the rest of the file can hold: each chunk
+/// takes 8 bytes of the offset table, and the pixels at least their raw bytes over
+/// [`MAX_EXR_COMPRESSION`]. Deep layers, which the reader does not take, are refused here.
+fn check_declared_size(
+    headers: &[exr::meta::header::Header],
+    reader: &mut impl std::io::Seek,
+) -> std::result::Result<(), String> {
+    let length = reader
+        .seek(std::io::SeekFrom::End(0))
+        .map_err(|e| format!("cannot read the environment map: {e}"))?;
+    let mut need = 0u64;
+    for h in headers {
+        if h.deep {
+            return Err("a deep-data layer: an environment map must be a flat image".into());
+        }
+        need += 8 * h.chunk_count as u64 + h.total_pixel_bytes() as u64 / MAX_EXR_COMPRESSION;
+    }
+    if length < need {
+        let (w, ht) = (headers[0].layer_size.0, headers[0].layer_size.1);
+        return Err(format!(
+            "the header declares {w} × {ht} pixels, which take at least {need} bytes even \
+             compressed {MAX_EXR_COMPRESSION}:1, but the file has {length}: it is truncated or \
+             not what it claims"
+        ));
+    }
+    Ok(())
 }
 
 impl Emitter for Environment {

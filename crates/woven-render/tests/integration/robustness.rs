@@ -177,3 +177,49 @@ proptest! {
         check_scene(&mutate(text.as_bytes(), &edits));
     }
 }
+
+/// A small EXR whose header is rewritten to declare `width` × `height` pixels (its data and
+/// display windows), the rest of the file left as it was: a few hundred bytes that claim
+/// gigabytes.
+fn exr_claiming(width: i32, height: i32) -> Vec<u8> {
+    let mut bytes = exr_seeds()[0].clone();
+    for name in [&b"dataWindow\0box2i\0"[..], &b"displayWindow\0box2i\0"[..]] {
+        let at = bytes
+            .windows(name.len())
+            .position(|w| w == name)
+            .expect("the seed's header has its windows")
+            + name.len()
+            + 4; // the attribute's size
+        for (k, v) in [0, 0, width - 1, height - 1].into_iter().enumerate() {
+            bytes[at + 4 * k..at + 4 * k + 4].copy_from_slice(&v.to_le_bytes());
+        }
+    }
+    bytes
+}
+
+/// A file far too small for the pixels its header declares is refused from the header and
+/// the file's length, before the pixels are allocated: 16384 × 8192 pixels (3 GiB once read)
+/// in a few hundred bytes.
+#[test]
+fn an_exr_declaring_more_than_it_holds_is_refused_before_allocating() {
+    let bytes = exr_claiming(16384, 8192);
+    assert!(bytes.len() < 1000, "{} bytes", bytes.len());
+    let Err(e) = Environment::read_exr(Cursor::new(&bytes), Path::new("big.exr"), 1.0) else {
+        panic!(
+            "a {}-byte file declaring 16384 × 8192 pixels was read",
+            bytes.len()
+        );
+    };
+    let message = e.to_string();
+    assert!(
+        message.contains("declares 16384 × 8192 pixels") && message.contains("the file has"),
+        "{message}"
+    );
+    // The same header over a file long enough to hold its pixels compressed is not refused
+    // for its size (it fails later, on its missing chunks, without the check's message).
+    let mut padded = exr_claiming(64, 32);
+    padded.resize(padded.len() + 64 * 32 * 8, 0);
+    if let Err(e) = Environment::read_exr(Cursor::new(&padded), Path::new("pad.exr"), 1.0) {
+        assert!(!e.to_string().contains("the file has"), "{e}");
+    }
+}
