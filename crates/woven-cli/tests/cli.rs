@@ -1348,12 +1348,15 @@ fn endless_inputs_are_refused_naming_the_file() {
     eval_with(&["-m", "/dev/zero", "--input", "-"])
         .failure()
         .stderr(predicate::str::contains(
-            "/dev/zero: larger than 1 MiB, the most a material file may hold",
+            "/dev/zero: a character device, not a regular file: a material file is read only \
+             from a regular file",
         ));
     eval_with(&["--table", "/dev/zero", "--input", "-"])
         .failure()
-        .stderr(predicate::str::contains("/dev/zero"))
-        .stderr(predicate::str::contains("wrong magic"));
+        .stderr(predicate::str::contains(
+            "/dev/zero: a character device, not a regular file: a table is read only from a \
+             regular file",
+        ));
     // An endless line on standard input.
     woven()
         .args(["eval", "-m", m, "--input", "-"])
@@ -1869,4 +1872,37 @@ fn hemisphere_plots_a_microcylinder_fabric() {
         .assert()
         .success()
         .stdout(predicate::str::contains("microcylinder-velvet"));
+}
+
+/// A key of a megabyte in a scene is shown cut, not echoed whole.
+#[test]
+fn a_huge_key_is_not_echoed_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("huge.toml");
+    let example = String::from_utf8(
+        woven()
+            .args(["render", "--example"])
+            .output()
+            .unwrap()
+            .stdout,
+    )
+    .unwrap();
+    let key = "k".repeat(1 << 20);
+    std::fs::write(
+        &scene,
+        example.replacen("[film]", &format!("[film]\n{key} = 1"), 1),
+    )
+    .unwrap();
+    let out = woven()
+        .args(["render", scene.to_str().unwrap(), "-o"])
+        .arg(dir.path().join("x.png"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.len() < 1000, "{} bytes of error", err.len());
+    assert!(
+        err.contains("`film.kkkk") && err.contains("characters left out"),
+        "{err}"
+    );
 }

@@ -279,32 +279,21 @@ pub fn read_regular(path: &Path, cap: u64, what: &str) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
-/// Reads the whole of `path` as UTF-8 text, refusing a file longer than `cap` bytes without
-/// reading more than `cap + 1` (an endless stream such as `/dev/zero` or a pipe stops there).
+/// Reads the whole of `path` as UTF-8 text: [`read_regular`] (a folder, a device or a pipe is
+/// refused before it is opened, so a FIFO without a writer cannot block the read).
 /// `what` names the kind of file in the message (`a material file`).
 ///
 /// # Errors
 /// [`Error::Io`] naming `path` if it cannot be read or is not UTF-8; [`Error::Parse`] naming
-/// `path`, the limit and `what` if it is longer than `cap`.
+/// `path` and `what` if it is not a regular file, or the limit if it is longer than `cap`.
 pub(crate) fn read_text_capped(path: &Path, cap: u64, what: &str) -> Result<String> {
-    use std::io::Read;
-    let io_error = |source| Error::Io {
+    let bytes = read_regular(path, cap, what)?;
+    String::from_utf8(bytes).map_err(|_| Error::Io {
         path: path.to_path_buf(),
-        source,
-    };
-    let file = std::fs::File::open(path).map_err(io_error)?;
-    let mut bytes = Vec::new();
-    file.take(cap + 1)
-        .read_to_end(&mut bytes)
-        .map_err(io_error)?;
-    if bytes.len() as u64 > cap {
-        return Err(too_large(path, None, cap, what));
-    }
-    String::from_utf8(bytes).map_err(|_| {
-        io_error(io::Error::new(
+        source: io::Error::new(
             io::ErrorKind::InvalidData,
             format!("not UTF-8 text, so not {what}"),
-        ))
+        ),
     })
 }
 

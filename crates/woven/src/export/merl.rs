@@ -554,10 +554,9 @@ impl MerlBrdf {
     /// naming `path`.
     pub fn load(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let file = std::fs::File::open(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        // A regular file only (a pipe with no writer would block the open); the reader
+        // bounds what it reads by the header's counts.
+        let (file, _) = crate::fsutil::open_regular(path, u64::MAX, "a MERL BRDF file")?;
         Self::read_named(file, path)
     }
 

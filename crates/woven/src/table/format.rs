@@ -249,16 +249,18 @@ impl Table {
     /// Loads a table file.
     ///
     /// # Errors
-    /// [`Error::Io`] if it cannot be read; [`Error::Parse`] as [`from_bytes`](Self::from_bytes).
+    /// [`Error::Io`] if it cannot be read; [`Error::Parse`] if it is not a regular file (a
+    /// folder, a device, a pipe), or as [`from_bytes`](Self::from_bytes).
     pub fn load(path: impl AsRef<Path>) -> Result<Table> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let bytes = std::fs::File::open(path)
-            .and_then(|f| read_bounded(f, &origin))
-            .map_err(|source| Error::Io {
-                path: path.to_path_buf(),
-                source,
-            })?;
+        // A regular file only (a pipe with no writer would block the open); its length is
+        // bounded by its own counts as it is read.
+        let (file, _) = crate::fsutil::open_regular(path, u64::MAX, "a table")?;
+        let bytes = read_bounded(file, &origin).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
         Table::from_bytes(&bytes?, &origin)
     }
 }

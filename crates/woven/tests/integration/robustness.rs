@@ -171,31 +171,34 @@ fn table_headers_with_a_right_crc_but_nonsense_are_refused() {
 #[test]
 fn endless_streams_are_refused_without_filling_memory() {
     let zero = std::path::Path::new("/dev/zero");
-    // Material: the size cap, named.
-    let m = Material::from_path(zero).unwrap_err().to_string();
-    assert!(
-        m.starts_with("/dev/zero: larger than 1 MiB, the most a material file may hold"),
-        "{m}"
+    // Material, WIF (also behind a material's `{ wif = … }`), table, MERL: a device is not a
+    // regular file, refused before it is opened or read.
+    let device = |m: String, what: &str| {
+        assert!(
+            m.contains(&format!(
+                "/dev/zero: a character device, not a regular file: {what} is read only from \
+                 a regular file"
+            )),
+            "{m}"
+        )
+    };
+    device(
+        Material::from_path(zero).unwrap_err().to_string(),
+        "a material file",
     );
-    // WIF: the size cap, named; also behind a material's `{ wif = … }`.
-    let m = Pattern::from_wif_path(zero).unwrap_err().to_string();
-    assert!(
-        m.starts_with("/dev/zero: larger than 16 MiB, the most a WIF file may hold"),
-        "{m}"
+    device(
+        Pattern::from_wif_path(zero).unwrap_err().to_string(),
+        "a WIF file",
     );
     let toml = format!("{FLAT}[yarn]\nlateral_length = 1.0\nslope_mean = 0.5\n[weave]\npattern = {{ wif = \"/dev/zero\" }}\n");
     let m = Material::from_toml_str(&toml, "<test>")
         .unwrap_err()
         .to_string();
-    assert!(m.contains("16 MiB"), "{m}");
-    // Table: refused at the magic bytes.
-    let m = Table::load(zero).unwrap_err().to_string();
-    assert!(m.contains("/dev/zero") && m.contains("wrong magic"), "{m}");
-    // MERL: refused at the header.
-    let m = MerlBrdf::load(zero).unwrap_err().to_string();
-    assert!(
-        m.contains("/dev/zero") && m.contains("header dimensions"),
-        "{m}"
+    device(m, "a WIF file");
+    device(Table::load(zero).unwrap_err().to_string(), "a table");
+    device(
+        MerlBrdf::load(zero).unwrap_err().to_string(),
+        "a MERL BRDF file",
     );
     // Directions: an endless line.
     let m = DirectionReader::new(std::fs::File::open(zero).unwrap(), "/dev/zero")
@@ -569,4 +572,44 @@ impl<R: Read> Read for CountingReader<R> {
         self.1 += n;
         Ok(n)
     }
+}
+
+/// A named pipe with no writer given where a file is read (a table, a material, a
+/// microcylinder file, a MERL file) is refused as not a regular file at once: opening it
+/// would block until a writer came, forever.
+#[cfg(unix)]
+#[test]
+fn a_named_pipe_is_refused_not_waited_on() {
+    use std::path::PathBuf;
+    use std::sync::mpsc;
+    use std::time::Duration;
+    let dir = std::env::temp_dir().join(format!("woven-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("pipe");
+    let _ = std::fs::remove_file(&fifo);
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo failed");
+    type Reader = fn(&PathBuf) -> Option<Error>;
+    let readers: [(&str, Reader); 4] = [
+        ("Table::load", |p| Table::load(p).err()),
+        ("Material::from_path", |p| Material::from_path(p).err()),
+        ("Microcylinder::from_path", |p| {
+            woven::microcylinder::Microcylinder::from_path(p).err()
+        }),
+        ("MerlBrdf::load", |p| MerlBrdf::load(p).err()),
+    ];
+    for (name, read) in readers {
+        let (send, receive) = mpsc::channel();
+        let path = fifo.clone();
+        std::thread::spawn(move || send.send(read(&path).map(|e| e.to_string())));
+        let message = receive
+            .recv_timeout(Duration::from_secs(10))
+            .unwrap_or_else(|_| panic!("{name} blocked on a named pipe"))
+            .unwrap_or_else(|| panic!("{name} read a named pipe"));
+        assert!(
+            message.contains("a named pipe, not a regular file"),
+            "{name}: {message}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
