@@ -192,7 +192,7 @@ fn film(c: &Checker, raw: Option<Spanned<RawFilm>>) -> Result<Film> {
             let at = f.span().start;
             let f = f.into_inner();
             let side = MAX_FILM_SIDE as i64;
-            Film {
+            let film = Film {
                 width: c.range("film.width", at, f.width, 1, side)?,
                 height: c.range("film.height", at, f.height, 1, side)?,
                 spp: c.range("film.spp", at, f.spp, 1, MAX_SPP as i64)?,
@@ -204,7 +204,10 @@ fn film(c: &Checker, raw: Option<Spanned<RawFilm>>) -> Result<Film> {
                     tonemap: f.tonemap,
                 },
                 denoise: f.denoise,
-            }
+            };
+            crate::render::check_film_budget(film.width, film.height, film.denoise)
+                .map_err(|e| c.err("film", at, e.to_string()))?;
+            film
         }
     })
 }
@@ -457,12 +460,14 @@ fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> 
         irregularity_length,
     } = raw;
     let mkey = format!("{key}.material");
-    let mut woven = if Material::preset_toml(&material).is_some() {
+    let path = c.base.join(&material);
+    let a_file = path.exists() || material.contains('/') || material.ends_with(".toml");
+    let mut woven = if Material::preset_toml(&material).is_some() || !a_file {
+        // A preset, or a mistyped one: the library's message lists the presets.
         Material::preset(&material)
     } else {
         // A regular file only: the library's reader also takes a stream (a pipe), which a
         // scene never means and which could block the render forever.
-        let path = c.base.join(&material);
         check_regular(&path, MAX_FILE_BYTES, "a material file")
             .and_then(|_| Material::from_path(&path))
     }
@@ -760,6 +765,11 @@ fn cloth(c: &Checker, key: &str, at: usize, raw: RawCloth) -> Result<(ShapeDesc,
         c.range(&rkey, at, resolution[0], 1, 4096)?,
         c.range(&rkey, at, resolution[1], 1, 4096)?,
     ];
+    crate::shapes::check_triangle_budget(
+        2 * resolution[0] * resolution[1],
+        &format!("a cloth of resolution {resolution:?}"),
+    )
+    .map_err(|e| c.err(&rkey, at, e.to_string()))?;
     if over_sphere {
         let missing = |k: &str| {
             c.err(

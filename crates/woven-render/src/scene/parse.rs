@@ -18,13 +18,76 @@ use toml::Spanned;
 pub(super) fn parse(text: &str, origin: &str) -> Result<RawScene> {
     toml::from_str(text).map_err(|e| {
         let at = e.span().map_or(0, |s| s.start);
+        let key = key_at(text, at);
+        // A `type = …` table's values are read from a copy without places, so TOML points at
+        // the table (the first of an array): find the table and the value at fault.
+        let tagged = if key == "shape[0]" {
+            tagged_at_fault::<RawShape>(text, "shape")
+        } else if key == "light[0]" {
+            tagged_at_fault::<RawLight>(text, "light")
+        } else if key.starts_with("material.") && key.matches('.').count() == 1 {
+            tagged_at_fault::<RawMaterial>(text, &key)
+        } else {
+            None
+        };
+        let (key, line) = tagged.unwrap_or_else(|| (key, e.span().map(|s| line_of(text, s.start))));
         Error::Scene {
             path: origin.to_string(),
-            key: key_at(text, at),
-            line: e.span().map(|s| line_of(text, s.start)),
+            key,
+            line,
             message: e.message().trim_end().to_string(),
         }
     })
+}
+
+/// Where a table read by its `type` goes wrong: `path` is an array of tables (`shape`: the
+/// first element that does not read as a `T`) or a table (`material.m`). The key names the
+/// value at fault where one is (the one, `type` aside, whose removal changes the error: values
+/// are checked as they are read, and missing ones only after), with the line of the table's header. `None` when the text is not TOML or all
+/// reads.
+fn tagged_at_fault<T: serde::de::DeserializeOwned>(
+    text: &str,
+    path: &str,
+) -> Option<(String, Option<usize>)> {
+    let root: toml::Table = text.parse().ok()?;
+    let (key, table, header) = match path.split_once('.') {
+        None => {
+            let array = root.get(path)?.as_array()?;
+            let k = array
+                .iter()
+                .position(|v| v.clone().try_into::<T>().is_err())?;
+            let header = format!("[[{path}]]");
+            let line = text
+                .lines()
+                .enumerate()
+                .filter(|(_, l)| l.trim_start().starts_with(&header))
+                .nth(k)
+                .map(|(i, _)| i + 1);
+            (format!("{path}[{k}]"), array[k].as_table()?.clone(), line)
+        }
+        Some((outer, name)) => {
+            let table = root.get(outer)?.as_table()?.get(name)?.as_table()?.clone();
+            let header = format!("[{path}]");
+            let line = text
+                .lines()
+                .position(|l| l.trim_start().starts_with(&header))
+                .map(|i| i + 1);
+            (path.to_string(), table, line)
+        }
+    };
+    let fault = |t: &toml::Table| {
+        toml::Value::Table(t.clone())
+            .try_into::<T>()
+            .err()
+            .map(|e| e.message().to_string())
+    };
+    let original = fault(&table);
+    let field = table.keys().filter(|f| *f != "type").find(|f| {
+        let mut without = table.clone();
+        without.remove(f.as_str());
+        fault(&without) != original
+    });
+    Some((field.map_or(key.clone(), |f| format!("{key}.{f}")), header))
 }
 
 #[derive(Deserialize)]
@@ -316,19 +379,87 @@ fn default_yarns() -> RawYarns {
     RawYarns::Same(woven::surface::DEFAULT_YARNS_PER_UNIT)
 }
 
-#[derive(Deserialize)]
-#[serde(untagged)]
+/// `yarns_per_unit` and `irregularity`: one number for both families, or `[weft, warp]`. Read
+/// by hand, not as an untagged enum: serde's untagged enums lose the value's place (TOML then
+/// blames the whole table) and say only that no variant matched.
 pub(super) enum RawYarns {
     Same(f64),
     PerAxis([f64; 2]),
 }
 
-#[derive(Deserialize)]
-#[serde(untagged)]
+impl<'de> Deserialize<'de> for RawYarns {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = RawYarns;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number, or [weft, warp]: a list of two numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<RawYarns, E> {
+                Ok(RawYarns::Same(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<RawYarns, E> {
+                Ok(RawYarns::Same(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<RawYarns, E> {
+                Ok(RawYarns::Same(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<RawYarns, A::Error> {
+                let mut pair = [0.0; 2];
+                for (k, slot) in pair.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(k, &self))?;
+                }
+                if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                    return Err(serde::de::Error::invalid_length(3, &self));
+                }
+                Ok(RawYarns::PerAxis(pair))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
+/// A woven material's `pattern`: a name, rows of 0 and 1, or `{ wif = "FILE" }`. Read by hand
+/// for the reasons [`RawYarns`] is.
 pub(super) enum RawPattern {
     Name(String),
     Matrix(Vec<Vec<u8>>),
     Wif(RawWif),
+}
+
+impl<'de> Deserialize<'de> for RawPattern {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = RawPattern;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a pattern's name, its rows of 0 and 1, or { wif = \"FILE\" }")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<RawPattern, E> {
+                Ok(RawPattern::Name(v.to_string()))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> std::result::Result<RawPattern, A::Error> {
+                Deserialize::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(RawPattern::Matrix)
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> std::result::Result<RawPattern, A::Error> {
+                Deserialize::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(RawPattern::Wif)
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 #[derive(Deserialize)]
@@ -342,17 +473,54 @@ pub(super) fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())].matches('\n').count() + 1
 }
 
-/// The key a syntax error points at: the name before `=` on its line, or the table header.
+/// The key a syntax error points at, dotted: the name before `=` on its line under its table
+/// (`film.width`, `shape[2].radius`), or the table header's.
 fn key_at(text: &str, offset: usize) -> String {
     let start = text[..offset.min(text.len())]
         .rfind('\n')
         .map_or(0, |i| i + 1);
     let line = text[start..].lines().next().unwrap_or("").trim();
-    if let Some((k, _)) = line.split_once('=') {
-        k.trim().to_string()
-    } else if line.starts_with('[') {
-        line.trim_matches(|c| c == '[' || c == ']').to_string()
+    // The header above the line (or the line itself), and the `[[name]]` headers before it.
+    let mut header = None;
+    let mut at = 0;
+    for l in text[..start].split_inclusive('\n') {
+        if l.trim_start().starts_with('[') {
+            header = Some(at);
+        }
+        at += l.len();
+    }
+    if line.starts_with('[') {
+        return table_name(text, start);
+    }
+    match line.split_once('=') {
+        Some((k, _)) => match header.map(|h| table_name(text, h)) {
+            Some(t) if !t.is_empty() => format!("{t}.{}", k.trim()),
+            _ => k.trim().to_string(),
+        },
+        None => "(file)".to_string(),
+    }
+}
+
+/// The name of the table whose header line starts at byte `start`: `a.b` for `[a.b]`,
+/// `shape[2]` for the third `[[shape]]`.
+fn table_name(text: &str, start: usize) -> String {
+    let line = text[start..].lines().next().unwrap_or("");
+    let line = line.split('#').next().unwrap_or("").trim();
+    if let Some(name) = line.strip_prefix("[[").and_then(|l| l.strip_suffix("]]")) {
+        let name = name.trim();
+        let earlier = text[..start]
+            .lines()
+            .filter(|l| {
+                l.trim()
+                    .strip_prefix("[[")
+                    .and_then(|l| l.split("]]").next())
+                    .is_some_and(|n| n.trim() == name)
+            })
+            .count();
+        format!("{name}[{earlier}]")
     } else {
-        "(file)".to_string()
+        line.trim_matches(|c| c == '[' || c == ']')
+            .trim()
+            .to_string()
     }
 }

@@ -29,7 +29,7 @@ fn unknown_keys_are_rejected_with_file_key_and_line() {
     let text = format!("{MINIMAL}[film]\nwidth = 64\nwidht = 32\n");
     let (path, key, line, message) = error_of(&text);
     assert_eq!(path, "scene.toml");
-    assert_eq!(key, "widht");
+    assert_eq!(key, "film.widht");
     assert_eq!(line, Some(8));
     assert!(message.contains("unknown field"), "{message}");
 
@@ -103,7 +103,11 @@ fn invalid_values_name_the_key_and_line() {
     }
 
     let (_, key, line, message) = error_of("[camera]\norigin = [0, 0, 1]\nfov_deg = 4 0\n");
-    assert_eq!((key.as_str(), line), ("fov_deg", Some(3)), "{message}");
+    assert_eq!(
+        (key.as_str(), line),
+        ("camera.fov_deg", Some(3)),
+        "{message}"
+    );
 }
 
 /// The scenes the crate ships parse.
@@ -599,4 +603,91 @@ fn inset_and_builtin_mesh_keys() {
         message.contains("sofa") && message.contains("builtin:tablecloth"),
         "{message}"
     );
+}
+
+/// Type errors name the dotted key, under its table (the third `[[shape]]` is `shape[2]`), not
+/// the table; a wrong shape of `yarns_per_unit` or `pattern` says what is expected of it.
+#[test]
+fn type_errors_name_the_key_and_what_it_takes() {
+    let (_, key, line, message) = error_of(&format!("{MINIMAL}[film]\nwidth = \"wide\"\n"));
+    assert_eq!((key.as_str(), line), ("film.width", Some(7)), "{message}");
+    assert!(
+        message.contains("invalid type: string \"wide\""),
+        "{message}"
+    );
+    let sphere = "[[shape]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n";
+    let text = format!(
+        "{MINIMAL}{sphere}{sphere}[[shape]] # the third\ntype = \"sphere\"\nradius = \"big\"\n"
+    );
+    // A shape's values are read by its `type`, from a copy of the table without places: the
+    // line is its header's.
+    let (_, key, line, message) = error_of(&text);
+    assert_eq!(
+        (key.as_str(), line),
+        ("shape[2].radius", Some(16)),
+        "{message}"
+    );
+    assert!(message.contains("\"big\""), "{message}");
+    let woven = |extra: &str| {
+        format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"silk\"\n{extra}\n")
+    };
+    for (extra, key, expected) in [
+        (
+            "yarns_per_unit = [40.0]",
+            "material.m.yarns_per_unit",
+            "[weft, warp]: a list of two numbers",
+        ),
+        (
+            "yarns_per_unit = [1, 2, 3]",
+            "material.m.yarns_per_unit",
+            "[weft, warp]: a list of two numbers",
+        ),
+        (
+            "yarns_per_unit = \"many\"",
+            "material.m.yarns_per_unit",
+            "a number, or [weft, warp]",
+        ),
+        (
+            "pattern = 3",
+            "material.m.pattern",
+            "a pattern's name, its rows of 0 and 1, or { wif = \"FILE\" }",
+        ),
+        (
+            "pattern = { wiff = \"a.wif\" }",
+            "material.m.pattern",
+            "unknown field `wiff`",
+        ),
+    ] {
+        let (_, k, _, message) = error_of(&woven(extra));
+        assert_eq!(k, key, "{extra}: {message}");
+        assert!(message.contains(expected), "{extra}: {message}");
+        assert!(!message.contains("untagged"), "{extra}: {message}");
+    }
+    // The forms each takes still read.
+    for extra in [
+        "yarns_per_unit = 40",
+        "yarns_per_unit = [40, 60.5]",
+        "pattern = \"twill-2/1\"",
+        "pattern = [[1, 0], [0, 1]]",
+    ] {
+        SceneDescription::from_str(&woven(extra), "scene.toml", Path::new("."))
+            .unwrap_or_else(|e| panic!("{extra}: {e}"));
+    }
+}
+
+/// A woven material that is neither a preset nor a file that exists, and does not look like a
+/// path, is taken for a mistyped preset: the message lists the presets.
+#[test]
+fn a_mistyped_preset_lists_the_presets() {
+    let text = format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"polyester-satin\"\n");
+    let (_, key, _, message) = error_of(&text);
+    assert_eq!(key, "material.m.material");
+    assert!(
+        message.contains("polyester-satin") && message.contains("polyester-sateen, "),
+        "{message}"
+    );
+    // A path still says the file is missing.
+    let text = format!("{MINIMAL}[material.m]\ntype = \"woven\"\nmaterial = \"cloth/mine.toml\"\n");
+    let (_, _, _, message) = error_of(&text);
+    assert!(message.contains("No such file"), "{message}");
 }
