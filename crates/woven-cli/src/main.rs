@@ -99,13 +99,15 @@ fn main() -> ExitCode {
         // A closed pipe (`woven eval … | head`) means the reader has all it wants.
         Err(err) if is_broken_pipe(&err) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err}");
+            // A key or a name of megabytes, echoed from the input, is shown cut.
+            let clip = |text: &str| woven::error::clip_words(text).into_owned();
+            eprintln!("error: {}", clip(&err.to_string()));
             let mut previous = err.to_string();
             for cause in err.chain().skip(1) {
                 let text = cause.to_string();
                 // The library's I/O errors print their source after the path: say it once.
                 if !previous.ends_with(&text) {
-                    eprintln!("  caused by: {text}");
+                    eprintln!("  caused by: {}", clip(&text));
                 }
                 previous = text;
             }

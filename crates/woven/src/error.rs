@@ -64,3 +64,53 @@ pub(crate) fn check_range(name: &str, x: f64, lo: f64, hi: f64) -> Result<f64> {
         Err(Error::invalid(name, x, format!("a number in [{lo}, {hi}]")))
     }
 }
+
+/// The longest run of non-blank characters a message shows whole: a long path fits; a key or a
+/// name of a megabyte, echoed back from hostile input, does not.
+pub const MAX_WORD_CHARS: usize = 256;
+
+/// `message` with each run of non-blank characters longer than [`MAX_WORD_CHARS`] cut to its
+/// first 120 and last 40 characters around a note of how many were left out: what front ends
+/// (the CLI, Python, the server) show of an error, so that a 10 MB name is not echoed whole.
+///
+/// ```
+/// let key = "k".repeat(1_000_000);
+/// let message = format!("unknown field `{key}`, expected `a`");
+/// let shown = woven::error::clip_words(&message);
+/// assert!(shown.len() < 300);
+/// assert!(shown.contains("…(999843 characters left out)…"));
+/// assert!(shown.ends_with("`, expected `a`"));
+/// assert_eq!(woven::error::clip_words("short words"), "short words");
+/// ```
+pub fn clip_words(message: &str) -> std::borrow::Cow<'_, str> {
+    const HEAD: usize = 120;
+    const TAIL: usize = 40;
+    let long = |w: &str| w.chars().nth(MAX_WORD_CHARS).is_some();
+    if !message.split_whitespace().any(long) {
+        return message.into();
+    }
+    let mut out = String::new();
+    let mut rest = message;
+    while !rest.is_empty() {
+        let blank = rest
+            .find(|c: char| !c.is_whitespace())
+            .unwrap_or(rest.len());
+        out.push_str(&rest[..blank]);
+        rest = &rest[blank..];
+        let end = rest.find(char::is_whitespace).unwrap_or(rest.len());
+        let word = &rest[..end];
+        if long(word) {
+            let n = word.chars().count();
+            let head: String = word.chars().take(HEAD).collect();
+            let tail: String = word.chars().skip(n - TAIL).collect();
+            out.push_str(&format!(
+                "{head}…({} characters left out)…{tail}",
+                n - HEAD - TAIL
+            ));
+        } else {
+            out.push_str(word);
+        }
+        rest = &rest[end..];
+    }
+    out.into()
+}
