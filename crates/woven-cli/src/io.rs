@@ -115,6 +115,39 @@ pub fn write_atomically<T>(
     })
 }
 
+/// Writes each `(path, bytes)` as [`write_atomically`] does, all or none: each file is written
+/// (and flushed) to its temporary file inside the previous one's, so the files are renamed in
+/// reverse order only once every one is written, and a failure (a full disk) leaves none of
+/// them behind: the first, the main output, is renamed last.
+///
+/// # Errors
+/// As [`write_atomically`], for the first file that fails.
+pub fn write_all_atomically(files: &[(&Path, &[u8])]) -> Result<()> {
+    /// A later file's error, carried through the earlier files' writers unchanged.
+    #[derive(Debug)]
+    struct Later(anyhow::Error);
+    impl std::fmt::Display for Later {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            write!(f, "{:#}", self.0)
+        }
+    }
+    impl std::error::Error for Later {}
+    fn nest(files: &[(&Path, &[u8])]) -> Result<()> {
+        let Some(((path, bytes), rest)) = files.split_first() else {
+            return Ok(());
+        };
+        write_atomically(path, |w| {
+            w.write_all(bytes)?;
+            w.flush()?;
+            nest(rest).map_err(|e| anyhow::Error::new(Later(e)))
+        })
+    }
+    nest(files).map_err(|e| match e.downcast::<Later>() {
+        Ok(Later(inner)) => inner,
+        Err(e) => e,
+    })
+}
+
 /// Removal of unfinished temporary files when the process is interrupted.
 mod interrupt {
     use std::path::{Path, PathBuf};

@@ -176,3 +176,43 @@ fn a_fit_the_data_cannot_decide_is_refused() {
         );
     assert!(!out.exists());
 }
+
+/// A plot that cannot be written (a full disk: `/dev/full` behind the plot's name) fails the
+/// fit's outputs all together: the material and the report are not left behind.
+#[cfg(unix)]
+#[test]
+fn a_plot_on_a_full_disk_leaves_no_output() {
+    assert!(Path::new("/dev/full").exists(), "no /dev/full");
+    let dir = tempfile::tempdir().unwrap();
+    let data = measurements(dir.path(), "grey.csv", 0.5);
+    let (out, report, plot) = (
+        dir.path().join("fitted.toml"),
+        dir.path().join("fit.md"),
+        dir.path().join("fit.svg"),
+    );
+    std::os::unix::fs::symlink("/dev/full", &plot).unwrap();
+    woven()
+        .args(["fit", "--model", "fiber", "--starts", "2", "--data"])
+        .arg(&data)
+        .arg("-o")
+        .arg(&out)
+        .arg("--report")
+        .arg(&report)
+        .arg("--plot")
+        .arg(&plot)
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("cannot write `"))
+        .stderr(predicate::str::contains("fit.svg`"));
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    let mut left = left;
+    left.sort();
+    assert_eq!(
+        left,
+        ["fit.svg", "grey.csv"],
+        "only the data and the link remain"
+    );
+}

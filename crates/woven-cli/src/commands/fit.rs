@@ -188,22 +188,24 @@ pub fn run(args: &FitArgs) -> Result<()> {
     for w in &result.warnings {
         eprintln!("warning: {w}");
     }
+    // Every output made before any is written, then all written or none (a full disk).
+    let mut files: Vec<(&Path, Vec<u8>)> = Vec::new();
     if let Some(out) = &args.output {
         let text = result
             .material_toml()
             .unwrap_or_else(|| result.params_toml());
-        io::write_atomically(out, |w| Ok(w.write_all(text.as_bytes())?))?;
+        files.push((out, text.into_bytes()));
     }
     if let Some(report) = &args.report {
-        let text = result.to_markdown();
-        io::write_atomically(report, |w| Ok(w.write_all(text.as_bytes())?))?;
+        files.push((report, result.to_markdown().into_bytes()));
     }
     if let Some(plot) = &args.plot {
         let bytes =
             draw_plot(&result, plot).with_context(|| format!("drawing `{}`", plot.display()))?;
-        io::write_atomically(plot, |w| Ok(w.write_all(&bytes)?))?;
+        files.push((plot, bytes));
     }
-    Ok(())
+    let files: Vec<(&Path, &[u8])> = files.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    io::write_all_atomically(&files)
 }
 
 fn load(path: &Path) -> Result<woven_fit::data::Dataset> {
