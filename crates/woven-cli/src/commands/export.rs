@@ -282,8 +282,8 @@ fn export_merl(args: &ExportArgs) -> Result<()> {
             if material.yarn.is_some() {
                 let built = build_table(&material, &model, &TableOptions::for_model(&model))?;
                 let (n_theta, _, n_h) = built.table.dims();
-                println!(
-                    "`{name}` has isotropic yarns: an exact evaluation takes about a millisecond, \
+                eprintln!(
+                    "note: `{name}` has isotropic yarns: an exact evaluation takes about a millisecond, \
                      far too slow for {} bins, so woven tabulated it first ({n_theta} θi × {n_h}² \
                      half-vector nodes, in {}) and exports the table. `woven tabulate -m {name} \
                      --report` states a table's accuracy; build one there (finer with \

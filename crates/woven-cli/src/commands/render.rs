@@ -262,7 +262,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         println!("  {}", path.display());
     }
     if image.invalid_samples > 0 {
-        println!(
+        eprintln!(
             "warning: {} samples were NaN, infinite or negative and counted as black",
             image.invalid_samples
         );
