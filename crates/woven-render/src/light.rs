@@ -414,8 +414,8 @@ fn pixel_of(d: Vec3, width: usize, height: usize) -> (usize, usize) {
 }
 
 /// Refuses an EXR whose `headers` declare more than the rest of the file can hold: each chunk
-/// takes 8 bytes of the offset table, and the pixels at least their raw bytes over
-/// [`MAX_EXR_COMPRESSION`]. Deep layers, which the reader does not take, are refused here.
+/// takes 8 bytes of the offset table, and the pixels (and any one tile) at least their raw
+/// bytes over [`MAX_EXR_COMPRESSION`]. Deep layers, which the reader does not take, are refused here.
 fn check_declared_size(
     headers: &[exr::meta::header::Header],
     reader: &mut impl std::io::Seek,
@@ -428,7 +428,43 @@ fn check_declared_size(
         if h.deep {
             return Err("a deep-data layer: an environment map must be a flat image".into());
         }
-        need += 8 * h.chunk_count as u64 + h.total_pixel_bytes() as u64 / MAX_EXR_COMPRESSION;
+        // The full-resolution level's samples (channels may be subsampled; a sampling of 0,
+        // which the reader refuses later, counts as 1 here).
+        let (w, ht) = (h.layer_size.0 as u64, h.layer_size.1 as u64);
+        let raw: u64 = h
+            .channels
+            .list
+            .iter()
+            .map(|c| {
+                let (sx, sy) = (c.sampling.0.max(1) as u64, c.sampling.1.max(1) as u64);
+                (w / sx) * (ht / sy) * c.sample_type.bytes_per_sample() as u64
+            })
+            .fold(0u64, u64::saturating_add);
+        need = need
+            .saturating_add((h.chunk_count as u64).saturating_mul(8))
+            .saturating_add(raw / MAX_EXR_COMPRESSION);
+        // A tile is decoded whole, however little of it the image covers: it too must fit
+        // in what the file could hold.
+        if let exr::meta::BlockDescription::Tiles(t) = h.blocks {
+            let pixel: u64 = h
+                .channels
+                .list
+                .iter()
+                .map(|c| c.sample_type.bytes_per_sample() as u64)
+                .sum();
+            let tile = (t.tile_size.0 as u64)
+                .saturating_mul(t.tile_size.1 as u64)
+                .saturating_mul(pixel);
+            if tile / MAX_EXR_COMPRESSION > length {
+                return Err(format!(
+                    "tiles of {} × {} pixels, which take at least {} bytes even compressed \
+                     {MAX_EXR_COMPRESSION}:1, but the file has {length}",
+                    t.tile_size.0,
+                    t.tile_size.1,
+                    tile / MAX_EXR_COMPRESSION
+                ));
+            }
+        }
     }
     if length < need {
         let (w, ht) = (headers[0].layer_size.0, headers[0].layer_size.1);

@@ -223,3 +223,20 @@ fn an_exr_declaring_more_than_it_holds_is_refused_before_allocating() {
         assert!(!e.to_string().contains("the file has"), "{e}");
     }
 }
+
+/// Inputs the cargo-fuzz targets (fuzz/) found crashing, kept as regression tests: each is read
+/// or refused without a panic.
+#[test]
+fn fuzz_crashes_are_refused() {
+    // A channel subsampled by 0: the declared-size check divided by it.
+    let bytes = include_bytes!("../data/fuzz/exr-zero-sampling.exr");
+    check_exr(bytes);
+    // A 4 × 2 image in tiles of 33 554 496 × 64 pixels: the reader allocated a tile (25 GB),
+    // past libFuzzer's memory limit. Refused from the header.
+    let bytes = include_bytes!("../data/fuzz/exr-huge-tile.exr");
+    let e = Environment::read_exr(Cursor::new(bytes), Path::new("tile.exr"), 1.0)
+        .err()
+        .expect("a tile larger than the file could hold")
+        .to_string();
+    assert!(e.contains("tiles of 33554496 × 64 pixels"), "{e}");
+}
