@@ -239,12 +239,14 @@ impl Albedos {
 
     /// The albedos per channel of these (a material's own) dyed `colour`: the colour replaces
     /// `ρ0` (kept below 1), and `ρ` scales with it (`ρ·c/ρ0`, at most 1; unchanged when `ρ0` is
-    /// 0). No colour: these, in every channel. The one rule every dyed surface follows.
+    /// 0). No colour: these, in every channel. A channel that is not a number (a NaN texel)
+    /// counts as 0, black, as the renderer counts a NaN sample. The one rule every dyed surface
+    /// follows.
     pub fn dyed(self, colour: Option<Rgb>) -> [Albedos; 3] {
         let Some(c) = colour else {
             return [self; 3];
         };
-        c.0.map(|c| Albedos {
+        c.0.map(|c| if c.is_nan() { 0.0 } else { c }).map(|c| Albedos {
             diffuse: c.clamp(0.0, 0.999),
             interreflection: if self.diffuse > 0.0 {
                 (self.interreflection * c / self.diffuse).clamp(0.0, 1.0)

@@ -197,3 +197,17 @@ fn a_tilted_cloth_reflects_no_more_than_it_receives() {
         }
     }
 }
+
+/// The dye rule on colours out of range: a NaN channel (a bad texel) is black, an infinite or
+/// large one is kept below 1, a negative one is 0; every albedo it gives is finite and in range.
+#[test]
+fn the_dye_rule_keeps_bad_colours_in_range() {
+    use woven::table::Albedos;
+    let own = Albedos::of(&Material::preset("polyester-sateen").unwrap());
+    let dyed = own.dyed(Some(Rgb([f64::NAN, f64::INFINITY, -2.0])));
+    assert_eq!(dyed.map(|a| a.diffuse), [0.0, 0.999, 0.0]);
+    for a in dyed {
+        assert!((0.0..=1.0).contains(&a.interreflection), "{a:?}");
+    }
+    assert_eq!(dyed[0].interreflection, 0.0);
+}
