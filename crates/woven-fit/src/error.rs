@@ -1,7 +1,7 @@
 //! The fitter's error type.
 
 /// Everything that can stop a fit before it starts (a fit that runs never fails: it reports how
-/// well it did).
+/// well it did), and a fit cancelled while it runs.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum FitError {
@@ -73,6 +73,10 @@ pub enum FitError {
     /// The initial material is not one the fitter can use, or does not build.
     #[error(transparent)]
     Material(#[from] woven::Error),
+    /// The fit was told to stop ([`fit_with_cancel`](crate::fit_with_cancel)'s `cancel`
+    /// answered `true`) before it finished; it returns no partial result.
+    #[error("the fit was cancelled before it finished")]
+    Cancelled,
 }
 
 impl FitError {

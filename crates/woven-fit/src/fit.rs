@@ -41,6 +41,7 @@ use nalgebra::{storage::Owned, DMatrix, DVector, Dyn};
 use rayon::prelude::*;
 use std::cell::{Cell, RefCell};
 use std::fmt::Write as _;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The residual of one measurement (see the module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -356,6 +357,7 @@ struct Problem<'a> {
     evaluations: Cell<usize>,
     progress: &'a (dyn Fn() + Sync),
     cache: &'a FiberCache,
+    stop: &'a Stop<'a>,
 }
 
 impl<'a> Problem<'a> {
@@ -366,6 +368,7 @@ impl<'a> Problem<'a> {
         max_jacobians: usize,
         progress: &'a (dyn Fn() + Sync),
         cache: &'a FiberCache,
+        stop: &'a Stop<'a>,
     ) -> Self {
         let free = set.free_indices();
         let u = DVector::from_vec(set.free_u());
@@ -383,6 +386,7 @@ impl<'a> Problem<'a> {
             evaluations: Cell::new(0),
             progress,
             cache,
+            stop,
         };
         p.set_params(&u);
         p
@@ -425,10 +429,13 @@ impl<'a> Problem<'a> {
             }
         }
         // Forward differences for the rest, every column at once.
-        let (u0, set0, cache) = (self.u.as_slice(), &self.set, self.cache);
+        let (u0, set0, cache, stop) = (self.u.as_slice(), &self.set, self.cache, self.stop);
         let stepped: Vec<Option<Vec<Parts>>> = fd_cols
             .par_iter()
             .map(|&j| {
+                if stop.now() {
+                    return None; // the fit ends with FitError::Cancelled: the column is unused
+                }
                 let mut u = u0.to_vec();
                 u[j] += FD_STEP;
                 let mut set = set0.clone();
@@ -460,6 +467,12 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 
     fn set_params(&mut self, u: &DVector<f64>) {
         self.u = u.clone();
+        if self.stop.now() {
+            // No residuals end the run; the fit then ends with FitError::Cancelled.
+            self.set.set_free_u(u.as_slice());
+            self.res = None;
+            return;
+        }
         match self.parts_at(u.as_slice()) {
             Some((set, parts)) => {
                 let r = self.data.residuals(self.kind, &parts, &Linear::of(&set));
@@ -489,8 +502,9 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        if self.jacobians.get() >= self.max_jacobians {
-            return None; // the iteration budget is spent: keep the best point
+        if self.jacobians.get() >= self.max_jacobians || self.stop.now() {
+            // The iteration budget is spent (or the fit cancelled): keep the best point.
+            return None;
         }
         self.jacobians.set(self.jacobians.get() + 1);
         (self.progress)();
@@ -509,8 +523,9 @@ fn levenberg_marquardt(
     max_jacobians: usize,
     progress: &(dyn Fn() + Sync),
     cache: &FiberCache,
+    stop: &Stop,
 ) -> (ParamSet, f64, usize, String) {
-    let problem = Problem::new(set, data, kind, max_jacobians, progress, cache);
+    let problem = Problem::new(set, data, kind, max_jacobians, progress, cache, stop);
     let (problem, report) = LevenbergMarquardt::new()
         .with_ftol(1e-4)
         .with_xtol(1e-4)
@@ -607,6 +622,7 @@ fn check_determined(
     data: &Observations,
     options: &FitOptions,
     cache: &FiberCache,
+    stop: &Stop,
 ) -> Result<(), FitError> {
     let free = set.free_indices();
     if free.is_empty() {
@@ -614,7 +630,7 @@ fn check_determined(
     }
     let rank_on = |obs: &Observations| -> Option<(usize, Vec<f64>)> {
         let noop = || {};
-        let problem = Problem::new(set.clone(), obs, options.residual, 1, &noop, cache);
+        let problem = Problem::new(set.clone(), obs, options.residual, 1, &noop, cache, stop);
         if !problem.res.as_ref()?.iter().all(|r| r.is_finite()) {
             return None;
         }
@@ -684,6 +700,47 @@ fn check_determined(
 /// What a fit reports while it runs: `(done, total)` steps (screened starts plus iterations).
 pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
+/// What a fit asks, between units of its work, whether to stop ([`fit_with_cancel`]): `true`
+/// stops it. Called from every core, often (an atomic load is the right cost).
+pub type CancelFn<'a> = &'a (dyn Fn() -> bool + Sync);
+
+/// A cancel hook, latched: once it has answered `true` the fit stops at each later check too, and
+/// ends with [`FitError::Cancelled`] (never a partial result).
+struct Stop<'a> {
+    ask: CancelFn<'a>,
+    seen: AtomicBool,
+}
+
+impl<'a> Stop<'a> {
+    fn new(ask: CancelFn<'a>) -> Self {
+        Stop {
+            ask,
+            seen: AtomicBool::new(false),
+        }
+    }
+
+    /// Whether to stop now.
+    fn now(&self) -> bool {
+        if self.seen.load(Ordering::Relaxed) {
+            return true;
+        }
+        let stop = (self.ask)();
+        if stop {
+            self.seen.store(true, Ordering::Relaxed);
+        }
+        stop
+    }
+
+    /// [`FitError::Cancelled`] if the fit was asked to stop at this or any earlier check.
+    fn check(&self) -> Result<(), FitError> {
+        if self.now() {
+            Err(FitError::Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+}
+
 /// Fits the parameter set `set` (its free parameters) to `dataset`.
 ///
 /// The stages: the initial values and `options.starts` quasi-random points of the free
@@ -708,6 +765,25 @@ pub fn fit(
     options: &FitOptions,
     progress: ProgressFn<'_>,
 ) -> Result<FitResult, FitError> {
+    fit_with_cancel(dataset, set, options, progress, &|| false)
+}
+
+/// [`fit`], asking `cancel` between units of work whether to stop: before each start is scored,
+/// before each evaluation of the model over the measurements (a step of Levenberg–Marquardt, a
+/// column of a finite-difference Jacobian) and between the stages. A fit told to stop ends
+/// within one such unit (a few evaluations of the model at each measurement of the run) with
+/// [`FitError::Cancelled`]. `woven serve` stops the fits whose client has gone with it.
+///
+/// # Errors
+/// As [`fit`]; [`FitError::Cancelled`] once `cancel` has answered `true`.
+pub fn fit_with_cancel(
+    dataset: &Dataset,
+    set: &ParamSet,
+    options: &FitOptions,
+    progress: ProgressFn<'_>,
+    cancel: CancelFn<'_>,
+) -> Result<FitResult, FitError> {
+    let stop = Stop::new(cancel);
     options.check()?;
     let data = Observations::new(dataset, options.saturation)?;
     if data.channels != set.channels {
@@ -720,10 +796,13 @@ pub fn fit(
         });
     }
     let cache = FiberCache::default();
+    stop.check()?;
     Prepared::with_cache(set, Some(&cache))?;
-    check_determined(dataset, set, &data, options, &cache)?;
+    // A cancelled check may have seen zero columns: its verdict only counts if it ran through.
+    let determined = check_determined(dataset, set, &data, options, &cache, &stop);
+    stop.check()?;
+    determined?;
     let subset = data.subset(options.subset.max(1));
-    let free = set.free_indices();
     let total = options.starts
         + 1
         + options.refine * options.refine_iterations
@@ -736,52 +815,13 @@ pub fn fit(
     };
 
     // Stage 1: score the initial values and the quasi-random starts on the subset.
-    let mut candidates = vec![set.clone()];
-    for i in 0..options.starts {
-        let mut c = set.clone();
-        for (d, &pi) in free.iter().enumerate() {
-            let p = &mut c.params[pi];
-            if p.quantity == Quantity::Scale {
-                continue; // matched to the data below
-            }
-            let mut t = sobol_burley::sample(i as u32, d as u32, options.seed) as f64;
-            if p.quantity == Quantity::Roughness {
-                // A few roughness levels only: each needs its own β table (~0.2 s to build).
-                t = ((t * ROUGHNESS_LEVELS).floor() + 0.5) / ROUGHNESS_LEVELS;
-            }
-            p.value = p.start_at(t);
-        }
-        candidates.push(c);
-    }
-    let mut scored: Vec<(f64, ParamSet)> = candidates
-        .into_par_iter()
-        .map(|mut c| {
-            let cost = score(&mut c, &subset, options.residual, &cache);
-            tick();
-            (cost, c)
-        })
-        .collect();
+    let scored = screen(set, &subset, options, &cache, &tick, &stop);
+    stop.check()?;
     let mut evaluations = scored.len() * subset.obs.len();
-    // A stable sort: equal costs keep the candidates' order, so the result is deterministic.
-    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
 
     // Stage 2: refine the best starts on the subset.
-    let mut best: Option<(f64, ParamSet)> = None;
-    for (_, start) in scored.into_iter().take(options.refine.max(1)) {
-        let (set, cost, evals, _) = levenberg_marquardt(
-            start,
-            &subset,
-            options.residual,
-            options.refine_iterations,
-            &tick,
-            &cache,
-        );
-        evaluations += evals;
-        if best.as_ref().is_none_or(|b| cost < b.0) {
-            best = Some((cost, set));
-        }
-    }
-    let (_, start) = best.expect("at least one start");
+    let (start, evals) = refine(scored, &subset, options, &tick, &cache, &stop)?;
+    evaluations += evals;
 
     // Stage 3: the final run (on an even subset of a large dataset, then polished on all of it).
     let work = data.subset(options.final_subset.max(1));
@@ -792,7 +832,9 @@ pub fn fit(
         options.max_iterations,
         &tick,
         &cache,
+        &stop,
     );
+    stop.check()?;
     evaluations += evals;
 
     // The guard (module docs): a result worse than the Lambert-like limit is a poor basin; the
@@ -808,7 +850,9 @@ pub fn fit(
             options.max_iterations,
             &tick,
             &cache,
+            &stop,
         );
+        stop.check()?;
         evaluations += evals;
         if again_cost < cost {
             fitted = again;
@@ -826,7 +870,9 @@ pub fn fit(
             options.polish_iterations,
             &tick,
             &cache,
+            &stop,
         );
+        stop.check()?;
         fitted = polished;
         evaluations += evals;
         termination = format!(
@@ -835,7 +881,8 @@ pub fn fit(
         );
     }
     // The microcylinder's energy guard, measured at the result (crate::microcylinder).
-    let (guarded, evals, t) = settle_guard(fitted, &work, &data, options, &tick, &cache);
+    let (guarded, evals, t) = settle_guard(fitted, &work, &data, options, &tick, &cache, &stop);
+    stop.check()?;
     fitted = guarded;
     evaluations += evals;
     termination.push_str(&t);
@@ -843,8 +890,19 @@ pub fn fit(
 
     // The Jacobian at the optimum for the standard errors.
     let noop = || {};
-    let problem = Problem::new(fitted.clone(), &data, options.residual, 1, &noop, &cache);
+    let problem = Problem::new(
+        fitted.clone(),
+        &data,
+        options.residual,
+        1,
+        &noop,
+        &cache,
+        &stop,
+    );
+    // Cancelled before the residuals were evaluated, the problem has none to differentiate.
+    stop.check()?;
     let jac = problem.jacobian_here();
+    stop.check()?;
     let res = problem
         .res
         .clone()
@@ -863,6 +921,44 @@ pub fn fit(
         evaluations,
         termination,
     );
+    check_result(dataset, &result)?;
+    Ok(result)
+}
+
+/// Stage 2 of [`fit`]: the best `options.refine` of the `scored` starts refined by short runs on
+/// `subset`; the best result and the model evaluations spent.
+fn refine(
+    scored: Vec<(f64, ParamSet)>,
+    subset: &Observations,
+    options: &FitOptions,
+    tick: &(dyn Fn() + Sync),
+    cache: &FiberCache,
+    stop: &Stop,
+) -> Result<(ParamSet, usize), FitError> {
+    let mut evaluations = 0;
+    let mut best: Option<(f64, ParamSet)> = None;
+    for (_, start) in scored.into_iter().take(options.refine.max(1)) {
+        let (set, cost, evals, _) = levenberg_marquardt(
+            start,
+            subset,
+            options.residual,
+            options.refine_iterations,
+            tick,
+            cache,
+            stop,
+        );
+        stop.check()?;
+        evaluations += evals;
+        if best.as_ref().is_none_or(|b| cost < b.0) {
+            best = Some((cost, set));
+        }
+    }
+    let (_, start) = best.expect("at least one start");
+    Ok((start, evaluations))
+}
+
+/// [`FitError::Data`] for a fit whose error is not finite or whose model is 0 everywhere.
+fn check_result(dataset: &Dataset, result: &FitResult) -> Result<(), FitError> {
     if !(result.relative_rms.is_finite() && result.rms_log.is_finite()) {
         return Err(FitError::Data {
             name: dataset.name.clone(),
@@ -882,7 +978,52 @@ pub fn fit(
                 .into(),
         });
     }
-    Ok(result)
+    Ok(())
+}
+
+/// Stage 1 of [`fit`]: the initial values and `options.starts` quasi-random points of the free
+/// parameters' start ranges, scored on `subset` (over every core) and sorted, the best first.
+/// Once `stop` says so, the remaining starts are left unscored (at an infinite cost).
+fn screen(
+    set: &ParamSet,
+    subset: &Observations,
+    options: &FitOptions,
+    cache: &FiberCache,
+    tick: &(dyn Fn() + Sync),
+    stop: &Stop,
+) -> Vec<(f64, ParamSet)> {
+    let free = set.free_indices();
+    let mut candidates = vec![set.clone()];
+    for i in 0..options.starts {
+        let mut c = set.clone();
+        for (d, &pi) in free.iter().enumerate() {
+            let p = &mut c.params[pi];
+            if p.quantity == Quantity::Scale {
+                continue; // matched to the data when scored
+            }
+            let mut t = sobol_burley::sample(i as u32, d as u32, options.seed) as f64;
+            if p.quantity == Quantity::Roughness {
+                // A few roughness levels only: each needs its own β table (~0.2 s to build).
+                t = ((t * ROUGHNESS_LEVELS).floor() + 0.5) / ROUGHNESS_LEVELS;
+            }
+            p.value = p.start_at(t);
+        }
+        candidates.push(c);
+    }
+    let mut scored: Vec<(f64, ParamSet)> = candidates
+        .into_par_iter()
+        .map(|mut c| {
+            if stop.now() {
+                return (f64::INFINITY, c);
+            }
+            let cost = score(&mut c, subset, options.residual, cache);
+            tick();
+            (cost, c)
+        })
+        .collect();
+    // A stable sort: equal costs keep the candidates' order, so the result is deterministic.
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    scored
 }
 
 /// Runs of the microcylinder's energy guard ([`crate::microcylinder`]) before the final run is
@@ -901,6 +1042,7 @@ fn settle_guard(
     options: &FitOptions,
     tick: &(dyn Fn() + Sync),
     cache: &FiberCache,
+    stop: &Stop,
 ) -> (ParamSet, usize, String) {
     let (mut evaluations, mut note) = (0, String::new());
     let mut best: Option<(f64, ParamSet, usize)> = None;
@@ -919,7 +1061,7 @@ fn settle_guard(
         if best.as_ref().is_none_or(|b| cost < b.0) {
             best = Some((cost, set.clone(), round));
         }
-        if !changed || round == GUARD_ROUNDS {
+        if !changed || round == GUARD_ROUNDS || stop.now() {
             break;
         }
         let (again, _, evals, t) = levenberg_marquardt(
@@ -929,6 +1071,7 @@ fn settle_guard(
             options.max_iterations,
             tick,
             cache,
+            stop,
         );
         evaluations += evals;
         set = again;

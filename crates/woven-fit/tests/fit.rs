@@ -619,3 +619,42 @@ fn options_out_of_range_are_clear_errors() {
     let err = Residual::parse("square").unwrap_err().to_string();
     assert!(err.contains("`residual` = \"square\""), "{err}");
 }
+
+/// A fit told to stop ends with `FitError::Cancelled` (never a partial result) wherever it is
+/// told: before it starts, while it screens the starts, in a refinement and in the final run;
+/// it does no step after the one in flight; one never told stops as `fit` does.
+#[test]
+fn a_cancelled_fit_stops_with_cancelled() {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let mut truth = ParamSet::new(ModelKind::Sheen, None, 1, false).unwrap();
+    truth.fix("diffuse", 0.25).unwrap();
+    truth.fix("sheen", 0.7).unwrap();
+    truth.fix("roughness", 0.4).unwrap();
+    let data = synthesize(&truth_of(&truth), &curet_like_geometry(), NOISE, 5);
+    let start = ParamSet::new(ModelKind::Sheen, None, 1, false).unwrap();
+    let options = FitOptions::default();
+    // Steps: 33 starts screened, 2 × 4 refinement iterations, then the final run.
+    for cut in [0, 3, 34, 44] {
+        let (ticks, stop) = (AtomicUsize::new(0), AtomicBool::new(false));
+        let progress = |_: usize, _: usize| {
+            if ticks.fetch_add(1, Ordering::SeqCst) + 1 >= cut {
+                stop.store(true, Ordering::SeqCst);
+            }
+        };
+        stop.store(cut == 0, Ordering::SeqCst);
+        let got = woven_fit::fit_with_cancel(&data, &start, &options, &progress, &|| {
+            stop.load(Ordering::SeqCst)
+        });
+        assert!(
+            matches!(got, Err(FitError::Cancelled)),
+            "cut {cut}: {got:?}"
+        );
+        // The screening runs on every core: the starts already scoring finish, no others.
+        let slack = rayon::current_num_threads();
+        let done = ticks.load(Ordering::SeqCst);
+        assert!(done <= cut + slack, "cut {cut}: {done} steps");
+    }
+    let plain = fit(&data, &start, &options, &|_, _| {}).unwrap();
+    let never = woven_fit::fit_with_cancel(&data, &start, &options, &|_, _| {}, &|| false).unwrap();
+    assert_eq!(plain.rms_log, never.rms_log);
+}

@@ -49,6 +49,13 @@ pub struct AppState {
     models: Arc<ModelCache>,
 }
 
+impl AppState {
+    /// The jobs running now (holding a worker slot; those waiting for one are not counted).
+    pub fn running_jobs(&self) -> usize {
+        MAX_JOBS.saturating_sub(self.jobs.available_permits())
+    }
+}
+
 impl Default for AppState {
     fn default() -> Self {
         AppState {
@@ -63,6 +70,11 @@ type Shared = State<Arc<AppState>>;
 
 /// The router: the page's assets and the API; anything else is a JSON 404.
 pub fn router() -> Router {
+    router_with(Arc::new(AppState::default()))
+}
+
+/// [`router`] on the shared state `app` (which [`crate::server::serve`] watches to stop).
+pub fn router_with(app: Arc<AppState>) -> Router {
     Router::new()
         .route("/", get(assets::index))
         .route("/index.html", get(assets::index))
@@ -78,10 +90,16 @@ pub fn router() -> Router {
         .route("/api/compare", post(compare_stream))
         .route("/api/datasets", get(datasets))
         .route("/api/fit", post(fit_stream))
+        .route("/api/status", get(status))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
-        .with_state(Arc::new(AppState::default()))
+        .with_state(app)
+}
+
+/// `GET /api/status`: the jobs running now and the most that run at once.
+async fn status(State(app): Shared) -> Json<Value> {
+    Json(json!({"jobs": app.running_jobs(), "max_jobs": MAX_JOBS}))
 }
 
 async fn not_found(uri: Uri) -> ApiError {
@@ -95,9 +113,18 @@ async fn method_not_allowed(method: Method, uri: Uri) -> ApiError {
     }
 }
 
-/// The body's bytes, or the JSON error for one too large or unreadable.
+/// The body's bytes, or the JSON error for one too large, too slow or unreadable.
 fn body_bytes(body: Result<Bytes, BytesRejection>) -> ApiResult<Bytes> {
     body.map_err(|r| {
+        let mut cause: Option<&(dyn std::error::Error + 'static)> = Some(&r);
+        while let Some(e) = cause {
+            if let Some(t) = e.downcast_ref::<crate::server::BodyTimeout>() {
+                return ApiError::Timeout {
+                    limit_ms: t.limit.as_millis(),
+                };
+            }
+            cause = e.source();
+        }
         if r.status() == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
             ApiError::TooLarge {
                 limit: MAX_BODY_BYTES,
@@ -207,8 +234,9 @@ enum FitMessage {
 
 /// `POST /api/fit`: the cloth model fitted to measured data (`woven fit --model cloth`, the
 /// fitter's defaults), starting from the page's material, one channel (colour data as the mean
-/// of its channels); streams the fitter's progress, then the fitted material. A fit runs to its
-/// end once started (tens of seconds for a twisted or isotropic yarn).
+/// of its channels); streams the fitter's progress, then the fitted material. A fit takes tens of
+/// seconds for a twisted or isotropic yarn; it stops within a step of the fitter once its client
+/// has gone or a newer request on its channel has started ([`woven_fit::fit_with_cancel`]).
 async fn fit_stream(
     State(app): Shared,
     body: Result<Bytes, BytesRejection>,
@@ -231,7 +259,9 @@ async fn fit_stream(
         let progress = |done: usize, total: usize| {
             out.send(&FitMessage::Progress { done, total });
         };
-        let message = match woven_fit::fit(&dataset, &set, &options, &progress) {
+        let cancel = || out.cancelled();
+        let message = match woven_fit::fit_with_cancel(&dataset, &set, &options, &progress, &cancel)
+        {
             Ok(r) => match r.material() {
                 Some(fitted) => FitMessage::Fit {
                     material: material::to_json(&fitted),
@@ -244,6 +274,8 @@ async fn fit_stream(
                     error: "the fit gave no material".into(),
                 },
             },
+            // The client has gone (or a newer fit on the channel superseded this one).
+            Err(woven_fit::FitError::Cancelled) => return,
             Err(e) => FitMessage::Failed {
                 error: e.to_string(),
             },

@@ -46,6 +46,13 @@ pub enum ApiError {
         /// The path.
         path: String,
     },
+    /// A request body that did not arrive within the read timeout: 408 (the connection is
+    /// then closed).
+    #[error("request body not received within the read timeout ({limit_ms} ms)")]
+    Timeout {
+        /// The read timeout, milliseconds.
+        limit_ms: u128,
+    },
     /// The server failed (a worker panicked): 500.
     #[error("internal error: {0}")]
     Internal(String),
@@ -92,6 +99,7 @@ impl ApiError {
             ApiError::TooLarge { .. } => StatusCode::PAYLOAD_TOO_LARGE,
             ApiError::NotFound(_) => StatusCode::NOT_FOUND,
             ApiError::MethodNotAllowed { .. } => StatusCode::METHOD_NOT_ALLOWED,
+            ApiError::Timeout { .. } => StatusCode::REQUEST_TIMEOUT,
             ApiError::Internal(_) => StatusCode::INTERNAL_SERVER_ERROR,
         }
     }

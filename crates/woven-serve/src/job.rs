@@ -1,10 +1,10 @@
 //! Long computations: run on the blocking pool (never on the event loop), report as
 //! newline-delimited JSON, and stop between chunks of work once their result is stale.
 //!
-//! A job is stale when its client has gone (the page aborted the request: the response body is
-//! dropped and the channel closes) or when a newer request on the same *channel* (a name the
-//! page chooses, one per view) has started since: each request bumps its channel's generation
-//! and the job compares it with its own.
+//! A job is stale when its client has gone (the page aborted the request, or the server is
+//! stopping and closed the connection: the response body is dropped and the channel closes) or
+//! when a newer request on the same *channel* (a name the page chooses, one per view) has started
+//! since: each request bumps its channel's generation and the job compares it with its own.
 
 use axum::body::{Body, Bytes};
 use axum::http::header;

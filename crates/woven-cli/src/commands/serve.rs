@@ -18,7 +18,10 @@ TOML, the CSV behind every plot and PNGs of the plots.
 
 The page is built into the binary and needs no network. The server listens on 127.0.0.1 only \
 (--host changes that: the API has no authentication, so bind elsewhere only on a network you \
-trust) and prints the address to open; Ctrl-C stops it. docs/serve.md describes the page and the \
+trust) and prints the address to open; Ctrl-C (or SIGTERM) stops it within a second, cancelling \
+the computations under way. A computation whose page has gone (closed, reloaded, or asking \
+anew) is stopped too. A client must send each request's headers, and then its body, within \
+--read-timeout seconds, else its connection is closed. docs/serve.md describes the page and the \
 HTTP API.",
     after_help = "Examples:
   woven serve                 # then open http://127.0.0.1:8321/
@@ -33,6 +36,16 @@ pub struct ServeArgs {
     /// Address to listen on. The default, 127.0.0.1, reaches this machine only.
     #[arg(long, value_name = "ADDRESS", default_value = "127.0.0.1")]
     pub host: IpAddr,
+
+    /// Seconds a client may take to send a request's headers, and then its body (an idle
+    /// connection is closed after as long).
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = woven_serve::DEFAULT_READ_TIMEOUT.as_secs(),
+        value_parser = clap::value_parser!(u64).range(1..=3600)
+    )]
+    pub read_timeout: u64,
 }
 
 /// Runs `woven serve`.
@@ -47,6 +60,8 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     let options = woven_serve::Options {
         host: args.host,
         port: args.port,
+        read_timeout: std::time::Duration::from_secs(args.read_timeout),
+        ..woven_serve::Options::default()
     };
     woven_serve::run(&options, |url| {
         println!("woven explorer: open {url} in a browser (Ctrl-C stops it)");
