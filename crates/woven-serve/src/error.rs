@@ -118,10 +118,12 @@ impl ApiError {
             ),
             _ => (None, None, None),
         };
+        // A key or a name of megabytes, echoed from the request, is answered cut.
+        let clip = |text: String| woven::error::clip_words(&text).into_owned();
         ErrorBody {
-            error: self.to_string(),
-            field,
-            value,
+            error: clip(self.to_string()),
+            field: field.map(clip),
+            value: value.map(clip),
             expected,
         }
     }

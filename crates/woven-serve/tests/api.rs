@@ -815,3 +815,18 @@ mod hostile_bodies {
         }
     }
 }
+
+/// A key of a megabyte in a material is answered cut, not echoed whole.
+#[tokio::test]
+async fn a_huge_key_is_not_echoed_whole() {
+    let key = "k".repeat(1 << 20);
+    let mut material = flat();
+    material["fiber"][&key] = json!(1);
+    let v = error(
+        post_json("/api/material", json!({ "material": material })).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+    );
+    let text = v.to_string();
+    assert!(text.len() < 2000, "{} bytes", text.len());
+    assert!(text.contains("characters left out"), "{text}");
+}
