@@ -865,7 +865,10 @@ def _bsdf_class(mi):
             if c is None:
                 a = self.layout.albedos["warp" if key == "warp_color" else "weft"]
                 return mi.Color3f(*(x[0] for x in a)), mi.Color3f(*(x[1] for x in a))
+            # A NaN texel is black, the library's dye rule (Albedos::dyed); left NaN it made
+            # NaN samples, which the film's filter spread over neighbouring pixels.
             c = c.eval(si, active)
+            c = dr.select(dr.isnan(c), 0.0, c)
             d0, r0 = self.own
             rho0 = dr.clip(c, 0.0, 0.999)
             rho = dr.clip(r0 * c / d0, 0.0, 1.0) if d0 > 0 else c * 0.0 + r0
@@ -1067,7 +1070,8 @@ def _bsdf_class(mi):
 
         def _lib_dyes(self, si, active):
             lanes = self._lib
-            return {k: lanes.cols(t.eval(si, active), 3, active, 0.0)
+            # A NaN texel is black (the library's dye rule; woven.Surface refuses NaN colours).
+            return {k: np.nan_to_num(lanes.cols(t.eval(si, active), 3, active, 0.0), nan=0.0)
                     for k, t in self.textures.items()}
 
         def _lib_eval(self, si, wo, active):
