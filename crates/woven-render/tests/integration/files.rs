@@ -415,10 +415,12 @@ fn a_film_over_its_budget_is_refused_before_allocating() {
              [[light]]\ntype = \"point\"\nposition = [0, 0, 1]\nintensity = [1, 1, 1]\n"
         )
     };
-    let e = SceneDescription::from_str(&scene(16384, 16384), "big.toml", std::path::Path::new("."))
-        .err()
-        .expect("a 16384² film is over the budget")
-        .to_string();
+    let Err(e) =
+        SceneDescription::from_str(&scene(16384, 16384), "big.toml", std::path::Path::new("."))
+    else {
+        panic!("a 16384² film is over the budget");
+    };
+    let e = e.to_string();
     assert!(
         e.contains("big.toml:6: `film`: over the film budget: a 16384 × 16384 film takes about")
             && e.contains(&format!("the budget of {} GiB", FILM_BUDGET_BYTES >> 30)),
@@ -451,10 +453,10 @@ fn a_cloth_over_the_triangle_budget_is_refused() {
          edge_v = [0, 2, 0]\nresolution = [4096, 4096]\nmaterial = \"m\"\n\
          [material.m]\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n"
     );
-    let e = SceneDescription::from_str(&text, "cloth.toml", std::path::Path::new("."))
-        .err()
-        .expect("33.5 million triangles are over the budget")
-        .to_string();
+    let Err(e) = SceneDescription::from_str(&text, "cloth.toml", std::path::Path::new(".")) else {
+        panic!("33.5 million triangles are over the budget");
+    };
+    let e = e.to_string();
     assert!(
         e.contains(
             "`shape[0].resolution`: over the triangles budget: a cloth of resolution \

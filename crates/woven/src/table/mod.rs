@@ -246,14 +246,15 @@ impl Albedos {
         let Some(c) = colour else {
             return [self; 3];
         };
-        c.0.map(|c| if c.is_nan() { 0.0 } else { c }).map(|c| Albedos {
-            diffuse: c.clamp(0.0, 0.999),
-            interreflection: if self.diffuse > 0.0 {
-                (self.interreflection * c / self.diffuse).clamp(0.0, 1.0)
-            } else {
-                self.interreflection
-            },
-        })
+        c.0.map(|c| if c.is_nan() { 0.0 } else { c })
+            .map(|c| Albedos {
+                diffuse: c.clamp(0.0, 0.999),
+                interreflection: if self.diffuse > 0.0 {
+                    (self.interreflection * c / self.diffuse).clamp(0.0, 1.0)
+                } else {
+                    self.interreflection
+                },
+            })
     }
 }
 
