@@ -3,7 +3,7 @@
 //! 2013), `woven.Sheen` and `woven.RoughPlastic` (the baselines). Every value is the library's;
 //! this file converts arrays.
 
-use crate::arrays::{broadcast, incidences, map_batch, Dirs, Numbers};
+use crate::arrays::{broadcast, incidences, map_batch, map_each, Dirs, Numbers, UNIFORMS};
 use crate::table::split_columns;
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
@@ -29,7 +29,10 @@ pub(crate) type SharedRgb = Arc<dyn woven::bsdf::Bsdf<Value = Rgb>>;
 /// Directions as everywhere in woven: `wi` toward the light, `wo` toward the viewer, unit
 /// vectors (N, 3) or (3,) in the cloth's frame (z the normal, weft along x, warp along y), both
 /// pointing away from the surface; f is in sr⁻¹ without the cosine, 0 below the surface.
-/// Batches of 4096 pairs and more run on all cores with the GIL released.
+/// Batches of 4096 pairs and more run on all cores with the GIL released, and stop for Ctrl-C
+/// (KeyboardInterrupt). Arguments are validated as `woven.Table`'s: directions finite and unit
+/// length within `woven.UNIT_TOLERANCE`, `uc` and `u` in [0, 1], complex arrays refused; an
+/// empty batch gives empty results; a batch over `woven.BATCH_BUDGET_BYTES` raises MemoryError.
 #[pyclass(module = "woven", name = "Bsdf", frozen, subclass)]
 pub struct PyBsdf {
     pub(crate) inner: SharedRgb,
@@ -60,7 +63,7 @@ impl PyBsdf {
         let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
         let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
         let b = &*self.inner;
-        let out = map_batch::<3, _>(py, n, |i| b.eval(wi.get(i), wo.get(i)).0);
+        let out = map_batch::<3, _>(py, n, |i| b.eval(wi.get(i), wo.get(i)).0)?;
         rows_of_three(py, out, n, wi.single && wo.single)
     }
 
@@ -79,7 +82,7 @@ impl PyBsdf {
         let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
         let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
         let b = &*self.inner;
-        let out = map_batch::<1, _>(py, n, |i| [b.pdf(wi.get(i), wo.get(i), mode)]);
+        let out = map_batch::<1, _>(py, n, |i| [b.pdf(wi.get(i), wo.get(i), mode)])?;
         crate::material::scalar_or_array(py, out, wi.single && wo.single)
     }
 
@@ -87,7 +90,8 @@ impl PyBsdf {
     /// mode "importance": returns `wo`), `uc` (N,) or a scalar choosing the lobe and `u` (N, 2)
     /// or (2,) drawing within it: `(drawn (N, 3), f (N, 3), pdf (N,))`, f the value of the drawn
     /// pair and pdf the density `pdf` gives it. The Monte Carlo weight is f · cos θ_drawn / pdf.
-    /// A failed draw (below the horizon, or `known` below the surface) has all zeros.
+    /// A failed draw (below the horizon, or `known` below the surface) has all zeros; its zero
+    /// vector is no direction (`eval` and `pdf` refuse it): keep the draws with `pdf > 0`.
     #[pyo3(signature = (known, uc, u, mode = "radiance"))]
     fn sample<'py>(
         &self,
@@ -100,8 +104,8 @@ impl PyBsdf {
         let mode = mode_arg(mode)?;
         let (known, uc, u) = (
             Dirs::extract(known, "known")?,
-            Numbers::extract(uc, "uc")?,
-            Dirs::extract_width(u, "u", 2)?,
+            Numbers::extract_checked(uc, "uc", UNIFORMS)?,
+            Dirs::extract_checked(u, "u", 2, UNIFORMS)?,
         );
         let n = broadcast(("known", known.n), ("u", u.n))?;
         let n = broadcast(("known and u", n), ("uc", uc.n))?;
@@ -116,7 +120,7 @@ impl PyBsdf {
                 }
                 None => [0.0; 7],
             }
-        });
+        })?;
         split_columns(py, out, n, &[3, 3, 1])
     }
 
@@ -134,17 +138,11 @@ impl PyBsdf {
         let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
         let b = &*self.inner;
         let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
-        let out = py.detach(|| {
-            use rayon::prelude::*;
-            (0..n)
-                .into_par_iter()
-                .with_max_len(1)
-                .flat_map_iter(|i| {
-                    let wi = Vec3::from_spherical(at(&theta, i), at(&phi, i));
-                    albedo_quadrature(|wo| b.eval(wi, wo), ALBEDO_PANELS).0
-                })
-                .collect::<Vec<f64>>()
-        });
+        // Each albedo is a quadrature: one task each.
+        let out = map_each::<3, _>(py, n, |i| {
+            let wi = Vec3::from_spherical(at(&theta, i), at(&phi, i));
+            albedo_quadrature(|wo| b.eval(wi, wo), ALBEDO_PANELS).0
+        })?;
         rows_of_three(py, out, n, theta.scalar && phi.scalar)
     }
 
@@ -282,7 +280,7 @@ impl Microcylinder {
             } else {
                 m.eval_unguarded(a, b).0
             }
-        });
+        })?;
         rows_of_three(py, out, n, wi.single && wo.single)
     }
 

@@ -1,13 +1,14 @@
 //! Python bindings of the `woven` library: the native module `woven._woven`, which the Python
 //! package `woven` (`python/woven`) re-exports with its Mitsuba 3 plugin.
 //!
-//! A thin layer: every number comes from the library; this crate only converts NumPy arrays,
-//! broadcasts, releases the GIL and spreads large batches over rayon's pool, and maps the
-//! library's errors to Python exceptions (`ValueError` for parameters and file contents,
-//! `OSError` for files that cannot be read or written). Directions are those of the library's
-//! `Bsdf` trait: `wi` toward the light (the paper's `s`), `wo` toward the viewer (`v`), unit
-//! vectors in the cloth's frame (`z` the macro normal, weft along `x`, warp along `y`). The
-//! Python-facing documentation is in the docstrings below and the stubs
+//! A thin layer: every number comes from the library; this crate only converts and validates
+//! NumPy arrays (`arrays`: finite numbers, unit directions, a memory budget per array),
+//! broadcasts, releases the GIL, spreads large batches over rayon's pool while checking for
+//! Ctrl-C, and maps the library's errors to Python exceptions (`ValueError` for parameters and
+//! file contents, `OSError` for files that cannot be read or written). Directions are those of
+//! the library's `Bsdf` trait: `wi` toward the light (the paper's `s`), `wo` toward the viewer
+//! (`v`), unit vectors in the cloth's frame (`z` the macro normal, weft along `x`, warp along
+//! `y`). The Python-facing documentation is in the docstrings below and the stubs
 //! (`python/woven/_woven.pyi`); docs/python.md shows it at work.
 
 mod arrays;
@@ -68,6 +69,8 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PARALLEL_MIN", arrays::PARALLEL_MIN)?;
+    m.add("BATCH_BUDGET_BYTES", arrays::BATCH_BUDGET_BYTES)?;
+    m.add("UNIT_TOLERANCE", arrays::UNIT_TOLERANCE)?;
     m.add("SURFACE_KEYS", surface_keys(m.py())?)?;
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `woven.Material`, its parameter sections, `woven.Model` (the exact BRDF), `woven.presets`
 //! and `woven.gonio`.
 
-use crate::arrays::{broadcast, incidences, map_batch, Dirs, Numbers};
+use crate::arrays::{broadcast, incidences, map_batch, map_each, Dirs, Numbers};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyTypeError, PyValueError};
@@ -366,6 +366,7 @@ fn py_to_toml(value: &Bound<'_, PyAny>, key: &str) -> PyResult<toml::Value> {
 ///
 /// `eval` takes about a microsecond per pair for flat fibers and the sateen, about a millisecond
 /// for twisted or isotropic yarns (belt cloth, silk); a `Table` takes well under a microsecond.
+/// Long calls (`eval` of a large batch, `albedo`) stop for Ctrl-C with KeyboardInterrupt.
 #[pyclass(module = "woven", frozen)]
 pub struct Model {
     pub(crate) inner: Arc<woven::Model>,
@@ -379,6 +380,11 @@ impl Model {
     /// viewer, unit vectors in the cloth's frame, shape (N, 3) or (3,) (one broadcasts against
     /// many). Returns shape (N,), or a float when both are (3,). 0 where either lies below the
     /// surface.
+    ///
+    /// Raises ValueError for a direction that is not finite or not unit length (within
+    /// `woven.UNIT_TOLERANCE`), naming the argument, the row and its length; TypeError for a
+    /// complex array; MemoryError for a batch over `woven.BATCH_BUDGET_BYTES`. Stops with
+    /// KeyboardInterrupt on Ctrl-C.
     fn eval<'py>(
         &self,
         py: Python<'py>,
@@ -402,15 +408,8 @@ impl Model {
         let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
         let model = &*self.inner;
         let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
-        // Each albedo is a quadrature: parallel from two angles up.
-        let out = py.detach(|| {
-            use rayon::prelude::*;
-            (0..n)
-                .into_par_iter()
-                .with_max_len(1)
-                .map(|i| model.albedo(at(&theta, i), at(&phi, i)))
-                .collect::<Vec<f64>>()
-        });
+        // Each albedo is a quadrature: one task each.
+        let out = map_each::<1, _>(py, n, |i| [model.albedo(at(&theta, i), at(&phi, i))])?;
         scalar_or_array(py, out, theta.scalar && phi.scalar)
     }
 
@@ -445,7 +444,7 @@ pub(crate) fn map_pairs<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
     let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
-    let out = map_batch::<1, _>(py, n, |i| [f(wi.get(i), wo.get(i))]);
+    let out = map_batch::<1, _>(py, n, |i| [f(wi.get(i), wo.get(i))])?;
     scalar_or_array(py, out, wi.single && wo.single)
 }
 
@@ -480,7 +479,7 @@ pub fn from_spherical<'py>(
     let out = map_batch::<3, _>(py, n, |i| {
         let d = woven::Vec3::from_spherical(at(&theta, i), at(&phi, i));
         [d.x, d.y, d.z]
-    });
+    })?;
     let array = PyArray1::from_vec(py, out);
     if theta.scalar && phi.scalar {
         Ok(array.into_any())
@@ -490,17 +489,18 @@ pub fn from_spherical<'py>(
 }
 
 /// `(theta, phi)` of directions (N, 3) or (3,): polar angles in [0, π] and azimuths in (−π, π],
-/// radians; (N,) arrays, or floats for one direction. The directions need not be unit length.
+/// radians; (N,) arrays, or floats for one direction. The directions need not be unit length,
+/// but must be finite.
 #[pyfunction]
 pub fn to_spherical<'py>(
     py: Python<'py>,
     d: &Bound<'py, PyAny>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let d = Dirs::extract(d, "d")?;
+    let d = Dirs::extract_width(d, "d", 3)?;
     let out = map_batch::<2, _>(py, d.n, |i| {
         let (t, p) = d.get(i).to_spherical();
         [t, p]
-    });
+    })?;
     let (theta, phi): (Vec<f64>, Vec<f64>) = out.chunks_exact(2).map(|c| (c[0], c[1])).unzip();
     Ok((
         scalar_or_array(py, theta, d.single)?,

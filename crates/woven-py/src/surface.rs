@@ -2,7 +2,7 @@
 //! surface's uv, dyes, yarn tilt, gaps and the footprint filter — evaluated, sampled and laid
 //! out point by point, as `woven render` and the Mitsuba plugin use it.
 
-use crate::arrays::{map_batch, Dirs, Numbers};
+use crate::arrays::{map_batch, Dirs, Numbers, FRACTIONS, UNIFORMS};
 use crate::material::{material_arg, Material};
 use crate::table::{cached_table, prepared, split_columns, Table, UserTables};
 use crate::IntoPy;
@@ -43,6 +43,13 @@ use woven::surface::{
 /// Points: `uv` (N, 2) surface parameters; `footprint` (N, 4) the pixel's footprint in uv,
 /// `(du/dx, dv/dx, du/dy, dv/dy)` (None: a point, no filtering). Directions in the surface's
 /// frame (`z` the normal, `x` along u: the weft): `wi` toward the light, `wo` toward the viewer.
+///
+/// Arguments are validated as `woven.Table`'s: directions finite and unit length within
+/// `woven.UNIT_TOLERANCE`, `uv` and `footprint` finite, per-point colours, `uc` and `u` in
+/// [0, 1] (ValueError naming the argument, the row and its value), complex arrays refused
+/// (TypeError). An empty batch gives empty results; a batch over `woven.BATCH_BUDGET_BYTES`
+/// raises MemoryError before allocating; large batches run on all cores with the GIL released
+/// and stop for Ctrl-C (KeyboardInterrupt).
 #[pyclass(module = "woven", frozen)]
 pub struct Surface {
     inner: Arc<WovenSurface>,
@@ -173,7 +180,7 @@ impl Dyes {
     fn extract(weft: Option<&Bound<'_, PyAny>>, warp: Option<&Bound<'_, PyAny>>) -> PyResult<Dyes> {
         let get = |o: Option<&Bound<'_, PyAny>>, name| {
             o.filter(|o| !o.is_none())
-                .map(|o| Dirs::extract(o, name))
+                .map(|o| Dirs::extract_checked(o, name, 3, FRACTIONS))
                 .transpose()
         };
         Ok(Dyes {
@@ -193,9 +200,10 @@ impl Dyes {
     }
 }
 
-/// The common row count of broadcast arguments (each N rows or 1).
+/// The common row count of broadcast arguments (each N rows or 1; N may be 0, an empty batch,
+/// as `broadcast` has it).
 fn rows(args: &[(&str, usize)]) -> PyResult<usize> {
-    let n = args.iter().map(|a| a.1).max().unwrap_or(1);
+    let n = args.iter().map(|a| a.1).find(|&k| k != 1).unwrap_or(1);
     for (name, k) in args {
         if *k != n && *k != 1 {
             return Err(PyValueError::new_err(format!(
@@ -355,7 +363,8 @@ impl Surface {
     }
 
     /// f(wi, wo) per channel, sr⁻¹ without the cosine: (N, 3). `weft_color` and `warp_color`
-    /// (N, 3) or (3,), if given, dye each point anew (a textured colour read at the points).
+    /// (N, 3) or (3,), channels in [0, 1], if given, dye each point anew (a textured colour
+    /// read at the points).
     #[pyo3(signature = (uv, wi, wo, footprint = None, weft_color = None, warp_color = None))]
     #[allow(clippy::too_many_arguments)]
     fn eval<'py>(
@@ -372,7 +381,7 @@ impl Surface {
         let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
         let n = points.rows(&[("wi", wi.n), ("wo", wo.n)])?;
         let s = &*self.inner;
-        let out = map_batch::<3, _>(py, n, |i| points.bsdf(s, i).eval(wi.get(i), wo.get(i)).0);
+        let out = map_batch::<3, _>(py, n, |i| points.bsdf(s, i).eval(wi.get(i), wo.get(i)).0)?;
         Ok(PyArray1::from_vec(py, out).reshape([n, 3])?.into_any())
     }
 
@@ -395,13 +404,14 @@ impl Surface {
         let s = &*self.inner;
         let out = map_batch::<1, _>(py, n, |i| {
             [points.bsdf(s, i).pdf(wi.get(i), wo.get(i), mode)]
-        });
+        })?;
         Ok(PyArray1::from_vec(py, out).into_any())
     }
 
     /// Draws the unknown direction for `known` (`wo` in mode "radiance": returns `wi`; `wi` in
     /// mode "importance": returns `wo`) with `uc` (N,) choosing the lobe and `u` (N, 2) drawing
-    /// within it: `(drawn (N, 3), f (N, 3), pdf (N,))`; a failed draw has all zeros. Dyes as
+    /// within it: `(drawn (N, 3), f (N, 3), pdf (N,))`; a failed draw has all zeros (its zero
+    /// vector is no direction: keep the draws with `pdf > 0` before passing them back). Dyes as
     /// in `eval`.
     #[pyo3(signature = (uv, known, uc, u, footprint = None, mode = "radiance", weft_color = None,
         warp_color = None))]
@@ -422,8 +432,8 @@ impl Surface {
         let points = Points::extract(uv, footprint, weft_color, warp_color)?;
         let (known, uc, u) = (
             Dirs::extract(known, "known")?,
-            Numbers::extract(uc, "uc")?,
-            Dirs::extract_width(u, "u", 2)?,
+            Numbers::extract_checked(uc, "uc", UNIFORMS)?,
+            Dirs::extract_checked(u, "u", 2, UNIFORMS)?,
         );
         let n = points.rows(&[("known", known.n), ("uc", uc.n), ("u", u.n)])?;
         let s = &*self.inner;
@@ -440,7 +450,7 @@ impl Surface {
                 }
                 None => [0.0; 7],
             }
-        });
+        })?;
         split_columns(py, out, n, &[3, 3, 1])
     }
 
@@ -470,7 +480,7 @@ impl Surface {
                 row[3 * MAX_LOBES + k] = l.point.map_or(-1.0, |p| p.across);
             }
             row
-        });
+        })?;
         split_columns(py, out, n, &[MAX_LOBES; 4])
     }
 

@@ -1,7 +1,9 @@
 //! `woven.Table` (tabulated BRDFs: build, files, evaluation, sampling, the raw arrays for the
 //! Mitsuba plugin) and `woven.export_merl`.
 
-use crate::arrays::{broadcast, map_batch, Dirs, Numbers};
+use crate::arrays::{
+    broadcast, budget_vec, check_budget, map_batch, Dirs, Numbers, FRACTIONS, UNIFORMS,
+};
 use crate::material::{map_pairs, material_arg, Material, Model};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -20,7 +22,12 @@ use woven::table::{Albedos, Symmetry, TableOptions};
 /// Build with `Table.build(material)`, or `Table.load(path)`. Directions as everywhere in
 /// woven: `wi` toward the light, `wo` toward the viewer, unit vectors (N, 3) in the cloth's frame
 /// (z the normal, weft along x, warp along y). Batches of 4096 pairs and more run on all cores
-/// with the GIL released.
+/// with the GIL released, and stop for Ctrl-C (KeyboardInterrupt).
+///
+/// Arguments are validated as the command line's: directions finite and unit length within
+/// `woven.UNIT_TOLERANCE`, uniforms `u` and albedos in [0, 1] (ValueError naming the argument,
+/// the row and its value), complex arrays refused (TypeError); an empty batch gives empty
+/// results; a batch over `woven.BATCH_BUDGET_BYTES` raises MemoryError before allocating.
 #[pyclass(module = "woven", frozen)]
 pub struct Table {
     pub(crate) inner: Arc<woven::table::Table>,
@@ -249,7 +256,7 @@ impl Table {
     }
 
     /// The BRDF for other albedos (dyed fibers): `albedos` is (C, 2) — per channel the fiber's
-    /// diffuse albedo ρ0 and the yarn's interreflection albedo ρ; returns (N, C). The table must
+    /// diffuse albedo ρ0 and the yarn's interreflection albedo ρ, each in [0, 1]; returns (N, C). The table must
     /// be dyeable (`colour=True`; `is_dyeable`); otherwise every channel is the table's own f.
     fn eval_dyed<'py>(
         &self,
@@ -260,7 +267,7 @@ impl Table {
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
         let n = broadcast(("wi", wi.n), ("wo", wo.n))?;
-        let a = Numbers::extract_rows(albedos, "albedos", 2)?;
+        let a = Numbers::extract_rows(albedos, "albedos", 2, FRACTIONS)?;
         let channels: Vec<Albedos> = (0..a.len() / 2)
             .map(|c| Albedos {
                 diffuse: a[2 * c],
@@ -268,21 +275,23 @@ impl Table {
             })
             .collect();
         let c = channels.len();
+        check_budget("the result", n, c)?;
         let t = &*self.inner;
         let out = map_batch::<1, _>(py, n * c, |k| {
             let (i, ch) = (k / c, k % c);
             t.eval_dyed(wi.get(i), wo.get(i), &[channels[ch]])
-        });
+        })?;
         PyArray1::from_vec(py, out).reshape([n, c])
     }
 
-    /// Draws the unknown direction for `known` with the uniforms `u` (N, 2) (or (2,)), as
+    /// Draws the unknown direction for `known` with the uniforms `u` (N, 2) (or (2,)) in [0, 1], as
     /// `woven.Surface.sample` does: in mode "radiance" (the default) `known` is `wo` (toward the
     /// viewer) and `wi` is drawn; in mode "importance" `known` is `wi` and `wo` is drawn, ∝ f
     /// cos θo. Returns `(drawn, weight, pdf)`: (N, 3) directions, (N,) weights (f times the drawn
     /// direction's cosine over the pdf, with the paper normalization's mode factor) and (N,)
     /// densities per unit solid angle. A failed draw (below the horizon, or `known` below the
-    /// surface) has `drawn` = 0, weight 0 and pdf 0.
+    /// surface) has `drawn` = 0, weight 0 and pdf 0; that zero vector is no direction (`eval`
+    /// and `pdf` refuse it): keep the draws with `pdf > 0` before passing them back.
     #[pyo3(signature = (known, u, mode = "radiance"))]
     fn sample<'py>(
         &self,
@@ -293,7 +302,7 @@ impl Table {
     ) -> PyResult<Bound<'py, PyTuple>> {
         let mode = crate::surface::mode_arg(mode)?;
         let known = Dirs::extract(known, "known")?;
-        let u = Dirs::extract_width(u, "u", 2)?;
+        let u = Dirs::extract_checked(u, "u", 2, UNIFORMS)?;
         let n = broadcast(("known", known.n), ("u", u.n))?;
         let t = &*self.inner;
         let out = map_batch::<5, _>(py, n, |i| {
@@ -308,7 +317,7 @@ impl Table {
                 }
                 None => [0.0; 5],
             }
-        });
+        })?;
         split_columns(py, out, n, &[3, 1, 1])
     }
 
@@ -322,7 +331,7 @@ impl Table {
         u: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let wi = Dirs::extract(wi, "wi")?;
-        let u = Dirs::extract_width(u, "u", 2)?;
+        let u = Dirs::extract_checked(u, "u", 2, UNIFORMS)?;
         let n = broadcast(("wi", wi.n), ("u", u.n))?;
         let t = &*self.inner;
         let out = map_batch::<4, _>(py, n, |i| {
@@ -331,7 +340,7 @@ impl Table {
                 Some((v, pdf)) => [v.x, v.y, v.z, pdf],
                 None => [0.0; 4],
             }
-        });
+        })?;
         split_columns(py, out, n, &[3, 1])
     }
 
@@ -473,7 +482,7 @@ pub(crate) fn split_columns<'py>(
     let mut parts = Vec::new();
     let mut start = 0;
     for &w in widths {
-        let mut col = Vec::with_capacity(n * w);
+        let mut col = budget_vec("the result", n, w)?;
         for row in data.chunks_exact(k) {
             col.extend_from_slice(&row[start..start + w]);
         }

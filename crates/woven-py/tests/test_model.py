@@ -138,11 +138,13 @@ def test_bad_shapes_are_value_errors_naming_the_shape():
         model.albedo(np.zeros((2, 2)))
 
 
-def test_nan_and_huge_inputs_do_not_crash():
+def test_nan_huge_and_zero_directions_are_refused_naming_the_row():
     model = woven.Material.preset("polyester-sateen").build()
-    weird = np.array([[np.nan, 0, 1], [np.inf, 0, 1], [1e300, 1e300, 1e300], [0, 0, 0]])
-    out = model.eval(weird, np.array([0.0, 0.0, 1.0]))
-    assert out.shape == (4,)
+    up = np.array([0.0, 0.0, 1.0])
+    for k, bad in enumerate([[np.nan, 0, 1], [np.inf, 0, 1], [1e300, 1e300, 1e300], [0, 0, 0]]):
+        rows = np.array([up, up, bad])
+        with pytest.raises(ValueError, match=r"`wo`\[2\] = \["):
+            model.eval(up, rows)
 
 
 def test_albedo_is_the_librarys_and_at_most_one(flat):

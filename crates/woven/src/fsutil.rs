@@ -459,13 +459,30 @@ mod tests {
 
     #[cfg(unix)]
     #[test]
-    fn an_endless_stream_stops_at_the_cap() {
+    fn text_is_read_from_a_regular_file_within_the_cap() {
+        // An endless device is refused before it is opened; a file over the cap by its size.
         let e = read_text_capped(Path::new("/dev/zero"), 1 << 16, "a test file").unwrap_err();
         let m = e.to_string();
         assert!(
-            m.starts_with("/dev/zero: larger than 64 KiB, the most a test file may hold"),
+            m.starts_with("/dev/zero: a character device, not a regular file: a test file"),
             "{m}"
         );
+        let dir = scratch("text-cap");
+        let path = dir.join("big.txt");
+        std::fs::write(&path, vec![b'a'; (1 << 16) + 1]).unwrap();
+        let m = read_text_capped(&path, 1 << 16, "a test file")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.contains("the most a test file may hold is 64 KiB") || m.contains("64 KiB"),
+            "{m}"
+        );
+        std::fs::write(&path, "short").unwrap();
+        assert_eq!(
+            read_text_capped(&path, 1 << 16, "a test file").unwrap(),
+            "short"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// A fresh folder for one test.

@@ -14,6 +14,11 @@ NumPy in, NumPy out, computed by the Rust library ``woven``::
 Directions are unit vectors in the cloth's frame (z the macro normal, weft along x, warp along
 y), both pointing away from the surface: ``wi`` toward the light (the paper's s), ``wo`` toward
 the viewer (v). Bad parameters raise ValueError with the library's message, files OSError.
+Arrays are validated alike everywhere: directions finite and unit length within
+``UNIT_TOLERANCE`` (1e-6), every number finite, colours and uniforms in [0, 1] (ValueError naming
+the argument, the row and its value); complex arrays raise TypeError; an empty batch gives
+empty results. No array a call makes may exceed ``BATCH_BUDGET_BYTES`` (2 GiB): a larger
+batch raises MemoryError before allocating. Long calls stop for Ctrl-C (KeyboardInterrupt).
 ``woven.Surface`` is a woven material laid on a surface (pattern cells, dyes, yarn tilt, gaps,
 the footprint filter), the one ``woven render`` and the Mitsuba plugin evaluate; its keys'
 defaults, ranges and meanings are ``woven.SURFACE_KEYS``.
@@ -28,8 +33,10 @@ renders a scene file as ``woven render``; ``woven.batch`` runs many fits, tables
 """
 
 from ._woven import (
+    BATCH_BUDGET_BYTES,
     PARALLEL_MIN,
     SURFACE_KEYS,
+    UNIT_TOLERANCE,
     Bsdf,
     Material,
     Microcylinder,
@@ -79,6 +86,8 @@ __all__ = [
     "threads",
     "batch",
     "PARALLEL_MIN",
+    "BATCH_BUDGET_BYTES",
+    "UNIT_TOLERANCE",
     "SURFACE_KEYS",
     "__version__",
 ]

@@ -8,7 +8,15 @@ import numpy.typing as npt
 
 __version__: str
 PARALLEL_MIN: int
-"""Batches at least this long run on all cores with the GIL released."""
+"""Batches at least this long run on all cores with the GIL released (the calling thread
+checking for Ctrl-C meanwhile: a KeyboardInterrupt stops the batch within ~0.1 s and a pair's
+evaluation)."""
+BATCH_BUDGET_BYTES: int
+"""The most memory one array of a call may take, bytes (2 GiB): an argument's float64 copy or a
+result. A larger batch raises MemoryError, naming the budget and the excess, before allocating."""
+UNIT_TOLERANCE: float
+"""How far from 1 a direction's length may be (1e-6); a direction off by more raises ValueError
+naming the argument, the row and its length."""
 SURFACE_KEYS: Tuple[Dict[str, str], ...]
 """The keys of a woven surface (``woven.Surface``, ``woven render`` scenes, the Mitsuba plugin),
 from the library's table: one dict per key, ``{"name", "default", "valid", "meaning"}``."""

@@ -601,8 +601,16 @@ class _Lanes:
         return np.where(keep, out, fill)
 
     def dirs(self, x, active):
-        """Unit vectors (N, 3); straight up where a lane is inactive."""
-        return self.cols(x, 3, active, np.array([0.0, 0.0, 1.0]))
+        """Unit vectors (N, 3): Mitsuba's as they are where their length is within
+        ``woven.UNIT_TOLERANCE`` of 1, as the library takes them (float32 rounding is), normalised
+        again in float64 where it is not; straight up where a lane is inactive, or a component or
+        the length is not finite or 0."""
+        d = self.cols(x, 3, active, np.nan)
+        length = np.linalg.norm(d, axis=1, keepdims=True)
+        ok = np.isfinite(length) & (length > 0)
+        off = ok & (np.abs(length - 1.0) > woven.UNIT_TOLERANCE)
+        d = np.where(off, d / np.where(off, length, 1.0), d)
+        return np.where(ok, d, np.array([0.0, 0.0, 1.0]))
 
     def _float(self, column):
         if not self.jit:
@@ -867,8 +875,9 @@ def _bsdf_class(mi):
                 return mi.Color3f(*(x[0] for x in a)), mi.Color3f(*(x[1] for x in a))
             # A NaN texel is black, the library's dye rule (Albedos::dyed); left NaN it made
             # NaN samples, which the film's filter spread over neighbouring pixels.
+            # In [0, 1], as the library path takes it (an HDR texture saturates).
             c = c.eval(si, active)
-            c = dr.select(dr.isnan(c), 0.0, c)
+            c = dr.clip(dr.select(dr.isnan(c), 0.0, c), 0.0, 1.0)
             d0, r0 = self.own
             rho0 = dr.clip(c, 0.0, 0.999)
             rho = dr.clip(r0 * c / d0, 0.0, 1.0) if d0 > 0 else c * 0.0 + r0
@@ -1070,8 +1079,10 @@ def _bsdf_class(mi):
 
         def _lib_dyes(self, si, active):
             lanes = self._lib
-            # A NaN texel is black (the library's dye rule; woven.Surface refuses NaN colours).
-            return {k: np.nan_to_num(lanes.cols(t.eval(si, active), 3, active, 0.0), nan=0.0)
+            # The library takes dyes in [0, 1]: a texture outside (HDR, scaled) saturates, and
+            # a NaN texel is black (the library's dye rule).
+            return {k: np.clip(np.nan_to_num(lanes.cols(t.eval(si, active), 3, active, 0.0),
+                                             nan=0.0), 0.0, 1.0)
                     for k, t in self.textures.items()}
 
         def _lib_eval(self, si, wo, active):
