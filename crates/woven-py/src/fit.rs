@@ -14,16 +14,16 @@ use woven_fit::{FitError, FitOptions, ModelKind, Residual};
 /// everything else ValueError, with the library's message.
 fn fit_err(err: FitError) -> PyErr {
     match &err {
-        FitError::Material(woven::Error::Io { .. }) => PyOSError::new_err(err.to_string()),
-        _ => PyValueError::new_err(err.to_string()),
+        FitError::Material(woven::Error::Io { .. }) => PyOSError::new_err(crate::message(&err)),
+        _ => PyValueError::new_err(crate::message(&err)),
     }
 }
 
 /// A measurement file's error: OSError when it cannot be read, ValueError for its contents.
 fn data_err(err: DataError) -> PyErr {
     match &err {
-        DataError::Io { .. } => PyOSError::new_err(err.to_string()),
-        _ => PyValueError::new_err(err.to_string()),
+        DataError::Io { .. } => PyOSError::new_err(crate::message(&err)),
+        _ => PyValueError::new_err(crate::message(&err)),
     }
 }
 

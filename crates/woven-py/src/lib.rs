@@ -23,11 +23,17 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
+/// An error's message as Python shows it: a key or a name of megabytes, echoed from the input,
+/// cut (`woven::error::clip_words`).
+pub(crate) fn message(err: &impl std::fmt::Display) -> String {
+    woven::error::clip_words(&err.to_string()).into_owned()
+}
+
 /// A library error as the Python exception that fits it.
 pub(crate) fn to_py(err: woven::Error) -> PyErr {
     match &err {
-        woven::Error::Io { .. } => PyOSError::new_err(err.to_string()),
-        _ => PyValueError::new_err(err.to_string()),
+        woven::Error::Io { .. } => PyOSError::new_err(crate::message(&err)),
+        _ => PyValueError::new_err(crate::message(&err)),
     }
 }
 

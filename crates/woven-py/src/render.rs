@@ -13,9 +13,9 @@ use woven_render::woven_material::{TableCache, TableGrid};
 fn render_err(err: woven_render::Error) -> PyErr {
     match &err {
         woven_render::Error::Io { .. } | woven_render::Error::Woven(woven::Error::Io { .. }) => {
-            PyOSError::new_err(err.to_string())
+            PyOSError::new_err(crate::message(&err))
         }
-        _ => PyValueError::new_err(err.to_string()),
+        _ => PyValueError::new_err(crate::message(&err)),
     }
 }
 

@@ -79,3 +79,37 @@ def test_material_files_load_from_paths(tmp_path):
     # The repository's vector materials load as the Rust tests load them.
     for toml in (REPO / "crates" / "woven" / "tests" / "data" / "vectors").glob("*/material.toml"):
         assert woven.Material.load(toml).fiber.eta is not None
+
+
+def test_a_huge_key_is_not_echoed_whole():
+    """A key of a megabyte in a material is shown cut in the exception, as the CLI shows it."""
+    key = "k" * (1 << 20)
+    with pytest.raises(ValueError) as raised:
+        woven.Material.from_toml(f"[fiber]\n{key} = 1\n")
+    text = str(raised.value)
+    assert len(text) < 1000 and "characters left out" in text, len(text)
+
+
+def test_a_named_pipe_is_refused_not_waited_on(tmp_path):
+    """`Material.load` and `Table.load` on a FIFO with no writer refuse it as not a regular file
+    at once (opening it would block until a writer came)."""
+    import os
+    import threading
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    for load in (woven.Material.load, woven.Table.load):
+        outcome = []
+
+        def attempt():
+            try:
+                load(str(fifo))
+                outcome.append("read")
+            except Exception as e:  # noqa: BLE001 - the message is what is checked
+                outcome.append(str(e))
+
+        t = threading.Thread(target=attempt, daemon=True)
+        t.start()
+        t.join(10)
+        assert not t.is_alive(), f"{load.__qualname__} blocked on a named pipe"
+        assert "a named pipe, not a regular file" in outcome[0], outcome

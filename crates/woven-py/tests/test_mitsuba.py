@@ -940,6 +940,7 @@ def test_a_nan_texel_is_black_not_nan(llvm, interpolated_sateen, variant):
     the traced and the scalar variants alike, never NaN (in llvm a NaN sample spread through the
     film's filter to hundreds of pixel values)."""
     mi.set_variant(variant)
+    woven.mitsuba.register()
     try:
         texels = np.full((2, 2, 3), 0.5, dtype=np.float32)
         texels[0, 0] = np.nan

@@ -518,7 +518,7 @@ mod tests {
         let edge = W / 2;
         let share = |y: usize| 0.2 + 0.6 * ((y * 37) % W) as f64 / W as f64;
         let truth: Vec<Rgb> = (0..W * W)
-            .map(|p| Rgb::grey([0.45, 0.5, 0.55][(p % W).cmp(&edge) as usize + 1]))
+            .map(|p| Rgb::grey([0.45, 0.5, 0.55][((p % W).cmp(&edge) as i8 + 1) as usize]))
             .collect();
         let guides: Vec<Guide> = (0..W * W)
             .map(|p| match (p % W).cmp(&edge) {
