@@ -54,12 +54,6 @@ impl Groups {
         };
         let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
         order.sort_unstable_by_key(|&i| key(&bounds[i as usize]));
-        if order
-            .windows(2)
-            .all(|w| key(&bounds[w[0] as usize]) != key(&bounds[w[1] as usize]))
-        {
-            return None;
-        }
         let mut starts = Vec::new();
         let mut unique = Vec::new();
         for (k, &i) in order.iter().enumerate() {
@@ -67,6 +61,9 @@ impl Groups {
                 starts.push(k as u32);
                 unique.push(Bounds(bounds[i as usize].0));
             }
+        }
+        if unique.len() == bounds.len() {
+            return None;
         }
         starts.push(order.len() as u32);
         *bounds = unique;
@@ -136,14 +133,14 @@ impl Accel {
     #[inline]
     fn members(&self, id: u32) -> impl Iterator<Item = usize> + '_ {
         let leaf = self.bvh.primitive_indices[id as usize];
-        let range = match &self.groups {
-            None => leaf..leaf + 1,
-            Some(g) => g.starts[leaf as usize]..g.starts[leaf as usize + 1],
+        let (range, order) = match &self.groups {
+            None => (leaf..leaf + 1, None),
+            Some(g) => (
+                g.starts[leaf as usize]..g.starts[leaf as usize + 1],
+                Some(&g.order),
+            ),
         };
-        range.map(move |k| match &self.groups {
-            None => k as usize,
-            Some(g) => g.order[k as usize] as usize,
-        })
+        range.map(move |k| order.map_or(k as usize, |o| o[k as usize] as usize))
     }
 
     /// Every primitive, in scene order.

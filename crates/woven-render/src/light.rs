@@ -446,15 +446,9 @@ fn check_declared_size(
         // A tile is decoded whole, however little of it the image covers: it too must fit
         // in what the file could hold.
         if let exr::meta::BlockDescription::Tiles(t) = h.blocks {
-            let pixel: u64 = h
-                .channels
-                .list
-                .iter()
-                .map(|c| c.sample_type.bytes_per_sample() as u64)
-                .sum();
             let tile = (t.tile_size.0 as u64)
                 .saturating_mul(t.tile_size.1 as u64)
-                .saturating_mul(pixel);
+                .saturating_mul(h.channels.bytes_per_pixel as u64);
             if tile / MAX_EXR_COMPRESSION > length {
                 return Err(format!(
                     "tiles of {} × {} pixels, which take at least {} bytes even compressed \

@@ -12,6 +12,12 @@ use woven::Vec3;
 /// refused before the meshes are generated or the hierarchy is built.
 pub const MAX_TRIANGLES: usize = 20_000_000;
 
+/// The triangles of a grid mesh of `[na, nb]` cells, as [`Cloth::mesh`] and [`Drape::mesh`]
+/// make them: two a cell.
+pub fn grid_triangles([na, nb]: [usize; 2]) -> usize {
+    2 * na * nb
+}
+
 /// Refuses `count` triangles over [`MAX_TRIANGLES`]; `what` says whose they are.
 ///
 /// # Errors

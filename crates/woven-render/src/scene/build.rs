@@ -269,13 +269,11 @@ fn build_shapes(
                 geometry.add_mesh(mesh, info)
             }
             ShapeDesc::Cloth(cloth) => {
-                let [na, nb] = cloth.resolution;
-                geometry.budget(2 * na * nb, &shape_key(k))?;
+                geometry.budget(shapes::grid_triangles(cloth.resolution), &shape_key(k))?;
                 geometry.add_mesh(cloth.mesh(), info)
             }
             ShapeDesc::Drape(drape) => {
-                let [na, nb] = drape.resolution;
-                geometry.budget(2 * na * nb, &shape_key(k))?;
+                geometry.budget(shapes::grid_triangles(drape.resolution), &shape_key(k))?;
                 geometry.add_mesh(drape.mesh(), info)
             }
         }

@@ -766,7 +766,7 @@ fn cloth(c: &Checker, key: &str, at: usize, raw: RawCloth) -> Result<(ShapeDesc,
         c.range(&rkey, at, resolution[1], 1, 4096)?,
     ];
     crate::shapes::check_triangle_budget(
-        2 * resolution[0] * resolution[1],
+        crate::shapes::grid_triangles(resolution),
         &format!("a cloth of resolution {resolution:?}"),
     )
     .map_err(|e| c.err(&rkey, at, e.to_string()))?;

@@ -480,7 +480,10 @@ fn key_at(text: &str, offset: usize) -> String {
         .rfind('\n')
         .map_or(0, |i| i + 1);
     let line = text[start..].lines().next().unwrap_or("").trim();
-    // The header above the line (or the line itself), and the `[[name]]` headers before it.
+    if line.starts_with('[') {
+        return table_name(text, start);
+    }
+    // Where the last table header above the line starts.
     let mut header = None;
     let mut at = 0;
     for l in text[..start].split_inclusive('\n') {
@@ -488,9 +491,6 @@ fn key_at(text: &str, offset: usize) -> String {
             header = Some(at);
         }
         at += l.len();
-    }
-    if line.starts_with('[') {
-        return table_name(text, start);
     }
     match line.split_once('=') {
         Some((k, _)) => match header.map(|h| table_name(text, h)) {
