@@ -73,8 +73,9 @@ pub enum FitError {
     /// The initial material is not one the fitter can use, or does not build.
     #[error(transparent)]
     Material(#[from] woven::Error),
-    /// The fit was told to stop ([`fit_with_cancel`](crate::fit_with_cancel)'s `cancel`
-    /// answered `true`) before it finished; it returns no partial result.
+    /// The fit was told to stop (its progress's
+    /// [`cancelled`](woven::progress::Progress::cancelled) answered `true`) before it finished;
+    /// it returns no partial result.
     #[error("the fit was cancelled before it finished")]
     Cancelled,
 }

@@ -697,22 +697,19 @@ fn check_determined(
     })
 }
 
-/// What a fit reports while it runs: `(done, total)` steps (screened starts plus iterations).
-pub type ProgressFn<'a> = &'a (dyn Fn(usize, usize) + Sync);
+/// What a fit reports `(done, total)` steps to (screened starts plus iterations), and asks
+/// between units of its work whether to stop ([`fit`]).
+pub type ProgressFn<'a> = &'a dyn woven::progress::Progress;
 
-/// What a fit asks, between units of its work, whether to stop ([`fit_with_cancel`]): `true`
-/// stops it. Called from every core, often (an atomic load is the right cost).
-pub type CancelFn<'a> = &'a (dyn Fn() -> bool + Sync);
-
-/// A cancel hook, latched: once it has answered `true` the fit stops at each later check too, and
-/// ends with [`FitError::Cancelled`] (never a partial result).
+/// A progress's cancellation, latched: once it has answered `true` the fit stops at each later
+/// check too, and ends with [`FitError::Cancelled`] (never a partial result).
 struct Stop<'a> {
-    ask: CancelFn<'a>,
+    ask: ProgressFn<'a>,
     seen: AtomicBool,
 }
 
 impl<'a> Stop<'a> {
-    fn new(ask: CancelFn<'a>) -> Self {
+    fn new(ask: ProgressFn<'a>) -> Self {
         Stop {
             ask,
             seen: AtomicBool::new(false),
@@ -724,7 +721,7 @@ impl<'a> Stop<'a> {
         if self.seen.load(Ordering::Relaxed) {
             return true;
         }
-        let stop = (self.ask)();
+        let stop = self.ask.cancelled();
         if stop {
             self.seen.store(true, Ordering::Relaxed);
         }
@@ -758,32 +755,23 @@ impl<'a> Stop<'a> {
 /// [`FitError::Material`] if the initial parameters do not build;
 /// [`FitError::Underdetermined`] if the data cannot determine the free parameters (fewer
 /// measured values than free parameters, or a Jacobian at the initial values of lower rank on
-/// the measurements than on a reference geometry: module docs).
+/// the measurements than on a reference geometry: module docs);
+/// [`FitError::Cancelled`] once `progress` has asked to stop.
+///
+/// # Stopping
+/// `progress` is asked whether to stop ([`Progress::cancelled`](woven::progress::Progress))
+/// between units of work: before each start is scored, before each evaluation of the model over
+/// the measurements (a step of Levenberg–Marquardt, a column of a finite-difference Jacobian)
+/// and between the stages. A fit told to stop ends within one such unit (a few evaluations of
+/// the model at each measurement of the run). `woven serve` stops the fits whose client has
+/// gone with it, Python those a Ctrl-C interrupts.
 pub fn fit(
     dataset: &Dataset,
     set: &ParamSet,
     options: &FitOptions,
     progress: ProgressFn<'_>,
 ) -> Result<FitResult, FitError> {
-    fit_with_cancel(dataset, set, options, progress, &|| false)
-}
-
-/// [`fit`], asking `cancel` between units of work whether to stop: before each start is scored,
-/// before each evaluation of the model over the measurements (a step of Levenberg–Marquardt, a
-/// column of a finite-difference Jacobian) and between the stages. A fit told to stop ends
-/// within one such unit (a few evaluations of the model at each measurement of the run) with
-/// [`FitError::Cancelled`]. `woven serve` stops the fits whose client has gone with it.
-///
-/// # Errors
-/// As [`fit`]; [`FitError::Cancelled`] once `cancel` has answered `true`.
-pub fn fit_with_cancel(
-    dataset: &Dataset,
-    set: &ParamSet,
-    options: &FitOptions,
-    progress: ProgressFn<'_>,
-    cancel: CancelFn<'_>,
-) -> Result<FitResult, FitError> {
-    let stop = Stop::new(cancel);
+    let stop = Stop::new(progress);
     options.check()?;
     let data = Observations::new(dataset, options.saturation)?;
     if data.channels != set.channels {
@@ -811,7 +799,7 @@ pub fn fit_with_cancel(
     let done = std::sync::atomic::AtomicUsize::new(0);
     let tick = || {
         let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-        progress(d.min(total), total);
+        progress.update(d.min(total), total);
     };
 
     // Stage 1: score the initial values and the quasi-random starts on the subset.
@@ -886,7 +874,7 @@ pub fn fit_with_cancel(
     fitted = guarded;
     evaluations += evals;
     termination.push_str(&t);
-    progress(total, total);
+    progress.update(total, total);
 
     // The Jacobian at the optimum for the standard errors.
     let noop = || {};

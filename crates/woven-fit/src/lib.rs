@@ -57,6 +57,6 @@ pub mod report;
 pub mod request;
 
 pub use error::FitError;
-pub use fit::{fit, fit_with_cancel, CancelFn, FitOptions, Residual, MAX_ITERATIONS, MAX_STARTS};
+pub use fit::{fit, FitOptions, ProgressFn, Residual, MAX_ITERATIONS, MAX_STARTS};
 pub use params::{ModelKind, ParamSet, Quantity};
 pub use report::{Comparison, FitResult};

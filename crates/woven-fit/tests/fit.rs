@@ -642,9 +642,11 @@ fn a_cancelled_fit_stops_with_cancelled() {
             }
         };
         stop.store(cut == 0, Ordering::SeqCst);
-        let got = woven_fit::fit_with_cancel(&data, &start, &options, &progress, &|| {
-            stop.load(Ordering::SeqCst)
-        });
+        let hooks = woven::progress::Hooks {
+            update: progress,
+            cancelled: || stop.load(Ordering::SeqCst),
+        };
+        let got = fit(&data, &start, &options, &hooks);
         assert!(
             matches!(got, Err(FitError::Cancelled)),
             "cut {cut}: {got:?}"
@@ -655,6 +657,10 @@ fn a_cancelled_fit_stops_with_cancelled() {
         assert!(done <= cut + slack, "cut {cut}: {done} steps");
     }
     let plain = fit(&data, &start, &options, &|_, _| {}).unwrap();
-    let never = woven_fit::fit_with_cancel(&data, &start, &options, &|_, _| {}, &|| false).unwrap();
+    let never = woven::progress::Hooks {
+        update: |_: usize, _: usize| {},
+        cancelled: || false,
+    };
+    let never = fit(&data, &start, &options, &never).unwrap();
     assert_eq!(plain.rms_log, never.rms_log);
 }

@@ -46,6 +46,11 @@ pub enum Error {
         /// What the input would take, the budget, and what fits.
         message: String,
     },
+    /// The render was told to stop (its progress's
+    /// [`cancelled`](woven::progress::Progress::cancelled) answered `true`) before it finished;
+    /// no image is returned.
+    #[error("the render was cancelled before it finished")]
+    Cancelled,
     /// An invalid render setting (from the command line or a caller).
     #[error("invalid setting `{name}` = {value}: expected {expected}")]
     InvalidSetting {

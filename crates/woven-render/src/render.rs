@@ -10,6 +10,7 @@ use crate::{Error, Result};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
+use woven::progress::Progress;
 
 /// The inset's border ([`InsetSpec`](crate::scene::InsetSpec)), linear: bright enough to show
 /// white under either tone map.
@@ -123,25 +124,27 @@ impl Image {
 /// # Errors
 /// As [`render_with_progress`].
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Image> {
-    render_with_progress(scene, options, &|_, _| {})
+    render_with_progress(scene, options, &|_: u64, _: u64| {})
 }
 
-/// Renders `scene` with its film settings, calling `progress(samples done, samples in all)` as
+/// Renders `scene` with its film settings. `progress` hears `(samples done, samples in all)` as
 /// the render starts and after each finished tile, from the worker threads (calls may arrive
-/// out of order: keep the largest). The library draws nothing itself; the CLI draws a bar.
+/// out of order: keep the largest), and is asked before each tile whether to stop. The library
+/// draws nothing itself; the CLI draws a bar.
 ///
 /// # Errors
 /// [`Error::InvalidSetting`] for zero threads or when the thread pool cannot start;
-/// [`Error::OverBudget`] for a film over [`FILM_BUDGET_BYTES`] ([`check_film_budget`]).
+/// [`Error::OverBudget`] for a film over [`FILM_BUDGET_BYTES`] ([`check_film_budget`]);
+/// [`Error::Cancelled`] when `progress` asked to stop (the tiles already started finish).
 pub fn render_with_progress(
     scene: &Scene,
     options: &RenderOptions,
-    progress: &(dyn Fn(u64, u64) + Sync),
+    progress: &dyn Progress<u64>,
 ) -> Result<Image> {
     let film = &scene.film;
     check_film_budget(film.width, film.height, film.denoise)?;
     match options.threads {
-        None => Ok(render_in_pool(scene, progress)),
+        None => render_in_pool(scene, progress),
         Some(n) => {
             if n == 0 {
                 return Err(Error::InvalidSetting {
@@ -158,18 +161,18 @@ pub fn render_with_progress(
                     value: n.to_string(),
                     expected: format!("a thread count the system can start ({e})"),
                 })?;
-            Ok(pool.install(|| render_in_pool(scene, progress)))
+            pool.install(|| render_in_pool(scene, progress))
         }
     }
 }
 
-fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image {
+fn render_in_pool(scene: &Scene, progress: &dyn Progress<u64>) -> Result<Image> {
     let film = &scene.film;
     let (w, h, spp) = (film.width, film.height, film.spp);
     let tiles_x = w.div_ceil(TILE);
     let tiles_y = h.div_ceil(TILE);
     let total = (w * h * spp) as u64;
-    progress(0, total);
+    progress.update(0, total);
     let done = AtomicU64::new(0);
     let invalid = AtomicU64::new(0);
     let start = Instant::now();
@@ -189,8 +192,12 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
         let tiles: Vec<Vec<Pixel>> = (rows.start * tiles_x..rows.end * tiles_x)
             .into_par_iter()
             .map(|t| {
+                let mut out = Vec::new();
+                if progress.cancelled() {
+                    return out;
+                }
+                out.reserve(TILE * TILE);
                 let (tx, ty) = (t % tiles_x, t / tiles_x);
-                let mut out = Vec::with_capacity(TILE * TILE);
                 let mut bad = 0;
                 let mut scratch = integrator::Scratch::default();
                 for y in ty * TILE..((ty + 1) * TILE).min(h) {
@@ -264,10 +271,13 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
                 }
                 invalid.fetch_add(bad, Ordering::Relaxed);
                 let samples = (out.len() * spp) as u64;
-                progress(done.fetch_add(samples, Ordering::Relaxed) + samples, total);
+                progress.update(done.fetch_add(samples, Ordering::Relaxed) + samples, total);
                 out
             })
             .collect();
+        if progress.cancelled() {
+            return Err(Error::Cancelled);
+        }
         for p in tiles.into_iter().flatten() {
             pixels[p.index] = p.mean;
             std_error[p.index] = p.se;
@@ -288,7 +298,7 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
         });
         std::mem::replace(&mut pixels, denoised)
     });
-    Image {
+    Ok(Image {
         width: w,
         height: h,
         pixels,
@@ -297,7 +307,7 @@ fn render_in_pool(scene: &Scene, progress: &(dyn Fn(u64, u64) + Sync)) -> Image 
         spp,
         seconds: start.elapsed().as_secs_f64(),
         noisy,
-    }
+    })
 }
 
 /// One rendered pixel.

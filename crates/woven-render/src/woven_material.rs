@@ -12,6 +12,7 @@ use crate::material::{MaterialSample, ShadingPoint, SurfaceMaterial};
 use crate::Result;
 use crate::Rgb;
 use woven::bsdf::{Bsdf, Transport};
+use woven::progress::Progress;
 use woven::surface::{PointBsdf, WovenSurface};
 use woven::table::TableOptions;
 use woven::Vec3;
@@ -56,7 +57,7 @@ impl WovenMaterial {
         grid: &TableGrid,
         cache: &mut TableCache,
         on_build: &dyn Fn(),
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<WovenMaterial> {
         spec.validate()?;
         // The yarn alone, weft along x (named as the material, for the cache's file name).

@@ -236,7 +236,8 @@ enum FitMessage {
 /// fitter's defaults), starting from the page's material, one channel (colour data as the mean
 /// of its channels); streams the fitter's progress, then the fitted material. A fit takes tens of
 /// seconds for a twisted or isotropic yarn; it stops within a step of the fitter once its client
-/// has gone or a newer request on its channel has started ([`woven_fit::fit_with_cancel`]).
+/// has gone or a newer request on its channel has started (the progress given to
+/// [`woven_fit::fit()`] answers whether to stop).
 async fn fit_stream(
     State(app): Shared,
     body: Result<Bytes, BytesRejection>,
@@ -256,12 +257,13 @@ async fn fit_stream(
     };
     let channel = check_channel(&req.channel)?;
     start_job(&app, channel, move |out| {
-        let progress = |done: usize, total: usize| {
-            out.send(&FitMessage::Progress { done, total });
+        let progress = woven::progress::Hooks {
+            update: |done: usize, total: usize| {
+                out.send(&FitMessage::Progress { done, total });
+            },
+            cancelled: || out.cancelled(),
         };
-        let cancel = || out.cancelled();
-        let message = match woven_fit::fit_with_cancel(&dataset, &set, &options, &progress, &cancel)
-        {
+        let message = match woven_fit::fit(&dataset, &set, &options, &progress) {
             Ok(r) => match r.material() {
                 Some(fitted) => FitMessage::Fit {
                     material: material::to_json(&fitted),

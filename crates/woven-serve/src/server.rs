@@ -10,7 +10,7 @@
 //! A client that goes away while its job streams is noticed by hyper (it reads the socket while
 //! it writes the answer: the end of the stream ends the connection), which drops the answer; the
 //! job sees its channel closed and stops ([`crate::job`]; a fit through
-//! [`woven_fit::fit_with_cancel`]). Stopping the server closes every connection the same way and
+//! [`woven_fit::fit()`]). Stopping the server closes every connection the same way and
 //! waits up to [`Options::shutdown_grace`] for the jobs to stop.
 
 use crate::api::{self, AppState};

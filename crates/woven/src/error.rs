@@ -36,6 +36,10 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// The work was told to stop ([`Progress::cancelled`](crate::progress::Progress::cancelled))
+    /// and stopped before it finished; nothing it would have made is returned.
+    #[error("cancelled before it finished")]
+    Cancelled,
 }
 
 /// The library's result type.

@@ -97,6 +97,7 @@ pub mod material;
 pub mod math;
 pub mod microcylinder;
 mod model;
+pub mod progress;
 pub mod relief;
 #[cfg(feature = "serde")]
 pub mod surface;

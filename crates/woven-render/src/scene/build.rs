@@ -15,6 +15,7 @@ use crate::woven_material::{TableCache, TableGrid, WovenMaterial};
 use crate::Result;
 use std::collections::BTreeMap;
 use woven::math::sampling::Distribution1D;
+use woven::progress::Progress;
 
 impl Scene {
     /// Builds the scene: tabulates woven materials (`grid`), loads meshes and environment maps,
@@ -28,7 +29,7 @@ impl Scene {
         desc: &SceneDescription,
         grid: &TableGrid,
         on_table: &dyn Fn(&str),
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<Scene> {
         Scene::build_with(desc, grid, TableCache::default(), on_table, progress)
     }
@@ -43,7 +44,7 @@ impl Scene {
         grid: &TableGrid,
         mut cache: TableCache,
         on_table: &dyn Fn(&str),
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<Scene> {
         let view = |c: &super::CameraSpec, [w, h]: [usize; 2]| {
             Camera::new(c.origin, c.target, c.up, c.fov_deg, w, h)
@@ -125,7 +126,7 @@ fn build_materials(
     grid: &TableGrid,
     cache: &mut TableCache,
     on_table: &dyn Fn(&str),
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<Materials> {
     let mut index_of = BTreeMap::new();
     let mut materials: Vec<Box<dyn SurfaceMaterial>> = Vec::new();

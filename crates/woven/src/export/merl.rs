@@ -114,10 +114,12 @@
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::math::Vec3;
+use crate::progress::Progress;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt;
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Number of `θ_h` bins.
 pub const THETA_H_RES: usize = 90;
@@ -401,14 +403,20 @@ impl MerlBrdf {
     }
 
     /// As [`from_fn`](Self::from_fn), on `threads` worker threads (0: one per available core).
+    /// `progress` hears `(done, total)` slices of constant θh and is asked before each row of φd
+    /// bins whether to stop.
     ///
     /// # Errors
-    /// As [`from_fn`](Self::from_fn), or [`Error::InvalidParameter`] if no thread pool of that
-    /// size can be made.
+    /// As [`from_fn`](Self::from_fn), [`Error::InvalidParameter`] if no thread pool of that
+    /// size can be made, or [`Error::Cancelled`] when `progress` asked to stop.
     ///
     /// # Panics
     /// If `f` panics.
-    pub fn from_fn_threaded(f: impl Fn(Vec3, Vec3) -> f64 + Sync, threads: usize) -> Result<Self> {
+    pub fn from_fn_threaded(
+        f: impl Fn(Vec3, Vec3) -> f64 + Sync,
+        threads: usize,
+        progress: &dyn Progress,
+    ) -> Result<Self> {
         use rayon::prelude::*;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -417,15 +425,24 @@ impl MerlBrdf {
         let mut mono = vec![BELOW_HORIZON_VALUE; MERL_BINS];
         // θ_h slices, one task each: their costs differ (more bins lie below the horizon at
         // large θ_h), so rayon balances them.
+        let (done, total) = (AtomicUsize::new(0), MERL_BINS / SLICE);
         pool.install(|| {
             mono.par_chunks_mut(SLICE)
                 .enumerate()
                 .for_each(|(k, slice)| {
                     for (j, out) in slice.iter_mut().enumerate() {
+                        // Asked once per row of φd bins: an exact model's row takes milliseconds.
+                        if j % PHI_D_RES == 0 && progress.cancelled() {
+                            return;
+                        }
                         *out = eval_bin(k * SLICE + j, &f);
                     }
+                    progress.update(done.fetch_add(1, Ordering::Relaxed) + 1, total);
                 })
         });
+        if progress.cancelled() {
+            return Err(Error::Cancelled);
+        }
         Self::from_values(&mono)
     }
 

@@ -51,6 +51,7 @@ use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::math::marginal::Marginal2D;
 use crate::math::Vec3;
+use crate::progress::Progress;
 use crate::surface::{Detail, SurfacePoint, SurfaceSpec, WovenSurface};
 use crate::table::cache::Tables;
 use crate::table::TableOptions;
@@ -411,7 +412,7 @@ pub fn material_brdf(
     wavelength_nm: f64,
     tables: &mut Tables,
     on_build: &dyn Fn(Option<&std::path::Path>),
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
 ) -> Result<ClothBrdf> {
     let material = match material {
         AnyMaterial::Woven(m) => m,
@@ -449,15 +450,17 @@ pub struct RglFile {
 impl RglFile {
     /// Builds the file of `brdf` (`f(s, v)`, sr⁻¹, no cosine, in colour; `s` toward the light,
     /// `v` toward the viewer; evaluated in parallel). `description` is stored as the file's
-    /// text; `progress` hears `(done, total)` incident nodes.
+    /// text; `progress` hears `(done, total)` incident nodes and is asked between them whether to
+    /// stop.
     ///
     /// # Errors
-    /// Invalid `options` ([`RglOptions::validate`]).
+    /// Invalid `options` ([`RglOptions::validate`]); [`Error::Cancelled`]
+    /// when `progress` asked to stop.
     pub fn build(
         brdf: &(dyn Fn(Vec3, Vec3) -> Rgb + Sync),
         description: &str,
         options: &RglOptions,
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<RglFile> {
         options.validate()?;
         let retro = |w: Vec3| brdf(w, w).luminance() * w.z;
@@ -465,17 +468,21 @@ impl RglFile {
         let (theta_i, phi_i) = (options.theta_i(), options.phi_i());
         let total = theta_i.len() * phi_i.len();
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let slices: Vec<Slice> = (0..total)
+        let slices: Option<Vec<Slice>> = (0..total)
             .into_par_iter()
             .map(|k| {
+                if progress.cancelled() {
+                    return None;
+                }
                 let (p, t) = (k / theta_i.len(), k % theta_i.len());
                 let wi = Vec3::from_spherical(theta_i[t], phi_i[p]);
                 let s = slice(wi, options.n_grid, options.n_vndf, &ndf, &sigma, brdf);
                 let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                progress(d, total);
-                s
+                progress.update(d, total);
+                Some(s)
             })
             .collect();
+        let slices = slices.ok_or(crate::Error::Cancelled)?;
         Ok(RglFile {
             fields: fields(
                 description,
@@ -696,6 +703,33 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("wavelengths"));
+    }
+
+    /// A build whose progress asks to stop returns `Error::Cancelled`, after no more incident
+    /// nodes than it was let compute (and one more a worker).
+    #[test]
+    fn a_build_told_to_stop_is_cancelled() {
+        use std::sync::atomic::{AtomicUsize, Ordering::SeqCst};
+        let options = RglOptions {
+            n_theta_i: 3,
+            n_phi_i: 5,
+            n_grid: 6,
+            n_vndf: 10,
+            n_ndf: 8,
+            ..RglOptions::default()
+        };
+        for nodes in [0, 4] {
+            let (done, asked) = (AtomicUsize::new(0), AtomicUsize::new(0));
+            let stop_after = crate::progress::Hooks {
+                update: |_: usize, _: usize| {
+                    done.fetch_add(1, SeqCst);
+                },
+                cancelled: || asked.fetch_add(1, SeqCst) >= nodes,
+            };
+            let got = RglFile::build(&brdf, "test", &options, &stop_after);
+            assert!(matches!(got, Err(Error::Cancelled)), "{nodes} nodes");
+            assert!(done.load(SeqCst) <= nodes + rayon::current_num_threads());
+        }
     }
 
     #[test]

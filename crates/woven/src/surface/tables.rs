@@ -5,6 +5,7 @@
 use super::{Layout, ReliefRatio, WovenSurface};
 use crate::error::{Error, Result};
 use crate::material::Material;
+use crate::progress::Progress;
 use crate::table::{Table, TableOptions};
 use crate::yarn::float::FloatProfile;
 use crate::Vec3;
@@ -51,7 +52,7 @@ impl WovenSurface {
         wavelength_nm: f64,
         options: &TableOptions,
         on_build: &dyn Fn(Option<&std::path::Path>),
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<WovenSurface> {
         if !self.resolves_relief() {
             let dir = tables.disk().map(|d| d.dir().to_path_buf());

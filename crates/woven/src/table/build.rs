@@ -10,6 +10,7 @@ use super::{
 use crate::cloth::Structure;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
+use crate::progress::{Progress, Share};
 use crate::Model;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -22,16 +23,18 @@ pub(crate) const REVISION: u32 = 2;
 
 impl Table {
     /// Builds the table of `model`, prepared from `material` (recorded as the table's
-    /// [`Provenance`](super::Provenance), with the model's wavelength). `progress(done, total)` is
-    /// called as rows complete, from worker threads.
+    /// [`Provenance`](super::Provenance), with the model's wavelength). `progress` hears
+    /// `(done, total)` rows as they complete, from worker threads, and is asked between rows
+    /// whether to stop.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for invalid options or a grid larger than a table file holds.
+    /// [`Error::InvalidParameter`] for invalid options or a grid larger than a table file holds;
+    /// [`Error::Cancelled`] when `progress` asked to stop.
     pub fn build(
         model: &Model,
         material: &crate::material::Material,
         options: &TableOptions,
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<Table> {
         options.validate()?;
         let symmetry = Symmetry::of(model);
@@ -62,11 +65,11 @@ impl Table {
         // `f`, and with `colour` `∂f/∂ρ0` in the same pass (`Model::eval_affine`).
         let (values, colour) = if options.colour {
             let [values, body] =
-                pool.install(|| tabulate::<2>(model, own, theta, phi, t, options, progress));
+                pool.install(|| tabulate::<2>(model, own, theta, phi, t, options, progress))?;
             (values, Some(super::Colour::new(material, body)))
         } else {
             let [values] =
-                pool.install(|| tabulate::<1>(model, own, theta, phi, t, options, progress));
+                pool.install(|| tabulate::<1>(model, own, theta, phi, t, options, progress))?;
             (values, None)
         };
         // The sampler is built as the table is assembled, on the same pool.
@@ -85,7 +88,7 @@ impl Table {
             )
         });
         if options.crown_deg > 0.0 {
-            return Ok(pool.install(|| table.crowned(options.crown_deg, options)));
+            return pool.install(|| table.crowned_until(options.crown_deg, options, progress));
         }
         Ok(table)
     }
@@ -93,6 +96,7 @@ impl Table {
 
 /// The node values of `model` (whose albedos are `own`) on the grid `(theta, phi, t)`, on the
 /// current rayon pool: `f` (`K = 1`), or `f` and `∂f/∂ρ0` (`K = 2`, [`Model::eval_affine`]).
+/// [`Error::Cancelled`] when `progress` asks to stop.
 fn tabulate<const K: usize>(
     model: &Model,
     own: super::Albedos,
@@ -100,8 +104,8 @@ fn tabulate<const K: usize>(
     phi: Axis,
     t: Axis,
     options: &TableOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> [Vec<f32>; K] {
+    progress: &dyn Progress,
+) -> Result<[Vec<f32>; K]> {
     // The parts of a value: `f` first, then `∂f/∂ρ0`.
     let parts = |f: f64, per_diffuse: f64| -> [f64; K] {
         std::array::from_fn(|k| if k == 0 { f } else { per_diffuse })
@@ -131,7 +135,11 @@ fn tabulate<const K: usize>(
     // Stage 1: F₀ (fibers along x), a mirror-symmetric table, exact at every node.
     let f0_phi = Axis::uniform(0.0, FRAC_PI_2, F0_PHI_NODES);
     let f0_t = Axis::uniform(-1.0, 1.0, options.n_h);
-    let stage = |done: usize, total: usize| progress(done, 2 * total);
+    let stage = Share {
+        progress,
+        index: 0,
+        of: 2,
+    };
     let fiber = yarn.fiber();
     let f0_values = fill(theta, f0_phi, f0_t, &stage, |half, a| {
         move |o| {
@@ -139,7 +147,7 @@ fn tabulate<const K: usize>(
             let p = yarn.slope_averaged_parts(s, v, 0.0, crate::yarn::Masking::Exact);
             parts(fiber.combine_parts(p), fiber.affine_in_diffuse(p).1)
         }
-    });
+    })?;
     let f0 = Stage::new(theta, f0_phi, f0_t, f0_values, model);
     // Stage 2: average rotated look-ups over fiber azimuths (Eqs. (21)–(23)), with the model's
     // own orientation weights and interreflection mix.
@@ -147,8 +155,11 @@ fn tabulate<const K: usize>(
     let weights = yarn
         .orientation()
         .midpoint_weights(n, &crate::cloth::weave_axes(weft_fraction));
-    let rows = 2 * theta.n * phi.n;
-    let stage2 = |done: usize, _total: usize| progress(rows + done, 2 * rows);
+    let stage2 = Share {
+        progress,
+        index: 1,
+        of: 2,
+    };
     fill(theta, phi, t, &stage2, |half, a| {
         // Per fiber azimuth: the axis direction in the fiber frame, folded into F₀'s domain and
         // located once per row; each node then costs a rotation and a look-up.
@@ -376,14 +387,15 @@ fn needed_nodes(theta: Axis, phi: Axis, t: Axis, it: usize, ip: usize) -> Vec<bo
 
 /// Evaluates both halves at every node they read, rows of `(half, θ, φ)` spread over the current
 /// rayon pool: `row(half, a)` prepares the evaluation for axis direction `a` and returns
-/// `o ↦ f(s, v)` with `(s, v) = half.join(a, o)`.
+/// `o ↦ f(s, v)` with `(s, v) = half.join(a, o)`. `progress` hears rows and is asked before each
+/// whether to stop: [`Error::Cancelled`] then.
 pub(super) fn fill<const K: usize, R: Fn(Vec3) -> [f64; K]>(
     theta: Axis,
     phi: Axis,
     t: Axis,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &dyn Progress,
     row: impl Fn(Half, Vec3) -> R + Sync,
-) -> [Vec<f32>; K] {
+) -> Result<[Vec<f32>; K]> {
     let rows_per_half = theta.n * phi.n;
     let rows = 2 * rows_per_half;
     let row_len = t.n * t.n;
@@ -395,6 +407,9 @@ pub(super) fn fill<const K: usize, R: Fn(Vec3) -> [f64; K]>(
         .enumerate()
         .with_max_len(1)
         .for_each(|(r, out)| {
+            if progress.cancelled() {
+                return;
+            }
             let half = if r < rows_per_half {
                 Half::Light
             } else {
@@ -422,15 +437,31 @@ pub(super) fn fill<const K: usize, R: Fn(Vec3) -> [f64; K]>(
                     }
                 }
             }
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1, rows);
+            progress.update(done.fetch_add(1, Ordering::Relaxed) + 1, rows);
         });
-    std::array::from_fn(|k| {
+    if progress.cancelled() {
+        return Err(Error::Cancelled);
+    }
+    Ok(std::array::from_fn(|k| {
         values
             .chunks_exact(K * row_len)
             .flat_map(|row| &row[k * row_len..(k + 1) * row_len])
             .copied()
             .collect()
-    })
+    }))
+}
+
+/// [`fill`] for work nothing stops: a table derived on first use (tilted).
+pub(super) fn fill_uncancelled<const K: usize, R: Fn(Vec3) -> [f64; K]>(
+    theta: Axis,
+    phi: Axis,
+    t: Axis,
+    row: impl Fn(Half, Vec3) -> R + Sync,
+) -> [Vec<f32>; K] {
+    match fill(theta, phi, t, crate::progress::NONE, row) {
+        Ok(values) => values,
+        Err(_) => unreachable!("a progress that never asks to stop"),
+    }
 }
 
 #[cfg(test)]
@@ -458,7 +489,7 @@ mod tests {
             };
             let phi = Axis::uniform(0.0, FRAC_PI_2, n_phi);
             let t = Axis::uniform(-1.0, 1.0, n_t);
-            let [values] = fill(theta, phi, t, &|_, _| {}, |_, _| |_| [1.0]);
+            let [values] = fill_uncancelled(theta, phi, t, |_, _| |_| [1.0]);
             let evaluated = values.iter().filter(|&&v| v == 1.0).count();
             assert!(
                 evaluated < values.len(),

@@ -14,6 +14,7 @@
 use super::{grid_of, Table, TableOptions};
 use crate::error::{Error, Result};
 use crate::material::Material;
+use crate::progress::Progress;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -296,7 +297,7 @@ impl Tables {
         wavelength_nm: f64,
         options: &TableOptions,
         on_build: &dyn Fn(Option<&Path>),
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> Result<Arc<Table>> {
         let key = memory_key(material, wavelength_nm, options);
         if let Some(t) = self.memory.get(&key) {
@@ -313,7 +314,7 @@ impl Tables {
         };
         let build = || -> Result<Table> {
             match &base {
-                Some(base) => base.crowned_with(options),
+                Some(base) => base.crowned_with(options, progress),
                 None => Table::build(&material.build(wavelength_nm)?, material, options, progress),
             }
         };
@@ -448,6 +449,57 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("woven-cache-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         dir
+    }
+
+    /// A build whose progress asks to stop returns [`Error::Cancelled`] within a row per worker,
+    /// and keeps nothing, plain or crowned (the crown pass hears the same question); asked again
+    /// without the stop, the same call builds the table.
+    #[test]
+    fn a_cancelled_build_stops_within_rows_and_caches_nothing() {
+        use std::sync::atomic::{AtomicUsize, Ordering::SeqCst};
+        let dir = scratch("cancelled");
+        let m = Material::preset("silk-crepe-de-chine")
+            .unwrap()
+            .yarn_family();
+        let plain = tiny();
+        let crowned = TableOptions {
+            crown_deg: crate::relief::CROWN_DEG,
+            ..plain
+        };
+        let files = || std::fs::read_dir(&dir).map_or(0, |d| d.count());
+        let mut tables = Tables::with_disk(Cache::new(&dir));
+        for asks in [0, 3] {
+            let (rows, asked) = (AtomicUsize::new(0), AtomicUsize::new(0));
+            let stop_after = crate::progress::Hooks {
+                update: |_: usize, _: usize| {
+                    rows.fetch_add(1, SeqCst);
+                },
+                cancelled: || asked.fetch_add(1, SeqCst) >= asks,
+            };
+            let got = tables.table(&m, 550.0, &plain, &|_| {}, &stop_after);
+            assert!(matches!(got, Err(Error::Cancelled)), "{asks} asks: {got:?}");
+            let done = rows.load(SeqCst);
+            assert!(
+                done <= asks + rayon::current_num_threads(),
+                "{asks} asks: {done} rows"
+            );
+            assert_eq!(files(), 0, "{asks} asks: a cancelled build left a file");
+        }
+        // The crowned table from a plain one already kept: its crown pass stops.
+        let never = |_: usize, _: usize| {};
+        tables.table(&m, 550.0, &plain, &|_| {}, &never).unwrap();
+        assert_eq!(files(), 1);
+        let stop = crate::progress::Hooks {
+            update: never,
+            cancelled: || true,
+        };
+        let got = tables.table(&m, 550.0, &crowned, &|_| {}, &stop);
+        assert!(matches!(got, Err(Error::Cancelled)), "crowned: {got:?}");
+        assert_eq!(files(), 1, "a cancelled crown pass left a file");
+        let table = tables.table(&m, 550.0, &crowned, &|_| {}, &never);
+        assert!(table.is_ok(), "{table:?}");
+        assert_eq!(files(), 2);
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     /// `Tables`: one table per material and grid in memory; a crowned table built from its yarn's

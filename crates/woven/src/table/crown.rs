@@ -26,6 +26,7 @@ use super::grid::Axis;
 use super::{Colour, Half, Table, TableOptions};
 use crate::math::quadrature::GaussLegendre;
 use crate::math::Vec3;
+use crate::progress::{Progress, Silent};
 use crate::yarn::profile::Profile;
 use std::f64::consts::FRAC_PI_2;
 
@@ -100,12 +101,17 @@ impl Crown {
 impl Table {
     /// This table (of a yarn as the paper has it) averaged over the crown of
     /// `options.crown_deg`, on `options`' grid: what [`Table::build`] gives for those options,
-    /// without evaluating the model again.
+    /// without evaluating the model again. `progress` is asked between rows whether to stop.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for invalid options, a
-    /// `crown_deg` of 0, or a table that is crowned already.
-    pub fn crowned_with(&self, options: &TableOptions) -> crate::Result<Table> {
+    /// `crown_deg` of 0, or a table that is crowned already;
+    /// [`Error::Cancelled`](crate::Error::Cancelled) when `progress` asked to stop.
+    pub fn crowned_with(
+        &self,
+        options: &TableOptions,
+        progress: &dyn Progress,
+    ) -> crate::Result<Table> {
         options.validate()?;
         if options.crown_deg <= 0.0 {
             return Err(crate::Error::invalid(
@@ -121,7 +127,7 @@ impl Table {
                 "a table of a yarn without a crown",
             ));
         }
-        Ok(self.crowned(options.crown_deg, options))
+        self.crowned_until(options.crown_deg, options, progress)
     }
 
     /// This table averaged over a round crown of half-angle `crown_deg` (degrees, in
@@ -129,10 +135,28 @@ impl Table {
     /// `options` (this table's polar axis, `n_phi` azimuths, `n_h` half-vector nodes). Dyeable
     /// when this table is. [`Table::build`] calls it when [`TableOptions::crown_deg`] is set.
     pub(crate) fn crowned(&self, crown_deg: f64, options: &TableOptions) -> Table {
+        match self.crowned_until(crown_deg, options, crate::progress::NONE) {
+            Ok(table) => table,
+            Err(_) => unreachable!("a progress that never asks to stop"),
+        }
+    }
+
+    /// As [`crowned`](Self::crowned), asking `progress` between rows whether to stop (its
+    /// updates are not sent: the crown is a last step after the plain table's build, whose bar
+    /// has ended).
+    ///
+    /// # Errors
+    /// [`Error::Cancelled`](crate::Error::Cancelled) when `progress` asked to stop.
+    pub(crate) fn crowned_until(
+        &self,
+        crown_deg: f64,
+        options: &TableOptions,
+        progress: &dyn Progress,
+    ) -> crate::Result<Table> {
         let crown = Crown::new(crown_deg.to_radians());
         let phi = Axis::uniform(0.0, FRAC_PI_2, options.n_phi);
         let (theta, t) = (self.theta, Axis::uniform(-1.0, 1.0, options.n_h));
-        let quiet = |_: usize, _: usize| {};
+        let quiet = Silent(progress);
         let (values, colour) = match &self.colour {
             Some(colour) => {
                 let base = [self.values.as_slice(), colour.body.as_slice()];
@@ -144,7 +168,7 @@ impl Table {
                             average(crown, s, v, |ts, tv| self.eval_arrays(ts, tv, base));
                         [f.max(0.0), body, g]
                     }
-                });
+                })?;
                 let colour = Colour {
                     body,
                     crown: Some(g),
@@ -160,11 +184,11 @@ impl Table {
                         let ([f], _) = average(crown, s, v, |ts, tv| [self.eval(ts, tv)]);
                         [f]
                     }
-                });
+                })?;
                 (values, None)
             }
         };
-        self.derived((theta, phi, t), values, colour, crown_deg)
+        Ok(self.derived((theta, phi, t), values, colour, crown_deg))
     }
 }
 
@@ -244,7 +268,7 @@ mod tests {
             crown_deg: 30.0,
             ..OPTIONS
         };
-        let derived = base.crowned_with(&options).unwrap();
+        let derived = base.crowned_with(&options, crate::progress::NONE).unwrap();
         let read = Table::from_bytes(&derived.to_bytes(), "test").unwrap();
         assert_eq!(read.crown_deg(), 30.0);
         let dyes = [Albedos {
@@ -255,7 +279,9 @@ mod tests {
             assert_eq!(derived.eval_dyed(s, v, &dyes), read.eval_dyed(s, v, &dyes));
         }
         // Not twice, and not without a crown.
-        assert!(derived.crowned_with(&options).is_err());
-        assert!(base.crowned_with(&OPTIONS).is_err());
+        assert!(derived
+            .crowned_with(&options, crate::progress::NONE)
+            .is_err());
+        assert!(base.crowned_with(&OPTIONS, crate::progress::NONE).is_err());
     }
 }

@@ -3,6 +3,7 @@
 
 use super::Table;
 use crate::math::Vec3;
+use crate::progress::Progress;
 use crate::Model;
 use rayon::prelude::*;
 
@@ -124,13 +125,13 @@ pub struct PeakError {
 impl Table {
     /// Compares the table with `model` at `samples_per_band` random pairs in each band of
     /// [`BANDS_DEG`] ([`band_pairs`] from `seed`), the exact values computed on all cores;
-    /// `progress(done, total)` is called as they complete.
+    /// `progress` hears `(done, total)` as they complete.
     pub fn accuracy(
         &self,
         model: &Model,
         samples_per_band: usize,
         seed: u64,
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> AccuracyReport {
         let pairs = band_pairs(samples_per_band, seed);
         let done = std::sync::atomic::AtomicUsize::new(0);
@@ -141,7 +142,7 @@ impl Table {
             .map(|&(_, s, v)| {
                 let f = model.eval(s, v);
                 let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                progress(k, pairs.len());
+                progress.update(k, pairs.len());
                 f
             })
             .collect();
@@ -192,7 +193,7 @@ impl Table {
     /// The worst `|f_table − f| cos θ_i cos θ_r` relative to the material's peak of
     /// `f cos θ_i cos θ_r` over `n` [`uniform_pairs`] from `seed` (both directions uniform in
     /// solid angle over their hemisphere, no band selection), the exact values computed on all
-    /// cores; `progress(done, n)` is called as they complete. The peak is the one
+    /// cores; `progress` hears `(done, n)` as they complete. The peak is the one
     /// [`accuracy`](Self::accuracy) uses: the largest over the table's nodes and these pairs'
     /// exact values. This is the bound a statement "within x % of the peak everywhere" rests on.
     pub fn peak_error(
@@ -200,7 +201,7 @@ impl Table {
         model: &Model,
         n: usize,
         seed: u64,
-        progress: &(dyn Fn(usize, usize) + Sync),
+        progress: &dyn Progress,
     ) -> PeakError {
         let pairs = uniform_pairs(n, seed);
         let done = std::sync::atomic::AtomicUsize::new(0);
@@ -210,7 +211,7 @@ impl Table {
             .map(|&(s, v)| {
                 let f = model.eval(s, v);
                 let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                progress(k, pairs.len());
+                progress.update(k, pairs.len());
                 f
             })
             .collect();

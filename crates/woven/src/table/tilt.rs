@@ -14,7 +14,7 @@
 //!
 //! [`TILT_NODES`]: crate::yarn::float::TILT_NODES
 
-use super::build::fill;
+use super::build::fill_uncancelled;
 use super::cache::{fnv1a, FNV_BASIS};
 use super::grid::Axis;
 use super::{Colour, Half, Table, N_PHI_RENDER, N_THETA_RENDER};
@@ -69,7 +69,6 @@ impl Table {
     /// renderer's tables have none).
     pub fn tilted(&self, float: &FloatProfile) -> Table {
         let (theta, phi, t) = self.tilted_grid();
-        let quiet = |_: usize, _: usize| {};
         let (values, colour) = match &self.colour {
             Some(colour) => {
                 let ones;
@@ -81,7 +80,7 @@ impl Table {
                     }
                 };
                 let base = [self.values.as_slice(), colour.body.as_slice(), g];
-                let [values, body, g] = fill::<3, _>(theta, phi, t, &quiet, |half, a| {
+                let [values, body, g] = fill_uncancelled::<3, _>(theta, phi, t, |half, a| {
                     move |o| {
                         let (s, v) = Half::join(half, a, o);
                         let Parts([f, body, g]) =
@@ -97,7 +96,7 @@ impl Table {
                 (values, Some(colour))
             }
             None => {
-                let [values] = fill::<1, _>(theta, phi, t, &quiet, |half, a| {
+                let [values] = fill_uncancelled::<1, _>(theta, phi, t, |half, a| {
                     move |o| {
                         let (s, v) = Half::join(half, a, o);
                         [float.average(s, v, |ts, tv| self.eval(ts, tv))]

@@ -310,10 +310,19 @@ fn export_write_read_round_trip_bit_exact() {
         "write(read(file)) differs from the file"
     );
 
+    // Told to stop, the threaded fill returns no table.
+    let stop = woven::progress::Hooks {
+        update: |_: usize, _: usize| {},
+        cancelled: || true,
+    };
+    let stopped = MerlBrdf::from_fn_threaded(|_, _| 1.0, 0, &stop);
+    assert!(matches!(stopped, Err(woven::Error::Cancelled)));
+
     // The threaded fill stores the same bits as the sequential one.
     let model = flat_model();
     let start = Instant::now();
-    let threaded = MerlBrdf::from_fn_threaded(|s, v| model.eval(s, v), 0).expect("finite values");
+    let threaded = MerlBrdf::from_fn_threaded(|s, v| model.eval(s, v), 0, woven::progress::NONE)
+        .expect("finite values");
     println!(
         "full MERL export of a flat fiber, threaded: {:.3} s",
         start.elapsed().as_secs_f64()
@@ -628,7 +637,8 @@ fn merl_export_of_silk_agrees_with_the_exact_model() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(53);
     let (model, table) = crate::common::default_table("silk");
-    let exported = MerlBrdf::from_fn_threaded(|s, v| table.eval(s, v), 0).unwrap();
+    let exported =
+        MerlBrdf::from_fn_threaded(|s, v| table.eval(s, v), 0, woven::progress::NONE).unwrap();
     // (band, cos θi cos θr, exported, exact) per checked bin above the horizon.
     let rows: Vec<(usize, f64, f64, f64)> = (0..MERL_BINS)
         .step_by(stride)
