@@ -9,6 +9,7 @@
 //! copy or a result — may exceed [`BATCH_BUDGET_BYTES`] (MemoryError, checked before
 //! allocating), and an allocation the system refuses is a MemoryError too.
 
+use crate::signals::interruptible;
 use numpy::{
     AllowTypeChange, PyArrayDescrMethods, PyArrayLikeDyn, PyUntypedArray, PyUntypedArrayMethods,
 };
@@ -16,8 +17,6 @@ use pyo3::exceptions::{PyMemoryError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{channel, RecvTimeoutError};
-use std::time::Duration;
 use woven::Vec3;
 
 /// Batches at least this long run on rayon's pool; shorter ones on the calling thread (a
@@ -40,9 +39,6 @@ pub const UNIT_TOLERANCE: f64 = 1e-6;
 
 /// Items a batch on the calling thread computes between checks for signals.
 const SIGNAL_ITEMS: usize = 64;
-
-/// How often the calling thread checks for signals while rayon's pool computes a batch.
-const SIGNAL_POLL: Duration = Duration::from_millis(20);
 
 /// What the numbers of an argument must be, besides finite.
 #[derive(Clone, Copy)]
@@ -393,7 +389,7 @@ where
 
 /// `f(i)` for `i in 0..n`, `K` values each: below `parallel_min` items on the calling thread,
 /// checking for signals every [`SIGNAL_ITEMS`] items; from it on rayon's pool in tasks of `chunk`
-/// items, the GIL released, with the calling thread checking for signals ([`interruptible`]).
+/// items, the GIL released, with the calling thread checking for signals ([`interruptible`](crate::signals::interruptible)).
 /// A signal handler's exception (Ctrl-C: `KeyboardInterrupt`) stops the batch and is raised.
 fn run_batch<const K: usize, F>(
     py: Python<'_>,
@@ -431,30 +427,4 @@ where
         })?;
     }
     Ok(out)
-}
-
-/// Runs `work` on rayon's pool while the calling thread, the GIL released, checks for signals
-/// every [`SIGNAL_POLL`]: when a handler raises, `stop` is set for `work` to see, and the
-/// exception is returned once `work` has wound down. On one of the pool's own threads (a call
-/// from a table build's progress callback) `work` just runs.
-fn interruptible(stop: &AtomicBool, work: impl FnOnce() + Send) -> PyResult<()> {
-    if rayon::current_thread_index().is_some() {
-        work();
-        return Ok(());
-    }
-    let (done, finished) = channel::<()>();
-    let mut raised = Ok(());
-    rayon::in_place_scope(|scope| {
-        scope.spawn(move |_| {
-            work();
-            drop(done);
-        });
-        while let Err(RecvTimeoutError::Timeout) = finished.recv_timeout(SIGNAL_POLL) {
-            if raised.is_ok() {
-                raised = Python::attach(|py| py.check_signals());
-                stop.store(raised.is_err(), Ordering::Relaxed);
-            }
-        }
-    });
-    raised
 }

@@ -112,10 +112,14 @@ pub fn fit<'py>(
         )?,
     };
     let start = Instant::now();
-    let result = py.detach(|| {
+    let result = crate::signals::until_interrupted(py, |stop| {
         let dataset = woven_fit::data::load(Path::new(data)).map_err(data_err)?;
-        request.run(&dataset, &|_, _| {}).map_err(fit_err)
-    })?;
+        let progress = woven::progress::Until {
+            progress: &|_: usize, _: usize| {},
+            stop,
+        };
+        request.run(&dataset, &progress).map_err(fit_err)
+    })??;
     let seconds = start.elapsed().as_secs_f64();
     let out = PyDict::new(py);
     out.set_item("dataset", &result.dataset)?;

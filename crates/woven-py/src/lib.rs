@@ -16,10 +16,11 @@ mod bsdf;
 mod fit;
 mod material;
 mod render;
+mod signals;
 mod surface;
 mod table;
 
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
@@ -33,6 +34,8 @@ pub(crate) fn message(err: &impl std::fmt::Display) -> String {
 pub(crate) fn to_py(err: woven::Error) -> PyErr {
     match &err {
         woven::Error::Io { .. } => PyOSError::new_err(crate::message(&err)),
+        // Stopped by a signal whose own exception is raised instead: this is what is left.
+        woven::Error::Cancelled => PyKeyboardInterrupt::new_err(crate::message(&err)),
         _ => PyValueError::new_err(crate::message(&err)),
     }
 }

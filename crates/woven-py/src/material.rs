@@ -579,20 +579,31 @@ pub fn gonio<'py>(
             }
         }
     }
-    let readings = py.detach(|| match &source {
-        Source::Model(m) => woven::gonio::sweep(&**m, &azimuths, &tilts, || {}),
-        Source::Colour(b) => woven::gonio::sweep(b, &azimuths, &tilts, || {}),
-    });
+    // One reading a task (a cloth reading takes milliseconds), on all cores, Ctrl-C heard.
+    let grid = woven::gonio::sweep_grid(&azimuths, &tilts);
+    let readings = crate::arrays::map_each::<3, _>(py, grid.len(), |i| {
+        let (azimuth, tilt) = grid[i];
+        let r = match &source {
+            Source::Model(m) => woven::gonio::read(&**m, azimuth, tilt),
+            Source::Colour(b) => woven::gonio::read(b, azimuth, tilt),
+        };
+        [r.theta_i, r.theta_r, r.radiance]
+    })?;
     let out = PyDict::new(py);
-    let column = |f: fn(&woven::gonio::Reading) -> f64| readings.iter().map(f).collect::<Vec<_>>();
-    out.set_item(
-        "azimuth_deg",
-        PyArray1::from_vec(py, column(|r| r.azimuth_deg)),
-    )?;
-    out.set_item("tilt_deg", PyArray1::from_vec(py, column(|r| r.tilt_deg)))?;
-    out.set_item("theta_i", PyArray1::from_vec(py, column(|r| r.theta_i)))?;
-    out.set_item("theta_r", PyArray1::from_vec(py, column(|r| r.theta_r)))?;
-    out.set_item("radiance", PyArray1::from_vec(py, column(|r| r.radiance)))?;
+    let column = |k: usize| {
+        readings
+            .iter()
+            .skip(k)
+            .step_by(3)
+            .copied()
+            .collect::<Vec<_>>()
+    };
+    let (azimuth, tilt): (Vec<f64>, Vec<f64>) = grid.into_iter().unzip();
+    out.set_item("azimuth_deg", PyArray1::from_vec(py, azimuth))?;
+    out.set_item("tilt_deg", PyArray1::from_vec(py, tilt))?;
+    out.set_item("theta_i", PyArray1::from_vec(py, column(0)))?;
+    out.set_item("theta_r", PyArray1::from_vec(py, column(1)))?;
+    out.set_item("radiance", PyArray1::from_vec(py, column(2)))?;
     Ok(out)
 }
 

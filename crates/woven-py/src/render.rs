@@ -5,6 +5,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
+use woven::progress::Until;
 use woven_render::render::{render_with_progress, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription};
 use woven_render::woven_material::{TableCache, TableGrid};
@@ -53,25 +54,40 @@ pub fn render<'py>(
             )));
         }
     }
-    let image = py
-        .detach(|| -> woven_render::Result<_> {
-            let mut desc = SceneDescription::from_path(&scene)?;
-            desc.film.spp = spp.unwrap_or(desc.film.spp);
-            desc.film.width = width.unwrap_or(desc.film.width);
-            desc.film.height = height.unwrap_or(desc.film.height);
-            desc.film.seed = seed.unwrap_or(desc.film.seed);
-            let tables = match woven::table::cache::Cache::user() {
-                Ok(disk) if cache => TableCache::with_disk(disk),
-                _ => TableCache::default(),
-            };
-            let built = Scene::build_with(&desc, &TableGrid::Default, tables, &|_| {}, &|_, _| {})?;
-            let image = render_with_progress(&built, &RenderOptions { threads }, &|_, _| {})?;
-            if let Some(path) = &output {
-                woven_render::output::write(&image, path, &desc.film.display)?;
-            }
-            Ok(image)
-        })
-        .map_err(render_err)?;
+    let image = crate::signals::until_interrupted(py, |stop| -> woven_render::Result<_> {
+        let quiet = |_: usize, _: usize| {};
+        let tables_progress = Until {
+            progress: &quiet,
+            stop,
+        };
+        let quiet = |_: u64, _: u64| {};
+        let render_progress = Until {
+            progress: &quiet,
+            stop,
+        };
+        let mut desc = SceneDescription::from_path(&scene)?;
+        desc.film.spp = spp.unwrap_or(desc.film.spp);
+        desc.film.width = width.unwrap_or(desc.film.width);
+        desc.film.height = height.unwrap_or(desc.film.height);
+        desc.film.seed = seed.unwrap_or(desc.film.seed);
+        let tables = match woven::table::cache::Cache::user() {
+            Ok(disk) if cache => TableCache::with_disk(disk),
+            _ => TableCache::default(),
+        };
+        let built = Scene::build_with(
+            &desc,
+            &TableGrid::Default,
+            tables,
+            &|_| {},
+            &tables_progress,
+        )?;
+        let image = render_with_progress(&built, &RenderOptions { threads }, &render_progress)?;
+        if let Some(path) = &output {
+            woven_render::output::write(&image, path, &desc.film.display)?;
+        }
+        Ok(image)
+    })?
+    .map_err(render_err)?;
     let flat: Vec<f64> = image.pixels.iter().flat_map(|p| p.0).collect();
     let pixels = PyArray1::from_vec(py, flat).reshape([image.height, image.width, 3])?;
     let out = PyDict::new(py);

@@ -14,6 +14,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use woven::bsdf::{Bsdf, Transport};
+use woven::progress::Until;
 use woven::table::{Albedos, Symmetry, TableOptions};
 
 /// A tabulated BRDF: the exact model stored on a grid, interpolated in well under a microsecond
@@ -97,12 +98,27 @@ impl Reporter {
         });
     }
 
+    /// Whether a progress callback has raised: the build then stops (its error is `finish`'s).
+    fn raised(&self) -> bool {
+        self.failed.lock().map_or(true, |f| f.is_some())
+    }
+
     /// The first error a progress callback raised, if any.
     fn finish(self) -> PyResult<()> {
         match self.failed.into_inner().expect("not poisoned") {
             Some(e) => Err(e),
             None => Ok(()),
         }
+    }
+}
+
+impl woven::progress::Progress for Reporter {
+    fn update(&self, done: usize, total: usize) {
+        self.report(done, total)
+    }
+
+    fn cancelled(&self) -> bool {
+        self.raised()
     }
 }
 
@@ -170,14 +186,16 @@ impl Table {
             crown_deg: 0.0,
         };
         let reporter = Reporter::new(progress)?;
-        let table = py
-            .detach(|| {
-                woven::table::Table::build(&model, &material.inner, &options, &|d, t| {
-                    reporter.report(d, t)
-                })
-            })
-            .py_err()?;
+        let table = crate::signals::until_interrupted(py, |stop| {
+            let progress = Until {
+                progress: &reporter,
+                stop,
+            };
+            woven::table::Table::build(&model, &material.inner, &options, &progress)
+        })?;
+        // A callback that raised stopped the build: its exception is the one to raise.
         reporter.finish()?;
+        let table = table.py_err()?;
         Ok(Table {
             inner: Arc::new(table),
         })
@@ -532,13 +550,17 @@ pub fn export_merl(
             "`source` must be a woven.Table or a woven.Model",
         ));
     };
-    py.detach(|| {
+    crate::signals::until_interrupted(py, |stop| {
+        let progress = Until {
+            progress: &|_: usize, _: usize| {},
+            stop,
+        };
         let merl = match &brdf {
-            Source::Table(t) => MerlBrdf::from_fn_threaded(|s, v| t.eval(s, v), threads),
-            Source::Model(m) => MerlBrdf::from_fn_threaded(|s, v| m.eval(s, v), threads),
+            Source::Table(t) => MerlBrdf::from_fn_threaded(|s, v| t.eval(s, v), threads, &progress),
+            Source::Model(m) => MerlBrdf::from_fn_threaded(|s, v| m.eval(s, v), threads, &progress),
         }?;
         merl.save(&path)
-    })
+    })?
     .py_err()
 }
 
@@ -605,14 +627,15 @@ pub(crate) fn cached_table(
     let options = grid_options(grid, &model)?;
     let reporter = Reporter::new(progress)?;
     let tables = &mut user.tables;
-    let table = py
-        .detach(|| {
-            tables.table(material, wavelength_nm, &options, &|_| {}, &|d, t| {
-                reporter.report(d, t)
-            })
-        })
-        .py_err()?;
+    let table = crate::signals::until_interrupted(py, |stop| {
+        let progress = Until {
+            progress: &reporter,
+            stop,
+        };
+        tables.table(material, wavelength_nm, &options, &|_| {}, &progress)
+    })?;
     reporter.finish()?;
+    let table = table.py_err()?;
     user.warn(py)?;
     Ok((table, options))
 }
@@ -629,18 +652,14 @@ pub(crate) fn prepared(
     options: &TableOptions,
 ) -> PyResult<woven::surface::WovenSurface> {
     let tables = &mut user.tables;
-    let surface = py
-        .detach(|| {
-            surface.prepared_from(
-                tables,
-                material,
-                wavelength_nm,
-                options,
-                &|_| {},
-                &|_, _| {},
-            )
-        })
-        .py_err()?;
+    let surface = crate::signals::until_interrupted(py, |stop| {
+        let progress = Until {
+            progress: &|_: usize, _: usize| {},
+            stop,
+        };
+        surface.prepared_from(tables, material, wavelength_nm, options, &|_| {}, &progress)
+    })?
+    .py_err()?;
     user.warn(py)?;
     Ok(surface)
 }
