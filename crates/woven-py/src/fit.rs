@@ -114,11 +114,7 @@ pub fn fit<'py>(
     let start = Instant::now();
     let result = crate::signals::until_interrupted(py, |stop| {
         let dataset = woven_fit::data::load(Path::new(data)).map_err(data_err)?;
-        let progress = woven::progress::Until {
-            progress: &|_: usize, _: usize| {},
-            stop,
-        };
-        request.run(&dataset, &progress).map_err(fit_err)
+        request.run(&dataset, stop).map_err(fit_err)
     })??;
     let seconds = start.elapsed().as_secs_f64();
     let out = PyDict::new(py);

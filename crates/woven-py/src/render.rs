@@ -5,7 +5,6 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
-use woven::progress::Until;
 use woven_render::render::{render_with_progress, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription};
 use woven_render::woven_material::{TableCache, TableGrid};
@@ -55,16 +54,6 @@ pub fn render<'py>(
         }
     }
     let image = crate::signals::until_interrupted(py, |stop| -> woven_render::Result<_> {
-        let quiet = |_: usize, _: usize| {};
-        let tables_progress = Until {
-            progress: &quiet,
-            stop,
-        };
-        let quiet = |_: u64, _: u64| {};
-        let render_progress = Until {
-            progress: &quiet,
-            stop,
-        };
         let mut desc = SceneDescription::from_path(&scene)?;
         desc.film.spp = spp.unwrap_or(desc.film.spp);
         desc.film.width = width.unwrap_or(desc.film.width);
@@ -74,14 +63,8 @@ pub fn render<'py>(
             Ok(disk) if cache => TableCache::with_disk(disk),
             _ => TableCache::default(),
         };
-        let built = Scene::build_with(
-            &desc,
-            &TableGrid::Default,
-            tables,
-            &|_| {},
-            &tables_progress,
-        )?;
-        let image = render_with_progress(&built, &RenderOptions { threads }, &render_progress)?;
+        let built = Scene::build_with(&desc, &TableGrid::Default, tables, &|_| {}, stop)?;
+        let image = render_with_progress(&built, &RenderOptions { threads }, stop)?;
         if let Some(path) = &output {
             woven_render::output::write(&image, path, &desc.film.display)?;
         }

@@ -551,13 +551,9 @@ pub fn export_merl(
         ));
     };
     crate::signals::until_interrupted(py, |stop| {
-        let progress = Until {
-            progress: &|_: usize, _: usize| {},
-            stop,
-        };
         let merl = match &brdf {
-            Source::Table(t) => MerlBrdf::from_fn_threaded(|s, v| t.eval(s, v), threads, &progress),
-            Source::Model(m) => MerlBrdf::from_fn_threaded(|s, v| m.eval(s, v), threads, &progress),
+            Source::Table(t) => MerlBrdf::from_fn_threaded(|s, v| t.eval(s, v), threads, stop),
+            Source::Model(m) => MerlBrdf::from_fn_threaded(|s, v| m.eval(s, v), threads, stop),
         }?;
         merl.save(&path)
     })?
@@ -653,11 +649,7 @@ pub(crate) fn prepared(
 ) -> PyResult<woven::surface::WovenSurface> {
     let tables = &mut user.tables;
     let surface = crate::signals::until_interrupted(py, |stop| {
-        let progress = Until {
-            progress: &|_: usize, _: usize| {},
-            stop,
-        };
-        surface.prepared_from(tables, material, wavelength_nm, options, &|_| {}, &progress)
+        surface.prepared_from(tables, material, wavelength_nm, options, &|_| {}, stop)
     })?
     .py_err()?;
     user.warn(py)?;

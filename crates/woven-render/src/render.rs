@@ -192,11 +192,10 @@ fn render_in_pool(scene: &Scene, progress: &dyn Progress<u64>) -> Result<Image> 
         let tiles: Vec<Vec<Pixel>> = (rows.start * tiles_x..rows.end * tiles_x)
             .into_par_iter()
             .map(|t| {
-                let mut out = Vec::new();
                 if progress.cancelled() {
-                    return out;
+                    return Vec::new();
                 }
-                out.reserve(TILE * TILE);
+                let mut out = Vec::with_capacity(TILE * TILE);
                 let (tx, ty) = (t % tiles_x, t / tiles_x);
                 let mut bad = 0;
                 let mut scratch = integrator::Scratch::default();

@@ -3,8 +3,8 @@
 //!
 //! Any `Fn(done, total) + Sync` closure is a [`Progress`] that never asks to stop, so a caller
 //! that only wants a bar passes a closure. A front end that can be interrupted (Python's
-//! Ctrl-C, a server whose client has gone) answers [`Progress::cancelled`] too, for instance
-//! with [`Until`].
+//! Ctrl-C, a server whose client has gone) answers [`Progress::cancelled`] too: a bare stop flag
+//! (`AtomicBool`), or [`Until`] to keep reporting.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -27,6 +27,15 @@ pub trait Progress<N = usize>: Sync {
 impl<N, F: Fn(N, N) + Sync> Progress<N> for F {
     fn update(&self, done: N, total: N) {
         self(done, total)
+    }
+}
+
+/// A stop flag alone: reports nowhere, and is cancelled once set.
+impl<N> Progress<N> for AtomicBool {
+    fn update(&self, _: N, _: N) {}
+
+    fn cancelled(&self) -> bool {
+        self.load(Ordering::Relaxed)
     }
 }
 
@@ -146,6 +155,16 @@ mod tests {
             stop: &never,
         };
         assert!(Progress::<usize>::cancelled(&outer));
+    }
+
+    #[test]
+    fn a_stop_flag_is_a_silent_progress_cancelled_once_set() {
+        let stop = AtomicBool::new(false);
+        let progress: &dyn Progress<u64> = &stop;
+        progress.update(1, 2);
+        assert!(!progress.cancelled());
+        stop.store(true, Ordering::Relaxed);
+        assert!(progress.cancelled());
     }
 
     #[test]

@@ -430,12 +430,15 @@ impl MerlBrdf {
             mono.par_chunks_mut(SLICE)
                 .enumerate()
                 .for_each(|(k, slice)| {
-                    for (j, out) in slice.iter_mut().enumerate() {
-                        // Asked once per row of φd bins: an exact model's row takes milliseconds.
-                        if j % PHI_D_RES == 0 && progress.cancelled() {
+                    // Asked once per row of φd bins: an exact model's row takes milliseconds.
+                    for (r, row) in slice.chunks_mut(PHI_D_RES).enumerate() {
+                        if progress.cancelled() {
                             return;
                         }
-                        *out = eval_bin(k * SLICE + j, &f);
+                        let first = k * SLICE + r * PHI_D_RES;
+                        for (j, out) in row.iter_mut().enumerate() {
+                            *out = eval_bin(first + j, &f);
+                        }
                     }
                     progress.update(done.fetch_add(1, Ordering::Relaxed) + 1, total);
                 })
