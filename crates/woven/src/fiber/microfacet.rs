@@ -2,7 +2,7 @@
 //! and drawing Beckmann normals (with the density of the direction they reflect).
 
 use crate::math::basis::orthonormal_basis;
-use crate::math::special::{erfc, erfcx, exp_neg_sq, FRAC_1_SQRT_PI};
+use crate::math::special::{erfc, erfcx, exp_neg, exp_neg_sq, FRAC_1_SQRT_PI};
 use crate::math::Vec3;
 use std::f64::consts::PI;
 
@@ -22,7 +22,7 @@ pub fn beckmann_d(cos_theta_h: f64, alpha: f64) -> f64 {
     let c2 = cos_theta_h * cos_theta_h;
     let tan2 = (1.0 - c2).max(0.0) / c2;
     let a2 = alpha * alpha;
-    (-tan2 / a2).exp() / (std::f64::consts::PI * a2 * c2 * c2)
+    exp_neg(tan2 / a2) / (std::f64::consts::PI * a2 * c2 * c2)
 }
 
 /// Smith's `Λ(a) = ½ (exp(−a²)/(a√π) − erfc(a))` for a Gaussian (Beckmann) surface, `a > 0`.
@@ -53,16 +53,17 @@ pub fn smith_s1(cos_theta: f64, alpha: f64) -> f64 {
     if cos_theta <= 0.0 {
         return 0.0;
     }
-    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-    if sin_theta == 0.0 {
-        return 1.0;
-    }
-    let a = cos_theta / (sin_theta * alpha);
     // For a ≥ 6, ½ erfc(a) < 1.1e−17 and 0 ≤ Λ(a) < 1e−18 sit below half an ulp of 1, so the
-    // quotient rounds to exactly 1: skip the two erfc and exp calls (most of a smooth fiber's calls).
-    if a >= S1_SATURATES {
+    // quotient rounds to exactly 1: skip the two erfc and exp calls (most of a smooth fiber's
+    // calls). a = cos θ/(α sin θ) ≥ 6 ⇔ cos²θ ≥ 36 α² sin²θ = 36 α² (1 − cos²θ), tested so, before
+    // the square root and the division that make a (sin θ = 0 passes too).
+    let c2 = cos_theta * cos_theta;
+    let k = S1_SATURATES * S1_SATURATES * alpha * alpha;
+    if c2 * (1.0 + k) >= k {
         return 1.0;
     }
+    let sin_theta = (1.0 - c2).max(0.0).sqrt();
+    let a = cos_theta / (sin_theta * alpha);
     // erfc(a) = e^{−a²} erfcx(a) and Λ(a) = ½ e^{−a²} (1/(a√π) − erfcx(a)): one exponential and
     // one series for both (a ∈ (0, 6) here, the series' range).
     let e = exp_neg_sq(a);
@@ -96,13 +97,39 @@ pub(crate) fn beckmann_reflection_pdf(known: Vec3, drawn: Vec3, n: Vec3, alpha: 
     }
     let c2 = cos * cos;
     let tan2 = (1.0 - c2) / c2;
-    let d = (-tan2 / (alpha * alpha)).exp() / (PI * alpha * alpha * c2 * c2);
+    let d = exp_neg(tan2 / (alpha * alpha)) / (PI * alpha * alpha * c2 * c2);
     d * cos / (4.0 * dh)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `smith_s1` is exactly 1 where `a = cot θ / α ≥ 6` (its shortcut, taken without forming
+    /// `a`) and below 1 well inside `a` < 6: the shortcut's test agrees with `a` itself up to a
+    /// rounding on the boundary, and the series side joins it to within 2e-17.
+    #[test]
+    fn smith_shortcut_matches_its_threshold() {
+        for alpha in [0.01, 0.1, 0.577, 2.0] {
+            for k in 1..20_000 {
+                let c = k as f64 / 20_000.0;
+                let a = c / ((1.0 - c * c).sqrt() * alpha);
+                let s = smith_s1(c, alpha);
+                if a >= 6.0 * (1.0 + 1e-12) {
+                    assert_eq!(s, 1.0, "alpha {alpha} cos {c}: a = {a}");
+                } else if a < 5.0 {
+                    // 1 − S1 > ½ erfc(5) ≈ 8e−13: well clear of rounding to 1.
+                    assert!(
+                        s > 0.0 && s < 1.0,
+                        "alpha {alpha} cos {c}: a = {a}, S1 = {s}"
+                    );
+                }
+                if (a - 6.0).abs() < 0.01 {
+                    assert!((s - 1.0).abs() < 2e-17, "alpha {alpha} cos {c}: S1 = {s}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn beckmann_projected_area_is_one() {

@@ -33,6 +33,7 @@ pub use normalization::{
 
 use crate::error::{check_range, Error, Result};
 use crate::math::hemisphere::reflected_hemisphere_integral;
+use crate::math::special::exp_neg;
 use crate::math::Vec3;
 use std::f64::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
@@ -236,7 +237,7 @@ impl Fiber {
             // (`eval_parts_with_normal`).
             let mut unit = fiber.clone();
             unit.params.diffuse = 0.0;
-            fiber.beta = Some(Arc::new(BetaTable::build(&unit)));
+            fiber.beta = Some(BetaTable::shared(&unit));
         }
         fiber.body = Self::body_lobe(params, wavelength_nm)?;
         Ok(fiber)
@@ -466,7 +467,7 @@ impl Fiber {
                 let tan2_h = (w2 - wa * wa).max(0.0) / (wa * wa);
                 let a2 = self.alpha * self.alpha;
                 let d = if wa > 0.0 {
-                    (-tan2_h / a2).exp() / (PI * a2 * cos2_h * cos2_h)
+                    exp_neg(tan2_h / a2) / (PI * a2 * cos2_h * cos2_h)
                 } else {
                     0.0
                 };

@@ -1,12 +1,14 @@
-//! The normalization `β(θ_i)` of Eq. (15), made precise by docs/spec.md §1.5, tabulated once per fiber.
+//! The normalization `β(θ_i)` of Eq. (15), made precise by docs/spec.md §1.5, tabulated once per
+//! lobe (`BetaTable::shared`).
 
 use super::{smith_s1, Fiber, FiberModel};
 use crate::math::hemisphere::reflected_hemisphere_integral;
 use crate::math::interp::MonotoneCubic;
 use crate::math::quadrature::GaussLegendre;
 use crate::math::Vec3;
+use std::collections::HashMap;
 use std::f64::consts::{FRAC_PI_2, PI};
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Number of table nodes, uniform in `t = (cos θ_i)^{1/3}` on `[0, 1]`.
 ///
@@ -23,7 +25,68 @@ pub struct BetaTable {
     interp: MonotoneCubic,
 }
 
+/// What `β` depends on: the shape of the lobe alone, each number by its bits. [`beta_direct`]
+/// takes `F = 1` and `ρ0 = 0`, so fibers that differ in `η`, `ρ0` or the body share a table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum BetaKey {
+    Rough {
+        alpha: u64,
+    },
+    Htsg {
+        alpha: u64,
+        k: u64,
+        sigma_h: u64,
+        tau: u64,
+        lambda_nm: u64,
+    },
+}
+
+impl BetaKey {
+    fn of(fiber: &Fiber) -> BetaKey {
+        match fiber.params.model {
+            FiberModel::Rough { .. } => BetaKey::Rough {
+                alpha: fiber.alpha.to_bits(),
+            },
+            FiberModel::Htsg { .. } => BetaKey::Htsg {
+                alpha: fiber.alpha.to_bits(),
+                k: fiber.k.to_bits(),
+                sigma_h: fiber.sigma_h.to_bits(),
+                tau: fiber.tau.to_bits(),
+                lambda_nm: fiber.lambda_nm.to_bits(),
+            },
+        }
+    }
+}
+
+/// How many tables [`BetaTable::shared`] keeps: enough for every fiber of a scene (the
+/// showcase has six distinct lobes, asked for 38 times), few enough that a fit trying
+/// thousands of roughnesses holds well under a megabyte of them.
+const SHARED_TABLES: usize = 64;
+
 impl BetaTable {
+    /// The table of `fiber`'s lobe, built once per process for every fiber of the same lobe
+    /// (the table is a function of the lobe's shape alone: `BetaKey`). A scene builds each
+    /// material's fiber several times (its tables, its model, its tilted yarns), and a build is
+    /// 25–75 ms on two cores.
+    pub fn shared(fiber: &Fiber) -> Arc<BetaTable> {
+        static TABLES: OnceLock<Mutex<HashMap<BetaKey, Arc<BetaTable>>>> = OnceLock::new();
+        let tables = TABLES.get_or_init(Default::default);
+        let key = BetaKey::of(fiber);
+        // A poisoned lock only means another thread panicked mid-insert: the map is still whole.
+        let lock = || tables.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = lock().get(&key) {
+            return Arc::clone(t);
+        }
+        // Built outside the lock, so builds of different lobes run side by side (two threads
+        // asking for the same new lobe at once both build it, and the same table is kept).
+        let table = Arc::new(BetaTable::build(fiber));
+        let mut map = lock();
+        if map.len() >= SHARED_TABLES {
+            map.clear();
+        }
+        Arc::clone(map.entry(key).or_insert(table))
+    }
+
     /// Builds the table for `fiber` (its normalization mode is ignored: this is the `paper` β).
     pub fn build(fiber: &Fiber) -> Self {
         // Nodes are independent: spread them over the cores (interleaved, so each thread gets a
@@ -191,6 +254,37 @@ pub fn rough_single_scattering(alpha: f64, cos_theta_i: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::fiber::{FiberParams, Normalization};
+
+    /// Fibers of the same lobe share one β table, whatever their η, ρ0 or normalization; a
+    /// different roughness gets its own, equal to a fresh build.
+    #[test]
+    fn beta_tables_are_shared_by_lobe() {
+        let fiber = |eta: f64, roughness: f64, diffuse: f64| {
+            Fiber::new(&FiberParams::rough(eta, roughness, diffuse), 550.0).unwrap()
+        };
+        // A roughness no other test uses, so the first `shared` below builds the table.
+        let (a, b, c) = (
+            fiber(1.5, 0.1234, 0.0),
+            fiber(1.7, 0.1234, 0.3),
+            fiber(1.5, 0.1235, 0.0),
+        );
+        let (ta, tb, tc) = (
+            BetaTable::shared(&a),
+            BetaTable::shared(&b),
+            BetaTable::shared(&c),
+        );
+        assert!(Arc::ptr_eq(&ta, &tb), "same lobe, two tables");
+        assert!(!Arc::ptr_eq(&ta, &tc), "different lobes, one table");
+        let fresh = BetaTable::build(&a);
+        for k in 0..=100 {
+            let ci = k as f64 / 100.0;
+            assert_eq!(
+                ta.eval(ci).to_bits(),
+                fresh.eval(ci).to_bits(),
+                "cos θi {ci}"
+            );
+        }
+    }
 
     #[test]
     fn fast_rough_path_agrees_with_adaptive_reference() {

@@ -4,6 +4,7 @@
 use super::frame::{PairAngles, ThreadAngles};
 use crate::color::Rgb;
 use crate::fiber::fresnel_dielectric;
+use crate::math::special::exp_neg;
 use std::f64::consts::PI;
 
 /// The scattering parameters of one thread (a subset of [`Thread`](super::Thread)).
@@ -32,7 +33,7 @@ pub struct ScatteringParams {
 #[inline]
 pub fn gaussian(gamma: f64, x: f64) -> f64 {
     let z = x / gamma;
-    (-0.5 * z * z).exp() / (gamma * (2.0 * PI).sqrt())
+    exp_neg(0.5 * z * z) / (gamma * (2.0 * PI).sqrt())
 }
 
 /// The surface lobe `f_r,s = F_r(η, ω_i) cos(φ_d/2) g(γ_s, θ_h)`.

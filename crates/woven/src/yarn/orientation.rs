@@ -17,6 +17,7 @@ use super::window;
 use super::YarnParams;
 use crate::math::lanes::Lanes;
 use crate::math::quadrature::{panel_edges, GaussLegendre};
+use crate::math::special::exp_neg;
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI, SQRT_2};
 
 /// Spreads at or above this (radians) are wide: the twist window needs no panels of its own.
@@ -64,7 +65,7 @@ impl TwistDensity {
     #[inline]
     pub fn density(&self, phi_a: f64, phi_y: f64) -> f64 {
         let d = Self::offset(phi_a, phi_y);
-        self.norm * (-d * d / (2.0 * self.sigma * self.sigma)).exp()
+        self.norm * exp_neg(d * d / (2.0 * self.sigma * self.sigma))
     }
 
     /// `∫_{−π/2}^{δ} p`, for `δ ∈ [−π/2, π/2]`: the distribution function on one period.
@@ -209,7 +210,7 @@ impl Orientation {
                     axes.iter()
                         .map(|&(phi, w)| {
                             let d = TwistDensity::offset(phi_a, phi);
-                            w * t.norm * (-d * d / (2.0 * st * st)).exp()
+                            w * t.norm * exp_neg(d * d / (2.0 * st * st))
                         })
                         .sum()
                 };

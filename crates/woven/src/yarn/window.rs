@@ -8,6 +8,7 @@
 //! and as `σ → 0` every node collapses onto the centre, so the average tends to the integrand's
 //! value there — the `σ = 0` model — continuously.
 
+use crate::math::special::exp_neg;
 use std::f64::consts::PI;
 
 /// Spreads (radians) below which a slope or twist distribution is integrated over its `±8σ`
@@ -55,5 +56,5 @@ pub fn edges(lo: f64, hi: f64, nodes: usize, extra: impl IntoIterator<Item = f64
 /// The standard normal shape `exp(−x²/2)` (unnormalized).
 #[inline]
 pub fn shape(x: f64) -> f64 {
-    (-0.5 * x * x).exp()
+    exp_neg(0.5 * x * x)
 }
