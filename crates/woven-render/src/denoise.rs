@@ -34,6 +34,7 @@
 use crate::color::Rgb;
 use crate::integrator::FirstHit;
 use rayon::prelude::*;
+use woven::math::special::exp_neg;
 use woven::Vec3;
 
 /// Filter passes (à-trous levels).
@@ -231,21 +232,25 @@ impl Level<'_> {
                     (dx * self.step as i64) as f64,
                     (dy * self.step as i64) as f64,
                 ];
-                let mut wt = if q == p {
-                    kernel
+                let mut weight = if q == p {
+                    Weight::constant(kernel)
                 } else if self.lonely[p] {
                     let gq = &self.guides[q];
                     let same_view = gp.view == gq.view && !gq.silhouette;
-                    kernel * f64::from(u8::from(same_view)) * surface_weight(gp, gq)
+                    surface_weight(gp, gq).scaled(kernel * f64::from(u8::from(same_view)))
                 } else {
-                    kernel * guide_weight(gp, &self.guides[q], self.gradient[p], offset)
+                    guide_weight(gp, &self.guides[q], self.gradient[p], offset).scaled(kernel)
                 };
-                if wt == 0.0 {
+                if weight.factor == 0.0 {
                     continue;
                 }
                 let dl = (lp - self.colour[q].luminance()).abs();
                 if dl > 0.0 {
-                    wt *= (-dl / (sigma_l + 1e-300)).exp();
+                    weight.exponent += dl / (sigma_l + 1e-300);
+                }
+                let wt = weight.value();
+                if wt == 0.0 {
+                    continue;
                 }
                 sum += self.colour[q] * wt;
                 sum_var += wt * wt * self.variance[q];
@@ -257,43 +262,92 @@ impl Level<'_> {
     }
 }
 
+/// A weight in two parts, `factor · e^{−exponent}`: the filter multiplies four weights that are
+/// exponentials, and in this form their product takes one exponential, not four.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Weight {
+    factor: f64,
+    exponent: f64,
+}
+
+impl Weight {
+    const ZERO: Weight = Weight::constant(0.0);
+
+    const fn constant(factor: f64) -> Weight {
+        Weight {
+            factor,
+            exponent: 0.0,
+        }
+    }
+
+    /// The weight's value, in `[0, factor]`.
+    #[inline]
+    fn value(self) -> f64 {
+        if self.factor == 0.0 {
+            0.0
+        } else {
+            self.factor * exp_neg(self.exponent)
+        }
+    }
+
+    fn scaled(self, k: f64) -> Weight {
+        Weight {
+            factor: self.factor * k,
+            ..self
+        }
+    }
+
+    fn times(self, o: Weight) -> Weight {
+        Weight {
+            factor: self.factor * o.factor,
+            exponent: self.exponent + o.exponent,
+        }
+    }
+}
+
 /// How much like pixel `p` (guide `a`, distance gradient `grad`) its neighbour `offset` pixels
 /// away (guide `b`) is, by view, normal, distance and albedo: in `[0, 1]`, 1 for itself.
-fn guide_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> f64 {
+fn guide_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> Weight {
     let geometric = geometric_weight(a, b, grad, offset);
-    if geometric == 0.0 {
-        return 0.0;
+    if geometric.factor == 0.0 {
+        return Weight::ZERO;
     }
-    geometric * surface_weight(a, b)
+    geometric.times(surface_weight(a, b))
 }
 
 /// The part of [`guide_weight`] that compares where the rays landed: view, normal, distance.
-fn geometric_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> f64 {
+fn geometric_weight(a: &Guide, b: &Guide, grad: [f64; 2], offset: [f64; 2]) -> Weight {
     if a.view != b.view || a.silhouette || b.silhouette {
-        return 0.0;
+        return Weight::ZERO;
     }
     let (miss_a, miss_b) = (
         a.distance >= FirstHit::MISS_DISTANCE,
         b.distance >= FirstHit::MISS_DISTANCE,
     );
     match (miss_a, miss_b) {
-        (true, true) => 1.0,
+        (true, true) => Weight::constant(1.0),
         (false, false) => {
             let normal = a.normal.dot(b.normal).max(0.0).powi(NORMAL_POWER);
             let tolerance = SIGMA_DISTANCE
                 * (grad[0] * offset[0].abs() + grad[1] * offset[1].abs())
                 + 1e-3 * a.distance;
-            normal * (-(a.distance - b.distance).abs() / tolerance).exp()
+            Weight {
+                factor: normal,
+                exponent: (a.distance - b.distance).abs() / tolerance,
+            }
         }
-        _ => 0.0,
+        _ => Weight::ZERO,
     }
 }
 
 /// The part of [`guide_weight`] that compares what the rays met: albedo and yarn family.
-fn surface_weight(a: &Guide, b: &Guide) -> f64 {
+fn surface_weight(a: &Guide, b: &Guide) -> Weight {
     let da = (0..3).fold(0.0f64, |m, c| m.max((a.albedo.0[c] - b.albedo.0[c]).abs()));
-    let albedo = (-da / (SIGMA_ALBEDO + ALBEDO_ERRORS * (a.albedo_error + b.albedo_error))).exp();
-    albedo * (-(a.warp_share - b.warp_share).abs() / SIGMA_WARP).exp()
+    Weight {
+        factor: 1.0,
+        exponent: da / (SIGMA_ALBEDO + ALBEDO_ERRORS * (a.albedo_error + b.albedo_error))
+            + (a.warp_share - b.warp_share).abs() / SIGMA_WARP,
+    }
 }
 
 /// The pixels geometrically like none of their eight neighbours (their geometric weights summing
@@ -302,6 +356,7 @@ fn surface_weight(a: &Guide, b: &Guide) -> f64 {
 /// colour and surface alone (the neighbours, unlike them, take nothing from them).
 fn lonely_pixels(w: usize, h: usize, guides: &[Guide], gradient: &[[f64; 2]]) -> Vec<bool> {
     (0..w * h)
+        .into_par_iter()
         .map(|p| {
             let (x, y) = ((p % w) as i64, (p / w) as i64);
             let g = &guides[p];
@@ -316,7 +371,8 @@ fn lonely_pixels(w: usize, h: usize, guides: &[Guide], gradient: &[[f64; 2]]) ->
                         continue;
                     }
                     let q = qy as usize * w + qx as usize;
-                    sum += geometric_weight(g, &guides[q], gradient[p], [dx as f64, dy as f64]);
+                    let offset = [dx as f64, dy as f64];
+                    sum += geometric_weight(g, &guides[q], gradient[p], offset).value();
                 }
             }
             sum < LONELY
@@ -391,6 +447,28 @@ mod tests {
     }
 
     const W: usize = 64;
+
+    /// A weight kept as `factor · e^{−exponent}` multiplies as the product of its values: the
+    /// filter's one exponential for four is the same weight, to rounding.
+    #[test]
+    fn weights_multiply_in_exponent_form() {
+        let mut next = normals(3);
+        for _ in 0..1000 {
+            let w = |next: &mut dyn FnMut() -> f64| Weight {
+                factor: next().abs(),
+                exponent: next().abs() * 5.0,
+            };
+            let (a, b) = (w(&mut next), w(&mut next));
+            let (product, separate) = (a.times(b).value(), a.value() * b.value());
+            assert!(
+                (product - separate).abs() <= 1e-14 * separate,
+                "{product} vs {separate}"
+            );
+            assert_eq!(a.scaled(0.0).value(), 0.0);
+        }
+        assert_eq!(Weight::ZERO.value(), 0.0);
+        assert_eq!(Weight::constant(0.25).value(), 0.25);
+    }
 
     fn plane(distance: f64, normal: Vec3, albedo: f64) -> Guide {
         Guide {

@@ -426,13 +426,16 @@ impl Primitive {
                     }
                 };
                 let theta = n.z.clamp(-1.0, 1.0).acos();
-                let (sp, cp) = phi.sin_cos();
-                let (st, ct) = theta.sin_cos();
-                let dpdu = Vec3::new(
-                    -2.0 * PI * radius * st * sp,
-                    2.0 * PI * radius * st * cp,
-                    0.0,
-                );
+                // The angles' sines and cosines from the normal itself, not from the angles:
+                // (sin θ cos φ, sin θ sin φ, cos θ) = n. At a pole φ = 0.
+                let st = (n.x * n.x + n.y * n.y).sqrt();
+                let ct = n.z;
+                let (sp, cp) = if st > 0.0 {
+                    (n.y / st, n.x / st)
+                } else {
+                    (0.0, 1.0)
+                };
+                let dpdu = Vec3::new(-2.0 * PI * radius * n.y, 2.0 * PI * radius * n.x, 0.0);
                 let dpdv = Vec3::new(
                     PI * radius * ct * cp,
                     PI * radius * ct * sp,
@@ -667,6 +670,50 @@ mod tests {
         assert!((h.uv[0] - 0.0).abs() < 1e-12 && (h.uv[1] - 0.5).abs() < 1e-12);
         // ∂p/∂u points along +y at φ = 0 (counter-clockwise about +z), length 2π r.
         assert!((h.dpdu.y - 4.0 * PI).abs() < 1e-9);
+    }
+
+    /// A sphere hit's ∂p/∂u and ∂p/∂v are the derivatives of its parameterization p(u, v)
+    /// (φ = 2πu, θ = πv), by central differences, all over the sphere.
+    #[test]
+    fn sphere_derivatives_are_those_of_its_parameterization() {
+        let (center, radius) = (Vec3::new(0.3, -0.2, 0.5), 1.5);
+        let s = Primitive::Sphere { center, radius };
+        let p = |u: f64, v: f64| {
+            let (phi, theta) = (2.0 * PI * u, PI * v);
+            center
+                + Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ) * radius
+        };
+        let mut rng = woven::math::rng::SplitMix(11);
+        for _ in 0..200 {
+            let d = rng.direction(PI);
+            let r = Ray {
+                o: center + d * 5.0,
+                d: -d,
+            };
+            let h = s.intersect(&r, 0.0, f64::INFINITY, &[], 0).unwrap();
+            let [u, v] = h.uv;
+            let e = 1e-6;
+            let du = (p(u + e, v) - p(u - e, v)) * (0.5 / e);
+            let dv = (p(u, v + e) - p(u, v - e)) * (0.5 / e);
+            assert!(
+                (h.p - p(u, v)).length() < 1e-9,
+                "uv does not map back to the hit"
+            );
+            assert!(
+                (h.dpdu - du).length() < 1e-6 * radius,
+                "dpdu {:?} vs {du:?}",
+                h.dpdu
+            );
+            assert!(
+                (h.dpdv - dv).length() < 1e-6 * radius,
+                "dpdv {:?} vs {dv:?}",
+                h.dpdv
+            );
+        }
     }
 
     #[test]
