@@ -427,13 +427,13 @@ impl Primitive {
                 };
                 let theta = n.z.clamp(-1.0, 1.0).acos();
                 // The angles' sines and cosines from the normal itself, not from the angles:
-                // (sin θ cos φ, sin θ sin φ, cos θ) = n. At a pole φ = 0.
+                // (sin θ cos φ, sin θ sin φ, cos θ) = n; at a pole φ's own (0 or π).
                 let st = (n.x * n.x + n.y * n.y).sqrt();
                 let ct = n.z;
                 let (sp, cp) = if st > 0.0 {
                     (n.y / st, n.x / st)
                 } else {
-                    (0.0, 1.0)
+                    phi.sin_cos()
                 };
                 let dpdu = Vec3::new(-2.0 * PI * radius * n.y, 2.0 * PI * radius * n.x, 0.0);
                 let dpdv = Vec3::new(

@@ -57,9 +57,10 @@ pub fn smith_s1(cos_theta: f64, alpha: f64) -> f64 {
     // quotient rounds to exactly 1: skip the two erfc and exp calls (most of a smooth fiber's
     // calls). a = cos θ/(α sin θ) ≥ 6 ⇔ cos²θ ≥ 36 α² sin²θ = 36 α² (1 − cos²θ), tested so, before
     // the square root and the division that make a (sin θ = 0 passes too).
+    // (A NaN cosine takes the shortcut too, as it did when the test was a ≥ 6.)
     let c2 = cos_theta * cos_theta;
     let k = S1_SATURATES * S1_SATURATES * alpha * alpha;
-    if c2 * (1.0 + k) >= k {
+    if c2 * (1.0 + k) >= k || c2.is_nan() {
         return 1.0;
     }
     let sin_theta = (1.0 - c2).max(0.0).sqrt();
@@ -106,10 +107,14 @@ mod tests {
     use super::*;
 
     /// `smith_s1` is exactly 1 where `a = cot θ / α ≥ 6` (its shortcut, taken without forming
-    /// `a`) and below 1 well inside `a` < 6: the shortcut's test agrees with `a` itself up to a
-    /// rounding on the boundary, and the series side joins it to within 2e-17.
+    /// `a`), and below it is the series written out, to an ulp: a shortcut firing anywhere
+    /// below `a` = 6 by more than rounding (where ½ erfc(a) > 1e−16) would fail.
     #[test]
     fn smith_shortcut_matches_its_threshold() {
+        let series = |a: f64| {
+            let (e, q) = (exp_neg_sq(a), erfcx(a));
+            (1.0 - 0.5 * e * q) / (1.0 + 0.5 * e * (FRAC_1_SQRT_PI / a - q))
+        };
         for alpha in [0.01, 0.1, 0.577, 2.0] {
             for k in 1..20_000 {
                 let c = k as f64 / 20_000.0;
@@ -117,17 +122,17 @@ mod tests {
                 let s = smith_s1(c, alpha);
                 if a >= 6.0 * (1.0 + 1e-12) {
                     assert_eq!(s, 1.0, "alpha {alpha} cos {c}: a = {a}");
-                } else if a < 5.0 {
-                    // 1 − S1 > ½ erfc(5) ≈ 8e−13: well clear of rounding to 1.
+                } else {
+                    let want = series(a);
                     assert!(
-                        s > 0.0 && s < 1.0,
-                        "alpha {alpha} cos {c}: a = {a}, S1 = {s}"
+                        (s - want).abs() <= 2.3e-16,
+                        "alpha {alpha} cos {c}: {s} vs {want}"
                     );
                 }
-                if (a - 6.0).abs() < 0.01 {
-                    assert!((s - 1.0).abs() < 2e-17, "alpha {alpha} cos {c}: S1 = {s}");
-                }
             }
+            assert_eq!(smith_s1(1.0, alpha), 1.0);
+            assert_eq!(smith_s1(1.0 + 1e-12, alpha), 1.0);
+            assert_eq!(smith_s1(f64::NAN, alpha), 1.0);
         }
     }
 

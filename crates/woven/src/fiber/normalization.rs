@@ -25,10 +25,18 @@ pub struct BetaTable {
     interp: MonotoneCubic,
 }
 
-/// What `β` depends on: the shape of the lobe alone, each number by its bits. [`beta_direct`]
-/// takes `F = 1` and `ρ0 = 0`, so fibers that differ in `η`, `ρ0` or the body share a table.
+/// What `β` depends on, each number by its bits: the shape of the lobe and the `1 − ρ0` it is
+/// scaled by ([`beta_direct`] takes `F = 1`). `Fiber::new` asks for `ρ0 = 0` (ζ = 1, which it
+/// scales by each fiber's own ζ), so fibers that differ in `η`, `ρ0` or the body share a table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-enum BetaKey {
+struct BetaKey {
+    diffuse: u64,
+    lobe: Lobe,
+}
+
+/// The lobe's part of a [`BetaKey`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Lobe {
     Rough {
         alpha: u64,
     },
@@ -43,17 +51,21 @@ enum BetaKey {
 
 impl BetaKey {
     fn of(fiber: &Fiber) -> BetaKey {
-        match fiber.params.model {
-            FiberModel::Rough { .. } => BetaKey::Rough {
+        let lobe = match fiber.params.model {
+            FiberModel::Rough { .. } => Lobe::Rough {
                 alpha: fiber.alpha.to_bits(),
             },
-            FiberModel::Htsg { .. } => BetaKey::Htsg {
+            FiberModel::Htsg { .. } => Lobe::Htsg {
                 alpha: fiber.alpha.to_bits(),
                 k: fiber.k.to_bits(),
                 sigma_h: fiber.sigma_h.to_bits(),
                 tau: fiber.tau.to_bits(),
                 lambda_nm: fiber.lambda_nm.to_bits(),
             },
+        };
+        BetaKey {
+            diffuse: fiber.params.diffuse.to_bits(),
+            lobe,
         }
     }
 }
@@ -64,8 +76,8 @@ impl BetaKey {
 const SHARED_TABLES: usize = 64;
 
 impl BetaTable {
-    /// The table of `fiber`'s lobe, built once per process for every fiber of the same lobe
-    /// (the table is a function of the lobe's shape alone: `BetaKey`). A scene builds each
+    /// [`build`](Self::build)'s table for `fiber`, built once per process for every fiber of the
+    /// same lobe and `ρ0` (what the table is a function of: `BetaKey`). A scene builds each
     /// material's fiber several times (its tables, its model, its tilted yarns), and a build is
     /// 25–75 ms on two cores.
     pub fn shared(fiber: &Fiber) -> Arc<BetaTable> {
@@ -255,32 +267,47 @@ mod tests {
     use super::*;
     use crate::fiber::{FiberParams, Normalization};
 
-    /// Fibers of the same lobe share one β table, whatever their η, ρ0 or normalization; a
-    /// different roughness gets its own, equal to a fresh build.
+    /// What a β table is keyed by: fibers that differ in `η` or the body alone have one key,
+    /// while a different roughness, `ρ0`, or (for the full model) wavelength each make another;
+    /// `Fiber::new` gives fibers differing in `ρ0` the same table; and a shared table is a fresh
+    /// build's, `ρ0` included.
     #[test]
-    fn beta_tables_are_shared_by_lobe() {
-        let fiber = |eta: f64, roughness: f64, diffuse: f64| {
+    fn beta_tables_are_keyed_by_lobe() {
+        let rough = |eta: f64, roughness: f64, diffuse: f64| {
             Fiber::new(&FiberParams::rough(eta, roughness, diffuse), 550.0).unwrap()
         };
-        // A roughness no other test uses, so the first `shared` below builds the table.
-        let (a, b, c) = (
-            fiber(1.5, 0.1234, 0.0),
-            fiber(1.7, 0.1234, 0.3),
-            fiber(1.5, 0.1235, 0.0),
-        );
-        let (ta, tb, tc) = (
-            BetaTable::shared(&a),
-            BetaTable::shared(&b),
-            BetaTable::shared(&c),
-        );
-        assert!(Arc::ptr_eq(&ta, &tb), "same lobe, two tables");
-        assert!(!Arc::ptr_eq(&ta, &tc), "different lobes, one table");
-        let fresh = BetaTable::build(&a);
+        let key = |f: &Fiber| BetaKey::of(f);
+        assert_eq!(key(&rough(1.5, 0.1234, 0.0)), key(&rough(1.7, 0.1234, 0.0)));
+        assert_ne!(key(&rough(1.5, 0.1234, 0.0)), key(&rough(1.5, 0.1235, 0.0)));
+        assert_ne!(key(&rough(1.5, 0.1234, 0.0)), key(&rough(1.5, 0.1234, 0.3)));
+        let htsg = |lambda: f64| {
+            let p = FiberParams {
+                model: FiberModel::Htsg {
+                    sigma_h_um: 0.15,
+                    tau_um: 1.5,
+                },
+                ..FiberParams::rough(1.5, 0.1, 0.0)
+            };
+            Fiber::new(&p.with_normalization(Normalization::None), lambda).unwrap()
+        };
+        assert_ne!(key(&htsg(500.0)), key(&htsg(600.0)));
+        assert_eq!(key(&htsg(500.0)), key(&htsg(500.0)));
+        // Two fibers of one lobe, ρ0 0 and 0.3: one β for ζ = 1, to the bit.
+        let (a, b) = (rough(1.5, 0.1234, 0.0), rough(1.7, 0.1234, 0.3));
+        let (ta, tb) = (a.beta.as_deref().unwrap(), b.beta.as_deref().unwrap());
+        // A fiber with ρ0 > 0 asked directly gets its own table, scaled by 1 − ρ0.
+        let dyed = BetaTable::shared(&b);
+        let fresh = BetaTable::build(&b);
         for k in 0..=100 {
             let ci = k as f64 / 100.0;
+            assert_eq!(ta.eval(ci).to_bits(), tb.eval(ci).to_bits(), "cos θi {ci}");
             assert_eq!(
-                ta.eval(ci).to_bits(),
+                dyed.eval(ci).to_bits(),
                 fresh.eval(ci).to_bits(),
+                "cos θi {ci}"
+            );
+            assert!(
+                (dyed.eval(ci) / ta.eval(ci) - 0.7).abs() < 1e-3,
                 "cos θi {ci}"
             );
         }
