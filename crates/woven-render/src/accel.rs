@@ -14,6 +14,7 @@ use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ray::{Ray as RayF32, RayHit};
 use obvhs::{Boundable, BvhBuildParams};
+use woven::Vec3;
 
 /// A primitive's padded bounds, as the builder takes them.
 struct Bounds(Aabb);
@@ -36,6 +37,10 @@ pub struct Accel {
     /// and goes quadratic (30 000 coincident triangles took 27 s). `None` when every box is
     /// distinct; otherwise leaf `i` holds `order[starts[i]..starts[i + 1]]`.
     groups: Option<Groups>,
+    /// Boxes, `[min, max]`, that hold every point a ray can meet: each primitive's padded box
+    /// in a scene of at most [`BRUTE_FORCE_MAX`] primitives, else their union (none when the
+    /// scene is empty).
+    boxes: Vec<[Vec3; 2]>,
 }
 
 /// The primitives of each distinct box, in compressed rows.
@@ -109,6 +114,7 @@ impl Accel {
             })
             .collect();
         let mut bounds = bounds;
+        let boxes = Self::enclosing(&bounds);
         let groups = Groups::of(&mut bounds);
         let bvh = if prims.len() <= BRUTE_FORCE_MAX {
             CwBvh::default()
@@ -126,7 +132,33 @@ impl Accel {
             meshes,
             bvh,
             groups,
+            boxes,
         }
+    }
+
+    /// [`Accel::boxes`] from the primitives' padded boxes.
+    fn enclosing(bounds: &[Bounds]) -> Vec<[Vec3; 2]> {
+        let corners = |b: &Bounds| {
+            let v = |p: Vec3A| Vec3::new(p.x as f64, p.y as f64, p.z as f64);
+            [v(b.0.min), v(b.0.max)]
+        };
+        if bounds.len() <= BRUTE_FORCE_MAX {
+            return bounds.iter().map(corners).collect();
+        }
+        let union = bounds.iter().map(corners).reduce(|[lo, hi], [a, b]| {
+            [
+                Vec3::new(lo.x.min(a.x), lo.y.min(a.y), lo.z.min(a.z)),
+                Vec3::new(hi.x.max(b.x), hi.y.max(b.y), hi.z.max(b.z)),
+            ]
+        });
+        union.into_iter().collect()
+    }
+
+    /// Boxes `[min, max]` that together hold every point a ray can meet, padded like the
+    /// hierarchy's (empty for an empty scene): a ray, or a bundle of rays, that passes by all of
+    /// them meets nothing.
+    pub fn boxes(&self) -> &[[Vec3; 2]] {
+        &self.boxes
     }
 
     /// The primitives of the hierarchy's primitive `id`: one, or a group of coincident ones.

@@ -9,6 +9,10 @@
 use crate::geometry::{Ray, RayFootprint};
 use woven::Vec3;
 
+/// How far, in pixels, [`Camera::pixel_misses`] widens a pixel: far beyond the rounding of a
+/// ray's direction, far below a pixel.
+const PIXEL_MARGIN: f64 = 1e-3;
+
 /// A pinhole camera.
 #[derive(Clone, Debug)]
 pub struct Camera {
@@ -70,6 +74,48 @@ impl Camera {
         }
     }
 
+    /// Whether every ray through film pixel `(x, y)` (film points in `[x, x + 1] × [y, y + 1]`)
+    /// passes by every box `[min, max]` of `boxes`, so that none can meet what the boxes hold.
+    /// Conservative: `false` whenever it cannot tell.
+    ///
+    /// The pixel's rays fill the pyramid from the origin through its square on the image plane
+    /// (widened by [`PIXEL_MARGIN`] against rounding); a box misses the pyramid when its
+    /// corners all lie outside one of the pyramid's four side planes (the box's support along
+    /// the plane's normal is negative).
+    pub fn pixel_misses(&self, x: usize, y: usize, boxes: &[[Vec3; 2]]) -> bool {
+        let (x0, x1) = (x as f64 - PIXEL_MARGIN, (x + 1) as f64 + PIXEL_MARGIN);
+        let (y0, y1) = (y as f64 - PIXEL_MARGIN, (y + 1) as f64 + PIXEL_MARGIN);
+        let towards = |fx: f64, fy: f64| {
+            let sx = fx * self.step[0] - self.half_width;
+            let sy = self.half_height - fy * self.step[1];
+            self.forward + self.right * sx + self.up * sy
+        };
+        // The square's corners in turn around it, and the inward normals of the side planes
+        // through each pair of neighbours.
+        let c = [
+            towards(x0, y0),
+            towards(x1, y0),
+            towards(x1, y1),
+            towards(x0, y1),
+        ];
+        let centre = c[0] + c[1] + c[2] + c[3];
+        let sides: [Vec3; 4] = std::array::from_fn(|k| {
+            let n = c[k].cross(c[(k + 1) % 4]);
+            if n.dot(centre) < 0.0 {
+                -n
+            } else {
+                n
+            }
+        });
+        boxes.iter().all(|[lo, hi]| {
+            let mid = (*lo + *hi) * 0.5 - self.origin;
+            let half = (*hi - *lo) * 0.5;
+            sides.iter().any(|n| {
+                n.dot(mid) + n.x.abs() * half.x + n.y.abs() * half.y + n.z.abs() * half.z < 0.0
+            })
+        })
+    }
+
     /// The footprint of camera rays (ray differentials): how the ray moves from one film pixel
     /// to the next.
     pub fn footprint(&self) -> RayFootprint {
@@ -113,6 +159,64 @@ mod tests {
         assert!((c.y - 1.0).abs() < 1e-12);
         let top = cam.ray(100.0, 0.0).d;
         assert!((top.z / top.y - 0.5).abs() < 1e-12);
+    }
+
+    /// Whether the ray meets the box `[lo, hi]` ahead of its origin (slabs).
+    fn meets(ray: &Ray, [lo, hi]: [Vec3; 2]) -> bool {
+        let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+        for (o, d, a, b) in [
+            (ray.o.x, ray.d.x, lo.x, hi.x),
+            (ray.o.y, ray.d.y, lo.y, hi.y),
+            (ray.o.z, ray.d.z, lo.z, hi.z),
+        ] {
+            let (ta, tb) = ((a - o) / d, (b - o) / d);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+        }
+        t0 <= t1
+    }
+
+    /// A pixel said to miss a box has no ray that meets it: film points all over the pixel,
+    /// its edges and corners included, against random cameras and boxes (some around the
+    /// camera, some behind it). And the test does cull: most pixels far from a small box are
+    /// said to miss it, and no pixel whose centre ray meets a box is.
+    #[test]
+    fn a_pixel_said_to_miss_the_boxes_has_no_ray_that_meets_them() {
+        let mut rng = woven::math::rng::SplitMix(17);
+        let (mut culled, mut kept, mut far) = (0, 0, 0);
+        for _ in 0..200 {
+            let mut v = |k: f64| Vec3::new(rng.range(-k, k), rng.range(-k, k), rng.range(-k, k));
+            let origin = v(3.0);
+            let target = v(1.0);
+            let centre = v(2.0);
+            let h = v(0.3);
+            let half = Vec3::new(0.05 + h.x.abs(), 0.05 + h.y.abs(), 0.05 + h.z.abs());
+            let boxes = [[centre - half, centre + half]];
+            let cam = Camera::new(origin, target, Vec3::new(0.0, 0.0, 1.0), 50.0, 24, 16);
+            for (x, y) in (0..24).flat_map(|x| (0..16).map(move |y| (x, y))) {
+                let misses = cam.pixel_misses(x, y, &boxes);
+                let centre_ray = cam.ray(x as f64 + 0.5, y as f64 + 0.5);
+                assert!(!(misses && meets(&centre_ray, boxes[0])));
+                if misses {
+                    culled += 1;
+                    for (fx, fy) in (0..=6).flat_map(|i| (0..=6).map(move |j| (i, j))) {
+                        let ray = cam.ray(x as f64 + fx as f64 / 6.0, y as f64 + fy as f64 / 6.0);
+                        assert!(!meets(&ray, boxes[0]), "pixel ({x}, {y}) of {cam:?}");
+                    }
+                } else {
+                    kept += 1;
+                    // Pixels whose every probe ray misses by far: most of them are culled.
+                    if !meets(&centre_ray, [centre - half * 4.0, centre + half * 4.0]) {
+                        far += 1;
+                    }
+                }
+            }
+        }
+        assert!(
+            culled > 10 * far,
+            "culled {culled}, kept {kept} of which far {far}"
+        );
+        assert!(kept > 0);
     }
 
     /// The ray differentials' uv footprint on a tilted rectangle equals the uv step between the

@@ -78,15 +78,26 @@ pub struct Scratch<'a> {
     bsdf: Option<PointBsdf<'a>>,
 }
 
+/// What is known of a camera ray before it is traced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aim {
+    /// It may meet the scene: trace it.
+    Unknown,
+    /// It meets nothing (its pixel passes by the scene's boxes, [`Camera::pixel_misses`]): it
+    /// escapes at once, untraced.
+    Clear,
+}
+
 /// The radiance arriving at `camera` (the scene's, or its inset's) along `ray`.
 pub fn radiance<'a>(
     scene: &'a Scene,
     camera: &Camera,
     ray: Ray,
+    aim: Aim,
     sampler: &mut Sampler,
     scratch: &mut Scratch<'a>,
 ) -> Rgb {
-    trace(scene, camera, ray, sampler, &mut None, scratch)
+    trace(scene, camera, ray, aim, sampler, &mut None, scratch)
 }
 
 /// [`radiance`], and what the ray first meets.
@@ -94,11 +105,12 @@ pub fn radiance_and_first_hit<'a>(
     scene: &'a Scene,
     camera: &Camera,
     ray: Ray,
+    aim: Aim,
     sampler: &mut Sampler,
     scratch: &mut Scratch<'a>,
 ) -> (Rgb, FirstHit) {
     let mut first = Some(FirstHit::MISS);
-    let l = trace(scene, camera, ray, sampler, &mut first, scratch);
+    let l = trace(scene, camera, ray, aim, sampler, &mut first, scratch);
     (l, first.unwrap_or(FirstHit::MISS))
 }
 
@@ -107,6 +119,7 @@ fn trace<'a>(
     scene: &'a Scene,
     camera: &Camera,
     mut ray: Ray,
+    aim: Aim,
     sampler: &mut Sampler,
     first: &mut Option<FirstHit>,
     scratch: &mut Scratch<'a>,
@@ -128,8 +141,13 @@ fn trace<'a>(
     // off, and past the first vertex).
     let mut footprint = settings.footprint_filter.then(|| camera.footprint());
 
+    let mut clear = aim == Aim::Clear;
     loop {
-        let hit = scene.accel.intersect(&ray, 0.0, f64::INFINITY);
+        let hit = if std::mem::take(&mut clear) {
+            None
+        } else {
+            scene.accel.intersect(&ray, 0.0, f64::INFINITY)
+        };
         // Emission found along the ray, weighted against light sampling.
         let emitted = |le: Rgb, light_pdf: f64| -> Rgb {
             if depth == 0 {

@@ -3,7 +3,7 @@
 
 use crate::color::Rgb;
 use crate::denoise::{self, Guide, GuideSums};
-use crate::integrator;
+use crate::integrator::{self, Aim, FirstHit};
 use crate::rng::Sampler;
 use crate::scene::{Scene, View};
 use crate::{Error, Result};
@@ -201,71 +201,7 @@ fn render_in_pool(scene: &Scene, progress: &dyn Progress<u64>) -> Result<Image> 
                 let mut scratch = integrator::Scratch::default();
                 for y in ty * TILE..((ty + 1) * TILE).min(h) {
                     for x in tx * TILE..((tx + 1) * TILE).min(w) {
-                        let pixel = (y * w + x) as u64;
-                        let mut sum = Rgb::BLACK;
-                        let mut sum_sq = Rgb::BLACK;
-                        let mut guide = GuideSums::default();
-                        let view = scene.view_at(x, y);
-                        for s in 0..spp {
-                            let mut sampler = Sampler::new(
-                                film.sampler,
-                                film.seed,
-                                pixel,
-                                film.first_sample + s as u64,
-                            );
-                            let (dx, dy) = sampler.next2();
-                            let (camera, [px, py]) = match view {
-                                View::Main => (&scene.camera, [x, y]),
-                                View::Inset(camera, at) => (camera, at),
-                                View::Border => {
-                                    sum += INSET_BORDER;
-                                    sum_sq += INSET_BORDER * INSET_BORDER;
-                                    continue;
-                                }
-                            };
-                            let ray = camera.ray(px as f64 + dx, py as f64 + dy);
-                            let mut l = if want_guides {
-                                let (l, first) = integrator::radiance_and_first_hit(
-                                    scene,
-                                    camera,
-                                    ray,
-                                    &mut sampler,
-                                    &mut scratch,
-                                );
-                                guide.add(&first);
-                                l
-                            } else {
-                                integrator::radiance(scene, camera, ray, &mut sampler, &mut scratch)
-                            };
-                            if !l.is_valid() {
-                                // Guard: a NaN, infinite or negative sample counts as black.
-                                bad += 1;
-                                l = Rgb::BLACK;
-                            }
-                            sum += l;
-                            sum_sq += l * l;
-                        }
-                        let n = spp as f64;
-                        let mean = sum / n;
-                        let var = if spp > 1 {
-                            Rgb(std::array::from_fn(|c| {
-                                ((sum_sq.0[c] - sum.0[c] * mean.0[c]) / (n - 1.0)).max(0.0)
-                            }))
-                        } else {
-                            Rgb::BLACK
-                        };
-                        let se = Rgb(var.0.map(|v| (v / n).sqrt()));
-                        let view = match view {
-                            View::Main => 0,
-                            View::Inset(..) => 1,
-                            View::Border => 2,
-                        };
-                        out.push(Pixel {
-                            index: y * w + x,
-                            mean,
-                            se,
-                            guide: guide.guide(view),
-                        });
+                        out.push(render_pixel(scene, x, y, &mut scratch, &mut bad));
                     }
                 }
                 invalid.fetch_add(bad, Ordering::Relaxed);
@@ -307,6 +243,93 @@ fn render_in_pool(scene: &Scene, progress: &dyn Progress<u64>) -> Result<Image> 
         seconds: start.elapsed().as_secs_f64(),
         noisy,
     })
+}
+
+/// Film pixel `(x, y)`: its samples' mean, their standard error and its denoising guide; `bad`
+/// counts the samples that came back invalid (counted as black).
+fn render_pixel<'a>(
+    scene: &'a Scene,
+    x: usize,
+    y: usize,
+    scratch: &mut integrator::Scratch<'a>,
+    bad: &mut u64,
+) -> Pixel {
+    let film = &scene.film;
+    let (w, spp) = (film.width, film.spp);
+    let want_guides = film.denoise;
+    let pixel = (y * w + x) as u64;
+    let mut sum = Rgb::BLACK;
+    let mut sum_sq = Rgb::BLACK;
+    let mut guide = GuideSums::default();
+    let view = scene.view_at(x, y);
+    // A pixel whose every ray passes by the scene's boxes meets nothing: its rays escape
+    // untraced, and with no sky behind them its samples are black without being drawn (the
+    // same image, bit for bit, as tracing them).
+    let aim = match view {
+        View::Main if scene.camera.pixel_misses(x, y, scene.accel.boxes()) => Aim::Clear,
+        View::Inset(camera, [ix, iy]) if camera.pixel_misses(ix, iy, scene.accel.boxes()) => {
+            Aim::Clear
+        }
+        _ => Aim::Unknown,
+    };
+    let black = aim == Aim::Clear && scene.environment.is_none();
+    for s in 0..spp {
+        if black {
+            if want_guides {
+                guide.add(&FirstHit::MISS);
+            }
+            continue;
+        }
+        let mut sampler =
+            Sampler::new(film.sampler, film.seed, pixel, film.first_sample + s as u64);
+        let (dx, dy) = sampler.next2();
+        let (camera, [px, py]) = match view {
+            View::Main => (&scene.camera, [x, y]),
+            View::Inset(camera, at) => (camera, at),
+            View::Border => {
+                sum += INSET_BORDER;
+                sum_sq += INSET_BORDER * INSET_BORDER;
+                continue;
+            }
+        };
+        let ray = camera.ray(px as f64 + dx, py as f64 + dy);
+        let mut l = if want_guides {
+            let (l, first) =
+                integrator::radiance_and_first_hit(scene, camera, ray, aim, &mut sampler, scratch);
+            guide.add(&first);
+            l
+        } else {
+            integrator::radiance(scene, camera, ray, aim, &mut sampler, scratch)
+        };
+        if !l.is_valid() {
+            // Guard: a NaN, infinite or negative sample counts as black.
+            *bad += 1;
+            l = Rgb::BLACK;
+        }
+        sum += l;
+        sum_sq += l * l;
+    }
+    let n = spp as f64;
+    let mean = sum / n;
+    let var = if spp > 1 {
+        Rgb(std::array::from_fn(|c| {
+            ((sum_sq.0[c] - sum.0[c] * mean.0[c]) / (n - 1.0)).max(0.0)
+        }))
+    } else {
+        Rgb::BLACK
+    };
+    let se = Rgb(var.0.map(|v| (v / n).sqrt()));
+    let view = match view {
+        View::Main => 0,
+        View::Inset(..) => 1,
+        View::Border => 2,
+    };
+    Pixel {
+        index: y * w + x,
+        mean,
+        se,
+        guide: guide.guide(view),
+    }
 }
 
 /// One rendered pixel.

@@ -2,6 +2,7 @@
 //! image validity and scene-file errors. One binary (STYLE.md).
 
 mod analytic;
+mod blind;
 mod cancel;
 mod denoise;
 mod detail;
