@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # woven's renderer against Mitsuba 3 in speed, every speed scene in one run (docs/render.md,
 # "Speed"): the peer-comparison scenes (scenes/compare: the woven plane, the diffuse plane, the
-# furnace sphere) at 512 × 512 and 64 spp in Mitsuba's llvm_ad_rgb and scalar_rgb and in
+# furnace sphere) and the woven plane grown to fill the frame (scenes/speed/filled-plane.toml:
+# every ray shades) at 512 × 512 and 64 spp in Mitsuba's llvm_ad_rgb and scalar_rgb and in
 # `woven render`; then, woven alone, the built-in showcase at real thread counts and the tilted
 # sateen plane at cloth level beside its yarn-level twin (scenes/speed). Mitsuba's time is its
 # warm `mi.render`, woven's its whole command (scripts/mitsuba/bench.py). Ends with a Markdown
@@ -25,6 +26,7 @@ exec "$python" scripts/mitsuba/bench.py --woven "$woven" --variant llvm_ad_rgb,s
   --scene scenes/compare/roughplastic-plane.toml \
   --scene scenes/compare/diffuse-plane.toml \
   --scene scenes/compare/furnace-sphere.toml \
+  --scene scenes/speed/filled-plane.toml \
   --woven-only showcase \
   --woven-only scenes/speed/tilted-sateen.toml \
   --woven-only scenes/speed/tilted-sateen-yarns.toml

@@ -256,7 +256,7 @@ mod tests {
                 let (_, a) = hit(x + dx, y + dy);
                 let (_, b) = hit(x - dx, y - dy);
                 for c in 0..2 {
-                    let fd = (a.uv[c] - b.uv[c]) / (2.0 * e);
+                    let fd = (a.uv()[c] - b.uv()[c]) / (2.0 * e);
                     assert!(
                         (fp[k][c] - fd).abs() <= 1e-3 * fd.abs() + 1e-9,
                         "pixel ({x}, {y}), d{}/d{}: {} vs {fd}",

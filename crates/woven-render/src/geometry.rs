@@ -34,14 +34,49 @@ pub struct Hit {
     pub ng: Vec3,
     /// Shading normal, unit (interpolated on meshes; `ng` elsewhere), on `ng`'s side.
     pub ns: Vec3,
-    /// Surface parameters `(u, v)`.
-    pub uv: [f64; 2],
+    /// Surface parameters `(u, v)`, [`Hit::uv`].
+    uv: Uv,
     /// `∂p/∂u` (need not be unit or orthogonal to anything).
     pub dpdu: Vec3,
     /// `∂p/∂v`.
     pub dpdv: Vec3,
     /// Index of the primitive in the scene.
     pub prim: usize,
+}
+
+/// A hit's surface parameters: known, or a sphere's, worked out from its normal only when
+/// asked (an arc tangent and an arc cosine that a material without a texture never reads).
+#[derive(Clone, Copy, Debug)]
+enum Uv {
+    At([f64; 2]),
+    Sphere,
+}
+
+impl Hit {
+    /// Surface parameters `(u, v)`: a sphere's `(φ/2π, θ/π)` about its own `z` axis, a
+    /// rectangle's and a cylinder's along their edge and axis, a mesh's interpolated.
+    #[inline]
+    pub fn uv(&self) -> [f64; 2] {
+        match self.uv {
+            Uv::At(uv) => uv,
+            Uv::Sphere => {
+                let n = self.ng;
+                let theta = n.z.clamp(-1.0, 1.0).acos();
+                [sphere_phi(n) / (2.0 * PI), theta / PI]
+            }
+        }
+    }
+}
+
+/// The azimuth `φ ∈ [0, 2π)` of a sphere's unit normal `n`.
+#[inline]
+fn sphere_phi(n: Vec3) -> f64 {
+    let a = n.y.atan2(n.x);
+    if a < 0.0 {
+        a + 2.0 * PI
+    } else {
+        a
+    }
 }
 
 /// Where a ray crosses a primitive, before the hit's details: the distance, and a rectangle's
@@ -136,7 +171,7 @@ fn rectangle_hit(ray: &Ray, c: Crossing, n: Vec3, [dpdu, dpdv]: [Vec3; 2], prim:
         p: ray.at(c.t),
         ng: n,
         ns: n,
-        uv: [c.a, c.b],
+        uv: Uv::At([c.a, c.b]),
         dpdu,
         dpdv,
         prim,
@@ -236,8 +271,15 @@ impl Prepared {
                 Primitive::Sphere { center, radius } => {
                     let oc = ray.o - center;
                     let b = oc.dot(ray.d);
+                    // From outside, moving away (a ray leaving the sphere's surface): nothing
+                    // ahead, before any square root. Taken only where |oc|² − r² is clear of
+                    // its rounding, so the answer is the full test's (both roots ≤ 0 ≤ t_min).
+                    let oc2 = oc.dot(oc);
+                    if b >= 0.0 && t_min >= 0.0 && oc2 - radius * radius > 1e-9 * oc2 {
+                        return None;
+                    }
                     // c computed as (|oc| − r)(|oc| + r) keeps precision for far origins.
-                    let l = oc.length();
+                    let l = oc2.sqrt();
                     let c = (l - radius) * (l + radius);
                     let disc = b * b - c;
                     if disc < 0.0 {
@@ -417,15 +459,6 @@ impl Primitive {
         match *self {
             Primitive::Sphere { center, radius } => {
                 let n = (p - center).normalize();
-                let phi = {
-                    let a = n.y.atan2(n.x);
-                    if a < 0.0 {
-                        a + 2.0 * PI
-                    } else {
-                        a
-                    }
-                };
-                let theta = n.z.clamp(-1.0, 1.0).acos();
                 // The angles' sines and cosines from the normal itself, not from the angles:
                 // (sin θ cos φ, sin θ sin φ, cos θ) = n; at a pole φ's own (0 or π).
                 let st = (n.x * n.x + n.y * n.y).sqrt();
@@ -433,7 +466,7 @@ impl Primitive {
                 let (sp, cp) = if st > 0.0 {
                     (n.y / st, n.x / st)
                 } else {
-                    phi.sin_cos()
+                    sphere_phi(n).sin_cos()
                 };
                 let dpdu = Vec3::new(-2.0 * PI * radius * n.y, 2.0 * PI * radius * n.x, 0.0);
                 let dpdv = Vec3::new(
@@ -446,7 +479,7 @@ impl Primitive {
                     p,
                     ng: n,
                     ns: n,
-                    uv: [phi / (2.0 * PI), theta / PI],
+                    uv: Uv::Sphere,
                     dpdu,
                     dpdv,
                     prim,
@@ -476,7 +509,7 @@ impl Primitive {
                     p,
                     ng: n,
                     ns: n,
-                    uv: [phi / (2.0 * PI), z / len],
+                    uv: Uv::At([phi / (2.0 * PI), z / len]),
                     dpdu,
                     dpdv: axis,
                     prim,
@@ -532,7 +565,7 @@ impl Primitive {
                     p,
                     ng,
                     ns,
-                    uv,
+                    uv: Uv::At(uv),
                     dpdu,
                     dpdv,
                     prim,
@@ -667,7 +700,7 @@ mod tests {
             )
             .unwrap();
         assert!((h.t - 3.0).abs() < 1e-12 && (h.ng.x - 1.0).abs() < 1e-12);
-        assert!((h.uv[0] - 0.0).abs() < 1e-12 && (h.uv[1] - 0.5).abs() < 1e-12);
+        assert!((h.uv()[0] - 0.0).abs() < 1e-12 && (h.uv()[1] - 0.5).abs() < 1e-12);
         // ∂p/∂u points along +y at φ = 0 (counter-clockwise about +z), length 2π r.
         assert!((h.dpdu.y - 4.0 * PI).abs() < 1e-9);
     }
@@ -695,7 +728,7 @@ mod tests {
                 d: -d,
             };
             let h = s.intersect(&r, 0.0, f64::INFINITY, &[], 0).unwrap();
-            let [u, v] = h.uv;
+            let [u, v] = h.uv();
             let e = 1e-6;
             let du = (p(u + e, v) - p(u - e, v)) * (0.5 / e);
             let dv = (p(u, v + e) - p(u, v - e)) * (0.5 / e);
@@ -732,7 +765,7 @@ mod tests {
                 0,
             )
             .unwrap();
-        assert!((h.uv[0] - 0.75).abs() < 1e-12 && (h.uv[1] - 0.5).abs() < 1e-12);
+        assert!((h.uv()[0] - 0.75).abs() < 1e-12 && (h.uv()[1] - 0.5).abs() < 1e-12);
         assert!((h.ng.z - 1.0).abs() < 1e-12);
         assert!(r
             .intersect(
@@ -763,7 +796,7 @@ mod tests {
             .unwrap();
         assert!((h.p.x * h.p.x + h.p.y * h.p.y - 0.25).abs() < 1e-9);
         assert!(h.ng.dot(Vec3::new(h.p.x, h.p.y, 0.0)) > 0.0);
-        assert!((h.uv[1] - 0.5).abs() < 1e-12);
+        assert!((h.uv()[1] - 0.5).abs() < 1e-12);
         let f = Frame::from_hit(&h);
         // The frame is orthonormal and right-handed; y runs along the axis here.
         assert!((f.x.cross(f.y).dot(f.z) - 1.0).abs() < 1e-12);
@@ -792,7 +825,7 @@ mod tests {
                 0,
             )
             .unwrap();
-        assert!((h.uv[0] - 0.25).abs() < 1e-12 && (h.uv[1] - 0.5).abs() < 1e-12);
+        assert!((h.uv()[0] - 0.25).abs() < 1e-12 && (h.uv()[1] - 0.5).abs() < 1e-12);
         assert!((h.dpdu.x - 1.0).abs() < 1e-12 && (h.dpdv.y - 1.0).abs() < 1e-12);
     }
 }

@@ -212,12 +212,17 @@ fn trace<'a>(
             // Seen below the shading normal's horizon: nothing reflects toward the viewer.
             break;
         }
+        let material = scene.materials[mi].as_ref();
         let at = ShadingPoint {
-            uv: hit.uv,
+            uv: if material.uses_uv() {
+                hit.uv()
+            } else {
+                [0.0; 2]
+            },
             footprint: footprint.map_or([[0.0; 2]; 2], |f| f.uv(&ray, &hit)),
         };
         // The material here: its BSDF at the point is built once, for every question below.
-        let material = MaterialAt::new(scene.materials[mi].as_ref(), at, &mut scratch.bsdf);
+        let material = MaterialAt::new(material, at, &mut scratch.bsdf);
 
         // Next-event estimation.
         if use_lights {

@@ -43,6 +43,12 @@ pub trait SurfaceMaterial: Send + Sync {
     /// The density per unit solid angle with which [`sample`](Self::sample) draws `wi` for `wo`.
     fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64;
 
+    /// Whether the material reads [`ShadingPoint::uv`] (one that does not is handed `[0, 0]`,
+    /// and a sphere's uv, two inverse trigonometric functions, is not worked out).
+    fn uses_uv(&self) -> bool {
+        true
+    }
+
     /// Whether the material reads [`ShadingPoint::footprint`] (a scene whose materials do not
     /// skips computing it).
     fn uses_footprint(&self) -> bool {
@@ -175,6 +181,10 @@ impl SurfaceMaterial for Diffuse {
         } else {
             wi.z * FRAC_1_PI
         }
+    }
+
+    fn uses_uv(&self) -> bool {
+        false
     }
 }
 

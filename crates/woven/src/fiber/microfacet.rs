@@ -2,7 +2,7 @@
 //! and drawing Beckmann normals (with the density of the direction they reflect).
 
 use crate::math::basis::orthonormal_basis;
-use crate::math::special::{erfc, erfcx, exp_neg, exp_neg_sq, FRAC_1_SQRT_PI};
+use crate::math::special::{erfc, erfcx, exp_neg, exp_neg_sq, sin_cos, FRAC_1_SQRT_PI};
 use crate::math::Vec3;
 use std::f64::consts::PI;
 
@@ -84,7 +84,8 @@ pub(crate) fn sample_beckmann(n: Vec3, alpha: f64, [u1, u2]: [f64; 2]) -> Vec3 {
     let sin = (1.0 - cos * cos).max(0.0).sqrt();
     let phi = 2.0 * PI * u2;
     let (t, b) = orthonormal_basis(n);
-    (t * (sin * phi.cos()) + b * (sin * phi.sin()) + n * cos).normalize()
+    let (sp, cp) = sin_cos(phi);
+    (t * (sin * cp) + b * (sin * sp) + n * cos).normalize()
 }
 
 /// The density of the direction `drawn` reflected from `known` about a Beckmann normal of width

@@ -17,6 +17,7 @@
 //! assert_eq!((s.bin, s.fraction), (1, 0.5));
 //! ```
 
+use super::special::sin_cos;
 use super::Vec3;
 use std::f64::consts::{FRAC_1_PI, PI};
 
@@ -316,7 +317,8 @@ pub fn cosine_hemisphere(u1: f64, u2: f64) -> Vec3 {
     let phi = 2.0 * PI * u2;
     // max(0): 1 − u1 is ≥ 0 for u1 ∈ [0, 1]; the guard keeps a u1 rounded past 1 from a NaN.
     let z = (1.0 - u1).max(0.0).sqrt();
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    let (s, c) = sin_cos(phi);
+    Vec3::new(r * c, r * s, z)
 }
 
 /// The density of [`cosine_hemisphere`] at a direction with `cos θ = cos_theta`, per unit solid
@@ -334,7 +336,8 @@ pub fn uniform_sphere(u1: f64, u2: f64) -> Vec3 {
     // max(0): rounding may leave 1 − z² just below 0 at the poles.
     let r = (1.0 - z * z).max(0.0).sqrt();
     let phi = 2.0 * PI * u2;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    let (s, c) = sin_cos(phi);
+    Vec3::new(r * c, r * s, z)
 }
 
 /// The density of [`uniform_sphere`], `1 / 4π` per unit solid angle.
