@@ -79,7 +79,7 @@ impl Camera {
     /// Conservative: `false` whenever it cannot tell.
     ///
     /// The pixel's rays fill the pyramid from the origin through its square on the image plane
-    /// (widened by [`PIXEL_MARGIN`] against rounding); a box misses the pyramid when its
+    /// (widened by a thousandth of a pixel against rounding); a box misses the pyramid when its
     /// corners all lie outside one of the pyramid's four side planes (the box's support along
     /// the plane's normal is negative).
     pub fn pixel_misses(&self, x: usize, y: usize, boxes: &[[Vec3; 2]]) -> bool {

@@ -3,7 +3,7 @@
 
 use crate::render_text;
 
-const SCENE: &str = r#"
+pub(crate) const SCENE: &str = r#"
 [camera]
 origin = [0.3, -2.0, 2.2]
 target = [0.0, 0.0, 0.0]
@@ -38,7 +38,7 @@ reflectance = [0.5, 0.8, 0.2]
 
 /// The inset's camera and place: 18 × 18 pixels at (20, 3) with a 2-pixel border, so 14 × 14
 /// inside.
-const INSET: &str = r#"
+pub(crate) const INSET: &str = r#"
 [inset]
 origin = [1.2, -1.0, 0.9]
 target = [0.2, 0.1, 0.25]
