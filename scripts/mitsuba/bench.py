@@ -103,15 +103,13 @@ def woven_row(
             wall = time.perf_counter() - t0
             if r.returncode != 0:
                 raise SystemExit(f"bench.py: `{shlex.join(argv)}` failed:\n{r.stderr[-3000:]}")
-            # The render alone from its rate (the seconds are printed to a tenth only).
             own = re.search(
-                r"\((\d+)×(\d+), (\d+) spp[^)]*\) in [0-9.]+ s \(([0-9.]+) M samples/s",
-                r.stdout + r.stderr,
+                r"\((\d+)×(\d+), (\d+) spp[^)]*\) in ([0-9.]+) s", r.stdout + r.stderr
             )
             if not own:
                 raise SystemExit(f"bench.py: no timing line from `{shlex.join(argv)}`")
             w, h, n = (int(own.group(i)) for i in (1, 2, 3))
-            runs.append((wall, w * h * n / (float(own.group(4)) * 1e6), w * h * n))
+            runs.append((wall, float(own.group(4)), w * h * n))
     wall, alone, samples = min(runs) if best else runs[1]
     name = scene.stem if scene else "showcase"
     row = Row(name, "woven render", wall, samples, alone)

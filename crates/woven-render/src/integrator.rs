@@ -15,7 +15,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
 use crate::light::{Emitter, EmitterHit};
-use crate::material::{MaterialAt, ShadingPoint};
+use crate::material::{MaterialAt, MaterialSample, ShadingPoint};
 use crate::rng::Sampler;
 use crate::scene::{Scene, Strategy};
 use woven::math::sampling::power_heuristic as power;
@@ -269,14 +269,7 @@ fn trace<'a>(
         };
         if let (0, Some(f)) = (depth, first.as_mut()) {
             f.warp_share = material.warp_share();
-            let w = s.f * (s.wi.z / s.pdf);
-            f.albedo = Rgb(w.0.map(|c| {
-                if c.is_finite() {
-                    c.clamp(0.0, 1.0)
-                } else {
-                    0.0
-                }
-            }));
+            f.albedo = albedo_estimate(&s);
         }
         let wi = frame.to_world(s.wi);
         if wi.dot(hit.ng) <= 0.0 || s.pdf.is_nan() || s.pdf <= 0.0 {
@@ -303,4 +296,18 @@ fn trace<'a>(
         ray = spawn(&hit, wi);
     }
     l
+}
+
+/// A one-sample estimate of the albedo at a vertex from its draw `s`: its weight `f cos θ / pdf`,
+/// each channel clamped to `[0, 1]` (0 where it is not finite), for the denoiser's guide.
+#[inline]
+fn albedo_estimate(s: &MaterialSample) -> Rgb {
+    let w = s.f * (s.wi.z / s.pdf);
+    Rgb(w.0.map(|c| {
+        if c.is_finite() {
+            c.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }))
 }

@@ -244,7 +244,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         crate::io::write_atomically(path, |w| Ok(w.write_all(&bytes)?))?;
     }
     println!(
-        "rendered {} ({}×{}, {} spp{}) in {:.1} s ({:.2} M samples/s; {:.1} s in all):",
+        "rendered {} ({}×{}, {} spp{}) in {:.2} s ({:.2} M samples/s; {:.2} s in all):",
         desc.origin,
         image.width,
         image.height,
