@@ -67,12 +67,19 @@ impl Camera {
 
     /// The ray through film point `(x, y)` (pixels, `x ∈ [0, W]`, `y ∈ [0, H]`, `y` down).
     pub fn ray(&self, x: f64, y: f64) -> Ray {
-        let sx = x * self.step[0] - self.half_width;
-        let sy = self.half_height - y * self.step[1];
         Ray {
             o: self.origin,
-            d: (self.forward + self.right * sx + self.up * sy).normalize(),
+            d: self.through(x, y).normalize(),
         }
+    }
+
+    /// The direction, not normalized, through film point `(x, y)`: the image plane's point at
+    /// distance 1.
+    #[inline]
+    fn through(&self, x: f64, y: f64) -> Vec3 {
+        let sx = x * self.step[0] - self.half_width;
+        let sy = self.half_height - y * self.step[1];
+        self.forward + self.right * sx + self.up * sy
     }
 
     /// Whether every ray through film pixel `(x, y)` (film points in `[x, x + 1] × [y, y + 1]`)
@@ -86,19 +93,14 @@ impl Camera {
     pub fn pixel_misses(&self, x: usize, y: usize, boxes: &[[Vec3; 2]]) -> bool {
         let (x0, x1) = (x as f64 - PIXEL_MARGIN, (x + 1) as f64 + PIXEL_MARGIN);
         let (y0, y1) = (y as f64 - PIXEL_MARGIN, (y + 1) as f64 + PIXEL_MARGIN);
-        let towards = |fx: f64, fy: f64| {
-            let sx = fx * self.step[0] - self.half_width;
-            let sy = self.half_height - fy * self.step[1];
-            self.forward + self.right * sx + self.up * sy
-        };
         // The square's corners in turn around it, and the edges from each to the next, made
         // from the camera's axes (a difference of neighbouring corners would lose the digits
         // that tell them apart in a narrow field of view).
         let c = [
-            towards(x0, y0),
-            towards(x1, y0),
-            towards(x1, y1),
-            towards(x0, y1),
+            self.through(x0, y0),
+            self.through(x1, y0),
+            self.through(x1, y1),
+            self.through(x0, y1),
         ];
         let (across, down) = (
             self.right * ((x1 - x0) * self.step[0]),

@@ -265,15 +265,23 @@ fn render_pixel<'a>(
     // A pixel whose every ray passes by the scene's boxes meets nothing: its rays escape
     // untraced, and with no sky behind them its samples are black without being drawn (the
     // same image, bit for bit, as tracing them).
-    let aim = match view {
-        View::Main if scene.camera.pixel_misses(x, y, scene.accel.boxes()) => Aim::Clear,
-        View::Inset(camera, [ix, iy]) if camera.pixel_misses(ix, iy, scene.accel.boxes()) => {
-            Aim::Clear
-        }
+    // The camera and its film pixel; none on the inset's border.
+    let seen = match view {
+        View::Main => Some((&scene.camera, [x, y])),
+        View::Inset(camera, at) => Some((camera, at)),
+        View::Border => None,
+    };
+    let aim = match seen {
+        Some((camera, [px, py])) if camera.pixel_misses(px, py, scene.accel.boxes()) => Aim::Clear,
         _ => Aim::Unknown,
     };
     let black = aim == Aim::Clear && scene.environment.is_none();
     for s in 0..spp {
+        let Some((camera, [px, py])) = seen else {
+            sum += INSET_BORDER;
+            sum_sq += INSET_BORDER * INSET_BORDER;
+            continue;
+        };
         if black {
             if want_guides {
                 guide.add(&FirstHit::MISS);
@@ -283,15 +291,6 @@ fn render_pixel<'a>(
         let mut sampler =
             Sampler::new(film.sampler, film.seed, pixel, film.first_sample + s as u64);
         let (dx, dy) = sampler.next2();
-        let (camera, [px, py]) = match view {
-            View::Main => (&scene.camera, [x, y]),
-            View::Inset(camera, at) => (camera, at),
-            View::Border => {
-                sum += INSET_BORDER;
-                sum_sq += INSET_BORDER * INSET_BORDER;
-                continue;
-            }
-        };
         let ray = camera.ray(px as f64 + dx, py as f64 + dy);
         let mut l = if want_guides {
             let (l, first) =
