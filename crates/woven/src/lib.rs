@@ -73,6 +73,8 @@
 //! - [`math`]: vectors, special functions, quadrature and interpolation.
 //! - [`microcylinder`]: the microcylinder cloth model of Sadeghi et al. 2013, its six fabrics
 //!   and a [`Bsdf`](bsdf::Bsdf) for it.
+//! - [`keys`]: values as front ends hand them over (a scene's table, a Python dict, Mitsuba's
+//!   properties), which the library reads its keys from.
 //! - [`error`]: the one error type, [`Error`].
 //! - [`figures`]: the data of the paper's Figs. 3–5 and 8–10 (the command line draws them).
 //! - [`fsutil`]: files written atomically (a temporary file renamed into place), and read only
@@ -93,6 +95,7 @@ pub mod fiber;
 pub mod figures;
 pub mod fsutil;
 pub mod gonio;
+pub mod keys;
 pub mod material;
 pub mod math;
 pub mod microcylinder;

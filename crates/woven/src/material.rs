@@ -59,9 +59,9 @@ use crate::color::Rgb;
 use crate::error::check_range;
 use crate::error::{Error, Result};
 use crate::fiber::{Fiber, FiberModel, FiberParams, Ior, Normalization};
-use crate::weave::{Pattern, MAX_THREADS};
+use crate::weave::Pattern;
 use crate::yarn::{Yarn, YarnParams};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The longest material file [`Material::from_path`] reads, in bytes (1 MiB): room for an inline
 /// pattern of several hundred threads square (larger drafts belong in a WIF file); the limit stops
@@ -135,16 +135,8 @@ pub enum Weave {
     },
 }
 
-/// How a material file names its weave pattern.
-#[derive(Clone, Debug, PartialEq)]
-pub enum PatternSpec {
-    /// `"plain"`, `"twill-2/1"`, `"satin-5"`, `"sateen-5"`, …
-    Name(String),
-    /// An explicit 0/1 matrix, rows = weft picks.
-    Matrix(Vec<Vec<u8>>),
-    /// `{ wif = "file.wif" }`, relative to the material file's folder.
-    Wif(PathBuf),
-}
+/// How a material file names its weave pattern (the pattern value's one reader).
+pub use crate::weave::PatternSpec;
 
 impl Weave {
     /// The named pattern (`"plain"`, `"twill-2/1"`, `"satin-5"`, …; [`Pattern::from_name`]),
@@ -464,78 +456,14 @@ mod file {
     }
 
     fn parse_pattern(v: toml::Value, base: Option<&Path>) -> Result<Weave> {
-        let expected = "a name (\"plain\", \"twill-2/1\", \"satin-5\", \"sateen-5\"), a 0/1 matrix like [[1,0],[0,1]], or { wif = \"file.wif\" }";
-        match v {
-            toml::Value::String(name) => Ok(Weave::Pattern {
-                pattern: Pattern::from_name(&name)?,
-                spec: PatternSpec::Name(name),
-            }),
-            toml::Value::Array(rows) => {
-                // The size limit first, before anything is built from the matrix.
-                let cols = rows.iter().map(|r| r.as_array().map_or(0, Vec::len)).max();
-                let cols = cols.unwrap_or(0);
-                if rows.len() > MAX_THREADS || cols > MAX_THREADS {
-                    return Err(Error::invalid(
-                        "weave.pattern",
-                        format!("a matrix of {} rows and up to {cols} columns", rows.len()),
-                        format!(
-                            "at most {MAX_THREADS} rows and columns (a larger draft is not a \
-                             repeat)"
-                        ),
-                    ));
-                }
-                let mut m = Vec::with_capacity(rows.len());
-                for (i, row) in rows.iter().enumerate() {
-                    let toml::Value::Array(cells) = row else {
-                        return Err(Error::invalid(format!("weave.pattern[{i}]"), row, expected));
-                    };
-                    let mut r = Vec::with_capacity(cells.len());
-                    for (j, c) in cells.iter().enumerate() {
-                        match c {
-                            toml::Value::Integer(x @ (0 | 1)) => r.push(*x as u8),
-                            other => {
-                                return Err(Error::invalid(
-                                    format!("weave.pattern[{i}][{j}]"),
-                                    other,
-                                    "0 or 1",
-                                ))
-                            }
-                        }
-                    }
-                    m.push(r);
-                }
-                Ok(Weave::Pattern {
-                    pattern: Pattern::from_matrix(m.clone())?,
-                    spec: PatternSpec::Matrix(m),
-                })
-            }
-            toml::Value::Table(t) => {
-                if let Some(k) = t.keys().find(|k| *k != "wif") {
-                    return Err(Error::invalid(
-                        format!("weave.pattern.{k}"),
-                        &t[k],
-                        "only `wif` in a pattern table",
-                    ));
-                }
-                let Some(toml::Value::String(file)) = t.get("wif") else {
-                    return Err(Error::invalid(
-                        "weave.pattern.wif",
-                        "(missing or not a string)",
-                        "a path to a WIF file",
-                    ));
-                };
-                let rel = PathBuf::from(file);
-                let full = match base {
-                    Some(dir) if rel.is_relative() => dir.join(&rel),
-                    _ => rel.clone(),
-                };
-                Ok(Weave::Pattern {
-                    pattern: Pattern::from_wif_path(&full)?,
-                    spec: PatternSpec::Wif(rel),
-                })
-            }
-            other => Err(Error::invalid("weave.pattern", other, expected)),
-        }
+        let spec = PatternSpec::from_value(&v.into(), "weave.pattern")?;
+        // A WIF file's path stays as written (the material writes it back so); it is read
+        // from the material file's folder.
+        let pattern = spec.pattern(|rel| match base {
+            Some(dir) if rel.is_relative() => dir.join(rel),
+            _ => rel.to_path_buf(),
+        })?;
+        Ok(Weave::Pattern { spec, pattern })
     }
 
     #[derive(Deserialize, Serialize, Default)]

@@ -77,6 +77,8 @@ use crate::Model;
 use std::sync::Arc;
 
 // The surface's ideas, one module each: `spec` (what a surface is, its limits and checks),
+// `keys` (the keys front ends write it with, and their one reader), `route` (what a JIT
+// renderer traces and what it asks the library for),
 // `layout` (the pattern's cells, tilt, gaps and relief, the γ-mix and the footprint filter: a
 // point's lobes), `fibers` (the fibre level: per-yarn draws, a point on its yarn), `lobe` (one
 // lobe's BRDF, density and draws in its frame), `point` (the BSDF at a point), `tables` (the
@@ -85,16 +87,19 @@ use std::sync::Arc;
 // reports.
 mod fibers;
 pub mod irregular;
+mod keys;
 mod layout;
 mod lobe;
 mod point;
 mod ratio;
+mod route;
 mod spec;
 mod tables;
 
 use fibers::Fibers;
 pub use fibers::{YarnPoint, STRANDS};
 pub use irregular::Irregularity;
+pub use keys::{KeyError, KeyedSurface, SurfaceKey, SURFACE_KEYS};
 use layout::Entry;
 pub use layout::{Lobe, LobeMix, SurfacePoint, Tilt, FIBER_CELLS, FILTER_CELLS, MAX_LOBES};
 pub use point::PointBsdf;
@@ -102,9 +107,8 @@ use ratio::ReliefRatio;
 pub use ratio::{
     ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG,
 };
-pub use spec::{
-    Detail, SurfaceKey, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG, SURFACE_KEYS,
-};
+pub use route::{LayoutKind, LibraryReason, Route};
+pub use spec::{Detail, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG};
 
 /// Gauss–Legendre nodes over a whole float's lit and seen part (what a whole float's table,
 /// [`Table::tilted`](crate::table::Table::tilted), tabulates).

@@ -1,13 +1,11 @@
 //! What a woven surface is ([`SurfaceSpec`]): a material, how its weave lies on the surface's
 //! uv, its dyes, its yarns' tilt and gaps, and how finely it is resolved ([`Detail`]); the
-//! limits on each, and their checks; and the keys the front ends write them with
-//! ([`SURFACE_KEYS`]: each key's name, default, valid range and meaning, in one place).
+//! limits on each, and their checks. The keys the front ends write them with are in
+//! `keys.rs` ([`SURFACE_KEYS`](super::SURFACE_KEYS)).
 
-use super::irregular::{length_valid, spread_valid};
-use super::{Irregularity, FILTER_CELLS};
+use super::Irregularity;
 use crate::color::Rgb;
 use crate::error::{Error, Result};
-use crate::fiber::{DEFAULT_WAVELENGTH_NM, WAVELENGTH_RANGE_NM};
 use crate::material::{Material, Weave};
 use crate::relief::Relief;
 use crate::yarn::float::FloatProfile;
@@ -75,193 +73,7 @@ pub const MAX_GAP: f64 = 0.95;
 pub const DEFAULT_YARNS_PER_UNIT: f64 = 40.0;
 
 /// What a dye must be ([`SurfaceSpec::weft_color`], [`SurfaceSpec::warp_color`]).
-const COLOR_VALID: &str = "three values in [0, 1]";
-
-/// One key of a woven surface, as scene files (`[material.NAME] type = "woven"`), the Python
-/// package (`woven.Surface`, `woven.SURFACE_KEYS`) and the Mitsuba plugin write it: its name,
-/// default, valid range and meaning. [`SURFACE_KEYS`] lists them all; docs/python.md shows
-/// that table, and a test holds the two to each other.
-#[derive(Clone, Copy, Debug)]
-pub struct SurfaceKey {
-    /// The key's name.
-    pub name: &'static str,
-    default: Text,
-    valid: Text,
-    meaning: Text,
-}
-
-/// A cell of [`SurfaceKey`]'s table: words, or words made from the library's constants (their
-/// one home).
-#[derive(Clone, Copy, Debug)]
-enum Text {
-    Words(&'static str),
-    Made(fn() -> String),
-}
-
-impl Text {
-    fn text(self) -> String {
-        match self {
-            Text::Words(w) => w.to_string(),
-            Text::Made(f) => f(),
-        }
-    }
-}
-
-impl SurfaceKey {
-    /// What the key is where it is not given.
-    pub fn default(&self) -> String {
-        self.default.text()
-    }
-
-    /// The values it takes (what an error names as expected).
-    pub fn valid(&self) -> String {
-        self.valid.text()
-    }
-
-    /// What the key means.
-    pub fn meaning(&self) -> String {
-        self.meaning.text()
-    }
-
-    /// The key `name` of [`SURFACE_KEYS`], if it is one.
-    pub fn named(name: &str) -> Option<&'static SurfaceKey> {
-        SURFACE_KEYS.iter().find(|k| k.name == name)
-    }
-}
-
-/// The keys of a woven surface: the one home of each key's name, default, valid range and
-/// meaning ([`SurfaceKey`]). Front ends take a key's default from the library (they leave the
-/// key out of the [`SurfaceSpec`] they build) and check its range here.
-pub const SURFACE_KEYS: &[SurfaceKey] = &[
-    SurfaceKey {
-        name: "material",
-        default: Text::Words("none: required (woven.Surface and the plugin take `table` instead)"),
-        valid: Text::Words("a preset's name (`woven materials`) or a material file (TOML)"),
-        meaning: Text::Words(
-            "the cloth: its fibres, its yarn and its weave; the surface renders from the table \
-             of its yarn alone",
-        ),
-    },
-    SurfaceKey {
-        name: "pattern",
-        default: Text::Words("the material's own weave"),
-        valid: Text::Words(
-            "a weave's name (\"plain\", \"twill-2/1\", \"satin-5\", …); in scenes also a 0/1 \
-             matrix or { wif = \"…\" }",
-        ),
-        meaning: Text::Words(
-            "the weave laid on the surface's uv: the cell at (u·n_u, v·n_v) puts the weft \
-             (along u) or the warp (along v) on top",
-        ),
-    },
-    SurfaceKey {
-        name: "weft_fraction",
-        default: Text::Words("the material's own weave"),
-        valid: Text::Words("a fraction in [0, 1]; not with `pattern`"),
-        meaning: Text::Words(
-            "γ in place of the weave: the macro BRDF γ f_weft + (1 − γ) f_warp everywhere \
-             (woven.Surface and the plugin; scenes give a `pattern`)",
-        ),
-    },
-    SurfaceKey {
-        name: "yarns_per_unit",
-        default: Text::Made(|| DEFAULT_YARNS_PER_UNIT.to_string()),
-        valid: Text::Words("a number > 0 for both, or a pair (n_u, n_v)"),
-        meaning: Text::Words(
-            "pattern cells per unit of u and of v (n_u, n_v; the built-in draped cloths' uv is \
-             in metres); unused without a pattern",
-        ),
-    },
-    SurfaceKey {
-        name: "weft_color",
-        default: Text::Words("the material's [dye] weft, else its own albedo (grey)"),
-        valid: Text::Words(COLOR_VALID),
-        meaning: Text::Words(
-            "the weft's dyed fibre albedo ρ0 per channel (linear RGB); the interreflection \
-             albedo follows in proportion, the sheen stays white",
-        ),
-    },
-    SurfaceKey {
-        name: "warp_color",
-        default: Text::Words("the material's [dye] warp, else its own albedo (grey)"),
-        valid: Text::Words(COLOR_VALID),
-        meaning: Text::Words("the warp's dyed fibre albedo ρ0 per channel, as `weft_color`"),
-    },
-    SurfaceKey {
-        name: "u_max_deg",
-        default: Text::Words("the material's [yarn] u_max_deg, else 0 (the paper's flat yarns)"),
-        valid: Text::Made(|| {
-            format!("degrees in [0, {MAX_U_MAX_DEG}]; 0 for a flat fiber surface (no [yarn])")
-        }),
-        meaning: Text::Words(
-            "the yarns' tilt out of the cloth plane at the ends of each float (Irawan & \
-             Marschner's u_max): +u_max where a yarn comes up, −u_max where it goes under",
-        ),
-    },
-    SurfaceKey {
-        name: "gap",
-        default: Text::Words("0"),
-        valid: Text::Made(|| {
-            format!("a fraction in [0, {MAX_GAP}]; 0 for a flat fiber surface (no [yarn])")
-        }),
-        meaning: Text::Words(
-            "the fraction of each cell's width between yarns: the crossing yarn shows there, \
-             and a hole where both leave one",
-        ),
-    },
-    SurfaceKey {
-        name: "detail",
-        default: Text::Made(|| format!("{:?}", Detail::default().name())),
-        valid: Text::Made(Detail::one_of),
-        meaning: Text::Words(
-            "how finely the weave is resolved: \"fibers\" each point a point on its yarn's \
-             profile, \"yarns\" each cell its yarn's BRDF, \"cloth\" the γ-mix everywhere, \
-             \"auto\" by the pixel's footprint, yarns where none is known (docs/render.md, \
-             levels of detail)",
-        ),
-    },
-    SurfaceKey {
-        name: "irregularity",
-        default: Text::Made(|| Irregularity::default().spread[0].to_string()),
-        valid: Text::Made(|| format!("{}: one number or (weft, warp)", spread_valid())),
-        meaning: Text::Words(
-            "σ, the spread of the log of each yarn's dye factor along its length: 0 dyes every \
-             yarn alike; needs a pattern",
-        ),
-    },
-    SurfaceKey {
-        name: "irregularity_length",
-        default: Text::Made(|| Irregularity::default().length.to_string()),
-        valid: Text::Made(length_valid),
-        meaning: Text::Words("ℓ, the distance along a yarn over which its dye factor changes"),
-    },
-    SurfaceKey {
-        name: "wavelength_nm",
-        default: Text::Made(|| DEFAULT_WAVELENGTH_NM.to_string()),
-        valid: Text::Made(|| {
-            let [lo, hi] = WAVELENGTH_RANGE_NM;
-            format!("nm in [{lo}, {hi}]")
-        }),
-        meaning: Text::Words(
-            "the wavelength the yarn's table is built at (woven.Surface and the plugin; \
-             `woven render` builds every table at the default)",
-        ),
-    },
-    SurfaceKey {
-        name: "footprint_filter",
-        default: Text::Words("true"),
-        valid: Text::Words("true or false"),
-        meaning: Text::Made(|| {
-            let [from, to] = FILTER_CELLS;
-            format!(
-                "blend toward the macro BRDF as a pixel's footprint grows from {from} to {to} \
-                 cells: fine weaves without moiré or sparkle. A key of [integrator] in scenes, \
-                 a material key in the Mitsuba plugin; woven.Surface filters by the footprint \
-                 each call passes (none: no filtering)"
-            )
-        }),
-    },
-];
+pub(super) const COLOR_VALID: &str = "three values in [0, 1]";
 
 /// What a woven surface is: a material and how its weave lies on the surface.
 #[derive(Clone, Debug)]
@@ -290,7 +102,7 @@ pub struct SurfaceSpec {
 impl SurfaceSpec {
     /// `material` with [`DEFAULT_YARNS_PER_UNIT`] pattern cells per unit of uv, its own colours
     /// (its `[dye]`, if any), its own float tilt (`[yarn] u_max_deg`, 0 for the paper's flat
-    /// yarns), no gaps, [`Detail::Auto`], no irregularity: the defaults of [`SURFACE_KEYS`].
+    /// yarns), no gaps, [`Detail::Auto`], no irregularity: the defaults of [`SURFACE_KEYS`](super::SURFACE_KEYS).
     pub fn new(material: Material) -> SurfaceSpec {
         let dye = material.dye;
         let u_max = material.yarn.map_or(0.0, |y| y.u_max);

@@ -43,6 +43,8 @@
 //! [`Pattern::from_wif_str`]), which is how hand-loom drafts are exchanged.
 
 mod pattern;
+mod spec;
 mod wif;
 
 pub use pattern::{CellPoint, FloatPlace, Pattern, MAX_THREADS, MAX_WIF_BYTES};
+pub use spec::{PatternSpec, PATTERN_FORMS};

@@ -1,9 +1,11 @@
 //! The keys of a woven surface (`woven::surface::SURFACE_KEYS`): one home for each key's name,
 //! default, valid range and meaning. The defaults are those `SurfaceSpec::new` lays, the ranges
-//! those the library's checks state, and docs/python.md shows the same table, row for row.
+//! those the library's checks state, and docs/python.md shows the same table, row for row. Every
+//! front end reads them through `SurfaceSpec::from_keys`, each key by its own entry.
 
 use woven::color::Rgb;
 use woven::fiber::DEFAULT_WAVELENGTH_NM;
+use woven::keys::{KeyValue, Keys};
 use woven::material::{Material, Weave};
 use woven::surface::{
     Detail, Irregularity, SurfaceKey, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, SURFACE_KEYS,
@@ -214,4 +216,142 @@ fn surface_keys_state_the_ranges_the_library_checks() {
     let message = e.to_string();
     let range = interval(&message).unwrap_or_else(|| panic!("{message}"));
     assert!(key("wavelength_nm").valid().contains(range), "{message}");
+}
+
+/// A value each key takes, and one it refuses: every key of the table has both, so a key added
+/// to `SURFACE_KEYS` without a reader that takes and refuses values fails here.
+fn samples(name: &str) -> (KeyValue, KeyValue) {
+    use KeyValue::{Bool, Float, Integer, List, Text};
+    let rgb = |r, g, b| List(vec![Float(r), Float(g), Float(b)]);
+    match name {
+        "material" => (Text("belt-cloth".into()), Text("velvet".into())),
+        "pattern" => (Text("twill-2/1".into()), Integer(3)),
+        "weft_fraction" => (Float(0.3), Float(1.5)),
+        "yarns_per_unit" => (Text("40, 60.5".into()), List(vec![Float(40.0)])),
+        "weft_color" => (rgb(0.6, 0.1, 0.1), rgb(1.5, 0.0, 0.0)),
+        "warp_color" => (rgb(0.1, 0.1, 0.6), List(vec![Float(0.5); 2])),
+        "u_max_deg" => (Integer(30), Float(95.0)),
+        "gap" => (Float(0.2), Float(f64::NAN)),
+        "detail" => (Text("fibers".into()), Text("threads".into())),
+        "irregularity" => (List(vec![Float(0.1), Float(0.4)]), Float(1.5)),
+        "irregularity_length" => (Integer(60), Float(0.5)),
+        "wavelength_nm" => (Float(450.0), Float(1.0)),
+        "footprint_filter" => (Bool(false), Text("false".into())),
+        other => panic!("no sample values for the surface key `{other}`: add them here"),
+    }
+}
+
+/// The keys a key needs beside it to be read alone (irregularity needs a pattern).
+fn beside(name: &str) -> Keys {
+    let keys = Keys::new().with("material", KeyValue::Text("silk".into()));
+    match name {
+        "irregularity" | "irregularity_length" => {
+            keys.with("pattern", KeyValue::Text("plain".into()))
+        }
+        _ => keys,
+    }
+}
+
+/// One reader for every door: each key's value is read onto the surface and marked given, and
+/// a value out of its range or of another shape is refused naming the key, the value and the
+/// range the table states.
+#[test]
+fn from_keys_reads_and_refuses_each_key_by_its_entry() {
+    for k in SURFACE_KEYS {
+        let (good, bad) = samples(k.name);
+        let read = SurfaceSpec::from_keys(&beside(k.name).with(k.name, good.clone()))
+            .unwrap_or_else(|e| panic!("`{}` = {good}: {e}", k.name));
+        assert!(read.given(k.name), "{}", k.name);
+        let e = SurfaceSpec::from_keys(&beside(k.name).with(k.name, bad.clone()))
+            .err()
+            .unwrap_or_else(|| panic!("`{}` = {bad} accepted", k.name));
+        let message = e.to_string();
+        assert!(e.key.starts_with(k.name), "`{}`: {message}", k.name);
+        assert!(message.contains(&format!("`{}`", k.name)), "{message}");
+        if k.name != "material" && k.name != "pattern" {
+            assert!(message.contains(&k.valid()), "`{}`: {message}", k.name);
+        }
+    }
+    // What each read value became.
+    let read = |name: &str| {
+        SurfaceSpec::from_keys(&beside(name).with(name, samples(name).0))
+            .unwrap()
+            .spec
+    };
+    assert_eq!(read("yarns_per_unit").yarns_per_unit, [40.0, 60.5]);
+    assert_eq!(read("u_max_deg").u_max, 30f64.to_radians());
+    assert_eq!(read("gap").gap, 0.2);
+    assert_eq!(read("detail").detail, Detail::Fibers);
+    assert_eq!(read("weft_color").weft_color, Some(Rgb([0.6, 0.1, 0.1])));
+    assert_eq!(read("irregularity").irregularity.spread, [0.1, 0.4]);
+    assert_eq!(
+        read("weft_fraction").material.weave,
+        Some(Weave::WeftFraction(0.3))
+    );
+    assert_eq!(
+        read("material").material.name.as_deref(),
+        Some("belt-cloth")
+    );
+    let other =
+        SurfaceSpec::from_keys(&beside("x").with("wavelength_nm", KeyValue::Float(450.0))).unwrap();
+    assert_eq!((other.wavelength_nm, other.footprint_filter), (450.0, true));
+}
+
+/// Keys not given are the library's defaults: the surface `SurfaceSpec::new` lays on the
+/// material, which keeps its own dyes and tilt.
+#[test]
+fn from_keys_leaves_what_is_not_given_at_its_default() {
+    let read = SurfaceSpec::from_keys(
+        &Keys::new().with("material", KeyValue::Text("satin-charmeuse".into())),
+    )
+    .unwrap();
+    let own = SurfaceSpec::new(Material::preset("satin-charmeuse").unwrap());
+    assert_eq!(format!("{:?}", read.spec), format!("{own:?}"));
+    assert_eq!(read.wavelength_nm, DEFAULT_WAVELENGTH_NM);
+    assert!(read.footprint_filter && read.given_keys() == ["material"]);
+}
+
+/// What no single key can check: unknown keys (listing the known), `pattern` with
+/// `weft_fraction`, a tilt or gap on a flat fiber surface, irregularity without a pattern, and
+/// a material given twice.
+#[test]
+fn from_keys_refuses_what_the_keys_cannot_be_together() {
+    let silk = || Keys::new().with("material", KeyValue::Text("silk".into()));
+    let refused = |keys: Keys| SurfaceSpec::from_keys(&keys).unwrap_err();
+    let e = refused(silk().with("colour", KeyValue::Float(1.0)));
+    assert_eq!(e.key, "colour");
+    assert!(e.to_string().contains("`footprint_filter`"), "{e}");
+    let e = refused(
+        silk()
+            .with("pattern", KeyValue::Text("plain".into()))
+            .with("weft_fraction", KeyValue::Float(0.5)),
+    );
+    assert_eq!(e.key, "weft_fraction", "{e}");
+    let sateen = Keys::new().with("material", KeyValue::Text("polyester-sateen".into()));
+    let e = refused(sateen.with("irregularity", KeyValue::Float(0.2)));
+    assert!(
+        e.key == "irregularity" && e.to_string().contains("pattern"),
+        "{e}"
+    );
+    let dir = std::env::temp_dir().join(format!("woven-keys-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("fiber.toml"),
+        "[fiber]\neta = 1.6\nroughness = 0.1\ndiffuse = 0\nnormalization = \"none\"\n",
+    )
+    .unwrap();
+    let flat = Keys::new()
+        .with("material", KeyValue::Text("fiber.toml".into()))
+        .in_folder(&dir);
+    let e = refused(flat.clone().with("gap", KeyValue::Float(0.1)));
+    assert!(e.key == "gap" && e.to_string().contains("no [yarn]"), "{e}");
+    assert!(
+        SurfaceSpec::from_keys(&flat).is_ok(),
+        "the folder resolves the file"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    let e = SurfaceSpec::from_keys_on(Material::preset("silk").unwrap(), &silk()).unwrap_err();
+    assert_eq!(e.key, "material", "{e}");
+    let e = refused(Keys::new().with("gap", KeyValue::Float(0.1)));
+    assert_eq!(e.key, "material", "{e}");
 }
