@@ -14,6 +14,7 @@
 mod arrays;
 mod bsdf;
 mod fit;
+mod keys;
 mod material;
 mod render;
 mod signals;

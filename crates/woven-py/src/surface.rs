@@ -3,7 +3,8 @@
 //! out point by point, as `woven render` and the Mitsuba plugin use it.
 
 use crate::arrays::{map_batch, Dirs, Numbers, FRACTIONS, UNIFORMS};
-use crate::material::{material_arg, Material};
+use crate::keys::{key_error, key_value, keys_of};
+use crate::material::Material;
 use crate::table::{cached_table, prepared, split_columns, Table, UserTables};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
@@ -13,12 +14,12 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use std::sync::Arc;
 use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
-use woven::fiber::DEFAULT_WAVELENGTH_NM;
-use woven::material::Weave;
+use woven::keys::{KeySource, KeyValue, Keys};
 use woven::surface::{
-    Detail, Irregularity, Lobe, PointBsdf, SurfacePoint, SurfaceSpec, Tilt, WovenSurface,
+    KeyedSurface, Lobe, PointBsdf, Route, SurfacePoint, SurfaceSpec, Tilt, WovenSurface,
     FILTER_CELLS, MAX_LOBES,
 };
+use woven::table::TableOptions;
 
 /// A woven surface: what a woven material means at each point of a surface (the `woven`
 /// material of `woven render` scenes and of the Mitsuba plugin, with the same parameters).
@@ -54,66 +55,9 @@ use woven::surface::{
 pub struct Surface {
     inner: Arc<WovenSurface>,
     material: Option<woven::material::Material>,
-}
-
-/// A number for both, or a pair (`pair` says of what); `None` when not given (or None).
-fn pair_arg(obj: Option<&Bound<'_, PyAny>>, name: &str, pair: &str) -> PyResult<Option<[f64; 2]>> {
-    let Some(obj) = obj.filter(|o| !o.is_none()) else {
-        return Ok(None);
-    };
-    if let Ok(n) = obj.extract::<f64>() {
-        return Ok(Some([n, n]));
-    }
-    if let Ok(v) = obj.extract::<Vec<f64>>() {
-        if let [a, b] = v[..] {
-            return Ok(Some([a, b]));
-        }
-    }
-    Err(PyValueError::new_err(format!(
-        "`{name}` = {obj}: expected a number or a pair {pair}"
-    )))
-}
-
-/// A colour argument: three numbers.
-fn color_arg(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<Rgb>> {
-    obj.map(|o| {
-        o.extract::<[f64; 3]>().map(Rgb).map_err(|_| {
-            PyValueError::new_err(format!("`{name}` = {o}: expected three numbers in [0, 1]"))
-        })
-    })
-    .transpose()
-}
-
-/// The material with `pattern` or `weft_fraction` in place of its weave.
-fn with_weave(
-    mut material: woven::material::Material,
-    pattern: Option<&str>,
-    weft_fraction: Option<f64>,
-) -> PyResult<woven::material::Material> {
-    match (pattern, weft_fraction) {
-        (Some(_), Some(_)) => Err(PyValueError::new_err(
-            "give at most one of `pattern` and `weft_fraction`",
-        )),
-        (Some(p), None) => {
-            material.weave = Some(Weave::named(p).py_err()?);
-            Ok(material)
-        }
-        (None, Some(g)) => {
-            if material.yarn.is_none() {
-                return Err(PyValueError::new_err(
-                    "`weft_fraction` needs a material with yarns ([yarn])",
-                ));
-            }
-            if !(0.0..=1.0).contains(&g) {
-                return Err(PyValueError::new_err(format!(
-                    "`weft_fraction` = {g}: expected a fraction in [0, 1]"
-                )));
-            }
-            material.weave = Some(Weave::WeftFraction(g));
-            Ok(material)
-        }
-        (None, None) => Ok(material),
-    }
+    /// `footprint_filter`: off, calls' footprints are ignored (as `woven render` with the
+    /// integrator's filter off).
+    filter: bool,
 }
 
 /// The points of a call: uv (N, 2), footprints (N, 4) and dyes (N, 3), each also one row.
@@ -225,122 +169,120 @@ pub(crate) fn mode_arg(mode: &str) -> PyResult<Transport> {
     }
 }
 
-#[pymethods]
 impl Surface {
-    #[new]
-    #[pyo3(signature = (material = None, *, table = None, pattern = None, weft_fraction = None,
-        yarns_per_unit = None, weft_color = None, warp_color = None, u_max_deg = None, gap = None,
-        detail = None, irregularity = None, irregularity_length = None, wavelength_nm = None,
-        progress = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
+    /// A material (a `woven.Material`, a preset's name or a file) with `keys`: its yarn's table
+    /// from the cache `woven render` shares, or built there.
+    fn of_material(
         py: Python<'_>,
-        material: Option<&Bound<'_, PyAny>>,
-        table: Option<&Bound<'_, Table>>,
-        pattern: Option<&str>,
-        weft_fraction: Option<f64>,
-        yarns_per_unit: Option<&Bound<'_, PyAny>>,
-        weft_color: Option<&Bound<'_, PyAny>>,
-        warp_color: Option<&Bound<'_, PyAny>>,
-        u_max_deg: Option<f64>,
-        gap: Option<f64>,
-        detail: Option<&str>,
-        irregularity: Option<&Bound<'_, PyAny>>,
-        irregularity_length: Option<f64>,
-        wavelength_nm: Option<f64>,
+        material: &Bound<'_, PyAny>,
+        mut keys: Keys,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Surface> {
-        let detail = detail.map(Detail::from_name).transpose().py_err()?;
-        let spread = pair_arg(irregularity, "irregularity", "(weft, warp)")?;
-        let yarns = pair_arg(yarns_per_unit, "yarns_per_unit", "(n_u, n_v)")?;
-        let wavelength_nm = wavelength_nm.unwrap_or(DEFAULT_WAVELENGTH_NM);
-        let (weft_color, warp_color) = (
-            color_arg(weft_color, "weft_color")?,
-            color_arg(warp_color, "warp_color")?,
-        );
-        // What is not given is the library's default (`SurfaceSpec::new`, the defaults of
-        // SURFACE_KEYS): the material's own `[dye]` and `[yarn] u_max_deg`, and the rest as in
-        // `woven render` scenes.
-        let layout = |material| {
-            let own = SurfaceSpec::new(material);
-            SurfaceSpec {
-                yarns_per_unit: yarns.unwrap_or(own.yarns_per_unit),
-                weft_color: weft_color.or(own.weft_color),
-                warp_color: warp_color.or(own.warp_color),
-                u_max: u_max_deg.map_or(own.u_max, f64::to_radians),
-                gap: gap.unwrap_or(own.gap),
-                detail: detail.unwrap_or(own.detail),
-                irregularity: Irregularity {
-                    spread: spread.unwrap_or(own.irregularity.spread),
-                    length: irregularity_length.unwrap_or(own.irregularity.length),
-                },
-                ..own
-            }
-        };
-        let (spec, yarn, user) = match (material, table) {
-            (Some(m), None) => {
-                let m = with_weave(material_arg(m)?.inner, pattern, weft_fraction)?;
-                let spec = layout(m);
-                spec.validate().py_err()?;
-                let mut user = UserTables::open()?;
-                let (t, options) = cached_table(
-                    py,
-                    &mut user,
-                    &spec.table_material(),
-                    wavelength_nm,
-                    "render",
-                    progress,
-                )?;
-                (spec, t, Some((user, options)))
-            }
-            (None, Some(t)) => {
-                let t = Arc::clone(&t.get().inner);
-                if pattern.is_none() && weft_fraction.is_none() {
-                    if warp_color.is_some()
-                        || u_max_deg.is_some_and(|u| u != 0.0)
-                        || gap.is_some_and(|g| g != 0.0)
-                    {
-                        return Err(PyValueError::new_err(
-                            "`warp_color`, `u_max_deg` and `gap` need a weave: give `pattern` or `weft_fraction` with `table`",
-                        ));
-                    }
-                    let surface = WovenSurface::whole(Arc::clone(&t), weft_color).py_err()?;
-                    return Ok(Surface {
-                        inner: Arc::new(surface),
-                        material: t.material().cloned(),
-                    });
-                }
-                let m = match t.material() {
-                    Some(m) if m.weave.is_none() && m.yarn.is_some() => m.clone(),
-                    _ => {
-                        return Err(PyValueError::new_err(
-                            "`pattern` or `weft_fraction` with `table` needs the table of a yarn alone (a material without [weave]: Material.yarn_family())",
-                        ))
-                    }
+        let read = match material.cast::<Material>() {
+            Ok(m) => SurfaceSpec::from_keys_on(m.get().inner.clone(), &keys),
+            Err(_) => {
+                // A path (str or os.PathLike) or a preset's name.
+                let name = match material.extract::<std::path::PathBuf>() {
+                    Ok(p) => KeyValue::Text(p.to_string_lossy().into_owned()),
+                    Err(_) => key_value(material, "material")?,
                 };
-                let m = with_weave(m, pattern, weft_fraction)?;
-                (layout(m), t, None)
+                keys.insert("material", name);
+                SurfaceSpec::from_keys(&keys)
             }
-            _ => {
-                return Err(PyValueError::new_err(
-                    "give exactly one of `material` and `table`",
-                ))
+        }
+        .map_err(key_error)?;
+        let mut user = UserTables::open()?;
+        let (yarn, options) = cached_table(
+            py,
+            &mut user,
+            &read.spec.table_material(),
+            read.wavelength_nm,
+            "render",
+            progress,
+        )?;
+        Surface::laid(py, &read, yarn, Some((user, options)))
+    }
+
+    /// A table of the caller's: as it is (no `pattern` nor `weft_fraction`: the BRDF it was
+    /// built for, dyed by `weft_color`), or as the yarn of the weave the keys give.
+    fn on_table(py: Python<'_>, table: Arc<woven::table::Table>, keys: Keys) -> PyResult<Surface> {
+        let names = keys.names();
+        let weave = names.iter().any(|n| n == "pattern" || n == "weft_fraction");
+        let Some(own) = table.material().cloned() else {
+            if names.iter().any(|n| n != "footprint_filter") {
+                return Err(PyValueError::new_err(format!(
+                    "{}: the table records no material, so it takes no key but `footprint_filter`",
+                    names.join(", ")
+                )));
             }
+            // Only `footprint_filter` is given: the library reads it, on any material.
+            let any = woven::material::Material::preset("silk").py_err()?;
+            let filter = SurfaceSpec::from_keys_on(any, &keys)
+                .map_err(key_error)?
+                .footprint_filter;
+            let surface = WovenSurface::whole(Arc::clone(&table), None).py_err()?;
+            return Ok(Surface {
+                inner: Arc::new(surface),
+                material: None,
+                filter,
+            });
         };
+        if !weave {
+            let extra: Vec<&String> = names
+                .iter()
+                .filter(|n| !matches!(n.as_str(), "weft_color" | "footprint_filter"))
+                .collect();
+            if !extra.is_empty() {
+                return Err(PyValueError::new_err(format!(
+                    "{} need a weave: give `pattern` or `weft_fraction` with `table` (a table alone takes `weft_color` and `footprint_filter`)",
+                    extra.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+                )));
+            }
+            let read = SurfaceSpec::from_keys_on(own.clone(), &keys).map_err(key_error)?;
+            let colour = read
+                .given("weft_color")
+                .then_some(read.spec.weft_color)
+                .flatten();
+            let surface = WovenSurface::whole(Arc::clone(&table), colour).py_err()?;
+            return Ok(Surface {
+                inner: Arc::new(surface),
+                material: Some(own),
+                filter: read.footprint_filter,
+            });
+        }
+        if own.weave.is_some() || own.yarn.is_none() {
+            return Err(PyValueError::new_err(
+                "`pattern` or `weft_fraction` with `table` needs the table of a yarn alone (a material without [weave]: Material.yarn_family())",
+            ));
+        }
+        let read = SurfaceSpec::from_keys_on(own, &keys).map_err(key_error)?;
+        Surface::laid(py, &read, table, None)
+    }
+
+    /// The surface `read` describes on its yarn's table; `tables`: the cache the table came
+    /// from and its grid (None: a table of the caller's own, whose crowned table and relief
+    /// ratio are built for this surface alone, never stored where another table's would be).
+    fn laid(
+        py: Python<'_>,
+        read: &KeyedSurface,
+        yarn: Arc<woven::table::Table>,
+        tables: Option<(UserTables, TableOptions)>,
+    ) -> PyResult<Surface> {
+        let spec = &read.spec;
         let base = Arc::clone(&yarn);
-        let surface = WovenSurface::new(&spec, yarn).py_err()?;
+        let surface = WovenSurface::new(spec, yarn).py_err()?;
         let yarn_material = spec.table_material();
-        // A table of the caller's own: its crowned table and the relief's ratio are built from
-        // it for this surface alone, never stored where another table's would be.
-        let tables = match user {
-            Some(user) => Some(user),
+        let tables = match tables {
+            Some(t) => Some(t),
             None if surface.resolves_relief() => {
-                let model = py.detach(|| yarn_material.build(wavelength_nm)).py_err()?;
-                let options = woven::table::TableOptions::for_render(&model);
+                let model = py
+                    .detach(|| yarn_material.build(read.wavelength_nm))
+                    .py_err()?;
+                let options = TableOptions::for_render(&model);
                 let mut session = UserTables::session();
                 session
                     .tables
-                    .insert(&yarn_material, wavelength_nm, &options, base);
+                    .insert(&yarn_material, read.wavelength_nm, &options, base);
                 Some((session, options))
             }
             None => None,
@@ -351,15 +293,46 @@ impl Surface {
                 &mut user,
                 surface,
                 &yarn_material,
-                wavelength_nm,
+                read.wavelength_nm,
                 &options,
             )?,
             None => surface,
         };
         Ok(Surface {
             inner: Arc::new(surface),
-            material: Some(spec.material),
+            material: Some(spec.material.clone()),
+            filter: read.footprint_filter,
         })
+    }
+
+    /// The footprint a call passes, as the surface takes it: none with `footprint_filter` off.
+    fn footprint<'a, 'py>(
+        &self,
+        footprint: Option<&'a Bound<'py, PyAny>>,
+    ) -> Option<&'a Bound<'py, PyAny>> {
+        footprint.filter(|_| self.filter)
+    }
+}
+
+#[pymethods]
+impl Surface {
+    #[new]
+    #[pyo3(signature = (material = None, *, table = None, progress = None, **keys))]
+    fn new(
+        py: Python<'_>,
+        material: Option<&Bound<'_, PyAny>>,
+        table: Option<&Bound<'_, Table>>,
+        progress: Option<&Bound<'_, PyAny>>,
+        keys: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Surface> {
+        let keys = keys_of(keys)?;
+        match (material.filter(|m| !m.is_none()), table) {
+            (Some(m), None) => Surface::of_material(py, m, keys, progress),
+            (None, Some(t)) => Surface::on_table(py, Arc::clone(&t.get().inner), keys),
+            _ => Err(PyValueError::new_err(
+                "give exactly one of `material` and `table`",
+            )),
+        }
     }
 
     /// f(wi, wo) per channel, sr⁻¹ without the cosine: (N, 3). `weft_color` and `warp_color`
@@ -377,7 +350,7 @@ impl Surface {
         weft_color: Option<&Bound<'py, PyAny>>,
         warp_color: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let points = Points::extract(uv, footprint, weft_color, warp_color)?;
+        let points = Points::extract(uv, self.footprint(footprint), weft_color, warp_color)?;
         let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
         let n = points.rows(&[("wi", wi.n), ("wo", wo.n)])?;
         let s = &*self.inner;
@@ -398,7 +371,7 @@ impl Surface {
         mode: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mode = mode_arg(mode)?;
-        let points = Points::extract(uv, footprint, None, None)?;
+        let points = Points::extract(uv, self.footprint(footprint), None, None)?;
         let (wi, wo) = (Dirs::extract(wi, "wi")?, Dirs::extract(wo, "wo")?);
         let n = points.rows(&[("wi", wi.n), ("wo", wo.n)])?;
         let s = &*self.inner;
@@ -429,7 +402,7 @@ impl Surface {
         warp_color: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let mode = mode_arg(mode)?;
-        let points = Points::extract(uv, footprint, weft_color, warp_color)?;
+        let points = Points::extract(uv, self.footprint(footprint), weft_color, warp_color)?;
         let (known, uc, u) = (
             Dirs::extract(known, "known")?,
             Numbers::extract_checked(uc, "uc", UNIFORMS)?,
@@ -467,7 +440,7 @@ impl Surface {
         uv: &Bound<'py, PyAny>,
         footprint: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        let points = Points::extract(uv, footprint, None, None)?;
+        let points = Points::extract(uv, self.footprint(footprint), None, None)?;
         let n = points.rows(&[])?;
         let s = &*self.inner;
         let out = map_batch::<{ 4 * MAX_LOBES }, _>(py, n, |i| {
@@ -495,16 +468,7 @@ impl Surface {
     fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = &*self.inner;
         let d = PyDict::new(py);
-        let kind = if s.is_flat() {
-            "flat"
-        } else if s.pattern().is_some() {
-            "pattern"
-        } else if s.weft_fraction() == 1.0 && s.macro_lobes().lobes().len() == 1 {
-            "whole"
-        } else {
-            "macro"
-        };
-        d.set_item("kind", kind)?;
+        d.set_item("kind", s.kind().name())?;
         d.set_item("detail", s.detail().name())?;
         d.set_item("yarns_per_unit", s.yarns_per_unit().to_vec())?;
         d.set_item("u_max", s.u_max())?;
@@ -571,6 +535,22 @@ impl Surface {
     }
 
     /// Whether the surface reads footprints (only patterns filter).
+    /// Why a JIT variant of the Mitsuba plugin hands this surface to the library lane by lane
+    /// (the library's rule, `WovenSurface::route`), or None where it traces it in Dr.Jit.
+    #[getter]
+    fn route(&self) -> Option<String> {
+        match self.inner.route() {
+            Route::Traced => None,
+            Route::Library(why) => Some(why.to_string()),
+        }
+    }
+
+    /// `footprint_filter`: whether calls' footprints filter the weave (off: they are ignored).
+    #[getter]
+    fn footprint_filter(&self) -> bool {
+        self.filter
+    }
+
     #[getter]
     fn uses_footprint(&self) -> bool {
         self.inner.uses_footprint()

@@ -163,9 +163,9 @@ def test_fibre_level_points_lie_across_their_yarn(yarn):
 
 
 def test_surface_keys_are_the_librarys_table_and_name_surfaces_keywords(yarn):
-    """`woven.SURFACE_KEYS` is the library's table of a woven surface's keys; every keyword of
-    `woven.Surface` that sets the surface is one of them, and a key left out takes the
-    library's default: 40 cells per unit, as in `woven render` scenes and the plugin."""
+    """`woven.SURFACE_KEYS` is the library's table of a woven surface's keys; `woven.Surface`
+    takes them as keywords (beside its material, table and progress), and a key left out takes
+    the library's default: 40 cells per unit, as in `woven render` scenes and the plugin."""
     import inspect
 
     keys = woven.SURFACE_KEYS
@@ -176,14 +176,13 @@ def test_surface_keys_are_the_librarys_table_and_name_surfaces_keywords(yarn):
     names = [k["name"] for k in keys]
     assert len(set(names)) == len(names)
     by_name = {k["name"]: k for k in keys}
-    # The keywords that are not surface keys: the table in place of a material, and the
-    # progress callback of the table's build.
-    front_end_only = {"table", "progress"}
+    # The keywords: the material (the key `material`, also a woven.Material), the table in its
+    # place, the progress of the table's build, and every other key through **keys, which the
+    # library reads (an unknown one is refused by name: test_keys_are_read_by_the_library_...).
     params = inspect.signature(woven.Surface).parameters
-    keywords = set(params) - {"self"}
-    assert keywords - front_end_only <= set(names), keywords - front_end_only - set(names)
-    # Every key but the renderer's footprint_filter (woven.Surface takes footprints per call).
-    assert set(names) - keywords == {"footprint_filter"}
+    assert {n for n, p in params.items() if p.kind != p.VAR_KEYWORD} == {
+        "material", "table", "progress"}
+    assert [p.kind for p in params.values()].count(inspect.Parameter.VAR_KEYWORD) == 1
     assert by_name["yarns_per_unit"]["default"] == "40"
     assert by_name["detail"]["default"] == '"auto"'
     assert "0.95" in by_name["gap"]["valid"] and "80" in by_name["u_max_deg"]["valid"]
@@ -195,3 +194,56 @@ def test_surface_keys_are_the_librarys_table_and_name_surfaces_keywords(yarn):
     assert list(lay["yarns_per_unit"]) == [40.0, 40.0]
     assert lay["yarns_per_unit"][0] == float(by_name["yarns_per_unit"]["default"])
     assert lay["detail"] == "auto" and lay["gap"] == 0.0
+
+
+def test_keys_are_read_by_the_library_in_every_form_it_takes(yarn):
+    """woven.Surface hands its keyword arguments to the library's one reader of a surface's keys
+    (SurfaceSpec::from_keys): a pattern as a name or as its 0/1 matrix is the same surface; a pair
+    as a tuple, a NumPy array or a string "a, b"; NumPy scalars as numbers; an unknown key is
+    refused by name with the list of keys; a value of a type no key takes raises TypeError."""
+    uv = np.array([[0.01, 0.02], [0.3, 0.7], [0.55, 0.15]])
+    rng = np.random.default_rng(7)
+    wi, wo = random_dirs(rng, 3), random_dirs(rng, 3)
+    named = woven.Surface(table=yarn, pattern="twill-2/1", yarns_per_unit=(6, 4), detail="yarns")
+    cells = np.asarray(named.layout()["cells"]).tolist()
+    for pattern, ypu in [(cells, np.array([6.0, 4.0])), ("twill-2/1", "6, 4")]:
+        other = woven.Surface(table=yarn, pattern=pattern, yarns_per_unit=ypu,
+                              detail="yarns", gap=np.float32(0.0))
+        np.testing.assert_array_equal(other.eval(uv, wi, wo), named.eval(uv, wi, wo))
+    with pytest.raises(ValueError, match="colour.*`footprint_filter`"):
+        woven.Surface(table=yarn, pattern="plain", colour=[1, 0, 0])
+    with pytest.raises(ValueError, match=r"pattern\[0\]\[1\]"):
+        woven.Surface(table=yarn, pattern=[[1, 2], [0, 1]])
+    with pytest.raises(TypeError, match="gap"):
+        woven.Surface(table=yarn, pattern="plain", gap=object())
+
+
+def test_footprint_filter_off_ignores_the_calls_footprints(yarn):
+    """`footprint_filter = False`: the footprints a call passes are ignored, as `woven render`
+    with its integrator's filter off; on (the default), a footprint of many cells blends to the
+    macro BRDF."""
+    kw = dict(table=yarn, pattern="satin-5", yarns_per_unit=40, detail="yarns")
+    on, off = woven.Surface(**kw), woven.Surface(**kw, footprint_filter=False)
+    assert on.footprint_filter and not off.footprint_filter
+    rng = np.random.default_rng(3)
+    n = 200
+    uv = rng.uniform(0, 1, (n, 2))
+    wi, wo = random_dirs(rng, n), random_dirs(rng, n)
+    wide = np.tile([1.0, 0.0, 0.0, 1.0], (n, 1))  # 40 cells a pixel
+    np.testing.assert_array_equal(off.eval(uv, wi, wo, wide), on.eval(uv, wi, wo))
+    assert not np.allclose(on.eval(uv, wi, wo, wide), on.eval(uv, wi, wo))
+
+
+def test_the_library_decides_which_surfaces_jit_variants_trace(yarn):
+    """Surface.route: None where Mitsuba's JIT variants trace the surface in Dr.Jit, else the
+    reason the library answers lane by lane. Shaped floats go to the library on a weft fraction
+    as on a pattern (a JIT variant used to raise for the weft fraction)."""
+    assert woven.Surface(table=yarn, pattern="plain", detail="yarns").route is None
+    assert woven.Surface(table=yarn, weft_fraction=0.4, u_max_deg=20).route is None
+    assert "relief" in woven.Surface(table=yarn, pattern="plain").route
+    uneven = woven.Surface(table=yarn, pattern="plain", detail="cloth", irregularity=0.2)
+    assert "irregularity" in uneven.route
+    for weave in ({"pattern": "satin-5"}, {"weft_fraction": 0.2}):
+        s = woven.Surface(woven.Material.preset("satin-charmeuse"), detail="yarns",
+                          progress=False, **weave)
+        assert "float_crest" in s.route, (weave, s.route)

@@ -25,8 +25,9 @@ use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 use std::sync::Arc;
 use tokio::sync::Semaphore;
+use woven::keys::KeyValue;
 use woven::material::Material;
-use woven::weave::{Pattern, MAX_THREADS};
+use woven::weave::{Pattern, PatternSpec};
 use woven::Model;
 
 /// The largest request body, bytes: room for a CSV of [`data::MAX_ROWS`] rows or a WIF draft.
@@ -348,46 +349,23 @@ async fn material_info(body: Result<Bytes, BytesRejection>) -> ApiResult<Json<Va
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PatternRequest {
-    pattern: Value,
+    pattern: KeyValue,
 }
 
-/// `POST /api/pattern`: a named weave or a 0/1 matrix, as its matrix and `γ`.
+/// `POST /api/pattern`: a named weave or a 0/1 matrix (the library's reader of a pattern value,
+/// `PatternSpec`), as its matrix and `γ`. A `{ wif = … }` would read a file on the server:
+/// drafts come through `/api/wif`.
 async fn pattern(body: Result<Bytes, BytesRejection>) -> ApiResult<Json<PatternView>> {
     let req: PatternRequest = parse(body)?;
-    let p = match &req.pattern {
-        Value::String(name) => Pattern::from_name(name)?,
-        Value::Array(rows) => {
-            if rows.len() > MAX_THREADS {
-                return Err(ApiError::invalid(
-                    "weave.pattern",
-                    format!("{} rows", rows.len()),
-                    format!("at most {MAX_THREADS} rows"),
-                ));
-            }
-            let m: Vec<Vec<u8>> = serde_json::from_value(req.pattern.clone()).map_err(|_| {
-                ApiError::invalid(
-                    "weave.pattern",
-                    material::short(&req.pattern),
-                    "a matrix of 0 and 1",
-                )
-            })?;
-            if m.iter().flatten().any(|&c| c > 1) {
-                return Err(ApiError::invalid(
-                    "weave.pattern",
-                    material::short(&req.pattern),
-                    "a matrix of 0 and 1",
-                ));
-            }
-            Pattern::from_matrix(m)?
-        }
-        other => {
-            return Err(ApiError::invalid(
-                "weave.pattern",
-                material::short(other),
-                "a pattern name or a 0/1 matrix",
-            ))
-        }
-    };
+    let spec = PatternSpec::from_value(&req.pattern, "weave.pattern")?;
+    if let PatternSpec::Wif(_) = spec {
+        return Err(ApiError::invalid(
+            "weave.pattern",
+            req.pattern.to_string(),
+            "a pattern name or a 0/1 matrix (upload a WIF draft to /api/wif for its matrix)",
+        ));
+    }
+    let p = spec.pattern(std::path::Path::to_path_buf)?;
     Ok(Json(PatternView::of(&p)))
 }
 

@@ -3,9 +3,10 @@
 //! validation, so that every range and every message is the library's.
 
 use crate::error::{ApiError, ApiResult};
+use serde::Deserialize;
 use serde_json::Value;
 use woven::material::Material;
-use woven::weave::Pattern;
+use woven::weave::{Pattern, PatternSpec};
 
 /// Where errors say the material came from.
 const ORIGIN: &str = "<explorer>";
@@ -26,10 +27,8 @@ pub fn from_json(value: &Value) -> ApiResult<Material> {
     }
     // A `{ wif = "file" }` pattern would have the library read a file on the server: the page
     // uploads drafts through `/api/wif` and sends their matrix instead.
-    if value
-        .pointer("/weave/pattern")
-        .is_some_and(Value::is_object)
-    {
+    let pattern = value.pointer("/weave/pattern");
+    if pattern.is_some_and(|p| matches!(PatternSpec::deserialize(p), Ok(PatternSpec::Wif(_)))) {
         return Err(ApiError::invalid(
             "weave.pattern",
             short(&value["weave"]["pattern"]),

@@ -265,7 +265,7 @@ async fn out_of_range_values_name_the_field_the_value_and_the_range() {
         (
             "/api/pattern",
             json!({"pattern": [[1, 2], [0, 1]]}),
-            "weave.pattern",
+            "weave.pattern[0][1]",
         ),
         ("/api/pattern", json!({"pattern": 7}), "weave.pattern"),
     ] {

@@ -1,7 +1,7 @@
 """Type stubs of the native module ``woven._woven`` (re-exported by ``woven``)."""
 
 import os
-from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -245,7 +245,7 @@ class Surface:
         material: Union["Material", str, PathLike, None] = None,
         *,
         table: Optional["Table"] = None,
-        pattern: Optional[str] = None,
+        pattern: Union[str, Sequence[Sequence[int]], Dict[str, str], None] = None,
         weft_fraction: Optional[float] = None,
         yarns_per_unit: Union[float, Tuple[float, float], None] = None,
         weft_color: Optional[ArrayLike] = None,
@@ -256,6 +256,7 @@ class Surface:
         irregularity: Union[float, Tuple[float, float], None] = None,
         irregularity_length: Optional[float] = None,
         wavelength_nm: Optional[float] = None,
+        footprint_filter: Optional[bool] = None,
         progress: Any = None,
     ) -> None: ...
     def eval(
@@ -298,6 +299,10 @@ class Surface:
     def material(self) -> Optional["Material"]: ...
     @property
     def uses_footprint(self) -> bool: ...
+    @property
+    def footprint_filter(self) -> bool: ...
+    @property
+    def route(self) -> Optional[str]: ...
 
 
 class Bsdf:

@@ -4,12 +4,12 @@
 
 use super::parse::{
     line_of, RawCamera, RawCloth, RawFilm, RawInset, RawIntegrator, RawLight, RawMaterial,
-    RawPattern, RawScene, RawShape, RawWif, RawWoven, RawYarns,
+    RawScene, RawShape,
 };
 use super::{
     CameraSpec, Film, InsetSpec, IntegratorSettings, LightDesc, MaterialDesc, MeshSource,
-    SceneDescription, ShapeDesc, Strategy, MAX_EXPOSURE, MAX_FILM_SIDE, MAX_GAP, MAX_SPP,
-    MAX_U_MAX_DEG, SAMPLING_WEIGHT_RANGE,
+    SceneDescription, ShapeDesc, Strategy, MAX_EXPOSURE, MAX_FILM_SIDE, MAX_SPP,
+    SAMPLING_WEIGHT_RANGE,
 };
 use crate::color::Rgb;
 use crate::rng::SamplerKind;
@@ -23,10 +23,10 @@ use std::path::Path;
 use toml::Spanned;
 use woven::baseline::{Distribution, RoughPlastic, RoughPlasticParams, Sheen, SheenParams};
 use woven::fsutil::check_regular;
-use woven::material::{Material, PatternSpec, Weave, MAX_FILE_BYTES};
+use woven::keys::{KeySource, Keys};
+use woven::material::MAX_FILE_BYTES;
 use woven::microcylinder::Microcylinder;
-use woven::surface::{Detail, Irregularity, SurfaceKey};
-use woven::weave::{Pattern, MAX_WIF_BYTES};
+use woven::surface::SurfaceSpec;
 use woven::Vec3;
 
 /// Checks a parsed file (`text`, named `origin` in messages; relative paths resolve against
@@ -444,153 +444,41 @@ fn materials(
     Ok(materials)
 }
 
-/// A `type = "woven"` material at `key`: its model material (a preset's name or a file), the
-/// pattern, yarn density, colours, tilt and gaps.
-fn woven(c: &Checker, key: &str, at: usize, raw: RawWoven) -> Result<WovenSpec> {
-    let RawWoven {
-        material,
-        pattern,
-        yarns_per_unit,
-        weft_color,
-        warp_color,
-        u_max_deg,
-        gap,
-        detail,
-        irregularity,
-        irregularity_length,
-    } = raw;
-    let mkey = format!("{key}.material");
-    let path = c.base.join(&material);
-    let a_file = path.exists() || material.contains('/') || material.ends_with(".toml");
-    let mut woven = if Material::preset_toml(&material).is_some() || !a_file {
-        // A preset, or a mistyped one: the library's message lists the presets.
-        Material::preset(&material)
-    } else {
-        // A regular file only: the library's reader also takes a stream (a pipe), which a
-        // scene never means and which could block the render forever.
-        check_regular(&path, MAX_FILE_BYTES, "a material file")
-            .and_then(|_| Material::from_path(&path))
-    }
-    .map_err(|e| c.err(&mkey, at, format!("`{material}`: {e}")))?;
-    if let Some(p) = pattern {
-        let pkey = format!("{key}.pattern");
-        let (spec, pat) = match p {
-            RawPattern::Name(n) => (PatternSpec::Name(n.clone()), Pattern::from_name(&n)),
-            RawPattern::Matrix(m) => (PatternSpec::Matrix(m.clone()), Pattern::from_matrix(m)),
-            RawPattern::Wif(RawWif { wif }) => {
-                let path = c.base.join(&wif);
-                (
-                    PatternSpec::Wif(path.clone()),
-                    check_regular(&path, MAX_WIF_BYTES, "a WIF file")
-                        .and_then(|_| Pattern::from_wif_path(&path)),
-                )
-            }
+/// A `type = "woven"` material at `key`: the library reads its keys
+/// ([`SurfaceSpec::from_keys`], whose `material` and `pattern = { wif = … }` files resolve
+/// against the scene's folder); the scene keeps what is its own: where an error points, and the
+/// two keys that belong to another table or that `woven render` does not take.
+fn woven(c: &Checker, key: &str, at: usize, raw: toml::Table) -> Result<WovenSpec> {
+    let keys = Keys::from(raw).in_folder(c.base);
+    let read = SurfaceSpec::from_keys(&keys).map_err(|e| {
+        let message = match (&e.error, keys.get("material")) {
+            // A material file's own error names the file: say which material it was.
+            (woven::Error::InvalidParameter { .. }, _) | (_, None) => e.to_string(),
+            (error, Some(m)) if e.key == "material" => format!("{m}: {error}"),
+            _ => e.to_string(),
         };
-        let pattern = pat.map_err(|e| c.err(&pkey, at, e.to_string()))?;
-        woven.weave = Some(Weave::Pattern { spec, pattern });
-        woven
-            .validate()
-            .map_err(|e| c.err(&pkey, at, e.to_string()))?;
-    }
-    // The material's own tilt (`[yarn] u_max_deg`) unless the scene gives one.
-    let u_max_deg = u_max_deg.unwrap_or_else(|| woven.yarn.map_or(0.0, |y| y.u_max.to_degrees()));
-    if !(u_max_deg.is_finite() && (0.0..=MAX_U_MAX_DEG).contains(&u_max_deg)) {
-        return Err(c.err(
-            &format!("{key}.u_max_deg"),
-            at,
-            format!("{u_max_deg}: expected {}", valid("u_max_deg")),
-        ));
-    }
-    if !(gap.is_finite() && (0.0..=MAX_GAP).contains(&gap)) {
-        return Err(c.err(
-            &format!("{key}.gap"),
-            at,
-            format!("{gap}: expected {}", valid("gap")),
-        ));
-    }
-    if woven.yarn.is_none() && (u_max_deg > 0.0 || gap > 0.0) {
-        let k = if gap > 0.0 { "gap" } else { "u_max_deg" };
-        return Err(c.err(
-            &format!("{key}.{k}"),
-            at,
-            format!(
-                "`{material}` is a flat fiber surface (no [yarn]): it has no yarns to tilt or space; remove `{k}`"
-            ),
-        ));
-    }
-    let color = |k: &str, v: Option<[f64; 3]>| -> Result<Option<Rgb>> {
-        v.map(|v| c.rgb(&format!("{key}.{k}"), at, v, Some(1.0)))
-            .transpose()
-    };
-    let detail = match detail {
-        None => Detail::default(),
-        Some(d) => Detail::from_name(&d).map_err(|_| {
-            c.err(
-                &format!("{key}.detail"),
-                at,
-                format!("{d:?}: expected {}", valid("detail")),
-            )
-        })?,
-    };
-    let irregularity = irregularity_of(c, key, at, &woven, irregularity, irregularity_length)?;
-    let dye = woven.dye;
-    Ok(WovenSpec {
-        detail,
-        material: woven,
-        yarns_per_unit: {
-            let ykey = format!("{key}.yarns_per_unit");
-            let [nu, nv] = match yarns_per_unit {
-                RawYarns::Same(n) => [n, n],
-                RawYarns::PerAxis(p) => p,
-            };
-            [c.positive(&ykey, at, nu)?, c.positive(&ykey, at, nv)?]
-        },
-        // A scene's colour overrides the material's own `[dye]`.
-        weft_color: color("weft_color", weft_color)?.or(dye.weft),
-        warp_color: color("warp_color", warp_color)?.or(dye.warp),
-        u_max: u_max_deg.to_radians(),
-        gap,
-        irregularity,
-    })
-}
-
-/// What a woven material's key `name` takes, as the library states it
-/// ([`SurfaceKey::valid`]).
-fn valid(name: &str) -> String {
-    SurfaceKey::named(name)
-        .expect("one of the library's surface keys")
-        .valid()
-}
-
-/// A woven material's `irregularity` and `irregularity_length` at `key` (the library's
-/// defaults where not given), checked by the library: both in range, and a pattern to vary
-/// ([`Irregularity::validate_for`]).
-fn irregularity_of(
-    c: &Checker,
-    key: &str,
-    at: usize,
-    material: &Material,
-    spread: Option<RawYarns>,
-    length: Option<f64>,
-) -> Result<Irregularity> {
-    let d = Irregularity::default();
-    let irregularity = Irregularity {
-        spread: match spread {
-            None => d.spread,
-            Some(RawYarns::Same(s)) => [s, s],
-            Some(RawYarns::PerAxis(p)) => p,
-        },
-        length: length.unwrap_or(d.length),
-    };
-    irregularity.validate_for(material).map_err(|e| {
-        // The library names the parameter as the scene does.
-        let name = match &e {
-            woven::Error::InvalidParameter { name, .. } => name.as_str(),
-            _ => "irregularity",
-        };
-        c.err(&format!("{key}.{name}"), at, e.to_string())
+        c.err(&format!("{key}.{}", e.key), at, message)
     })?;
-    Ok(irregularity)
+    let wavelength = format!(
+        "left out: `woven render` builds every table at {} nm",
+        crate::woven_material::WAVELENGTH_NM
+    );
+    for (name, instead) in [
+        (
+            "footprint_filter",
+            "a key of [integrator] in scenes (footprint_filter = false there)",
+        ),
+        ("wavelength_nm", wavelength.as_str()),
+    ] {
+        if read.given(name) {
+            return Err(c.err(
+                &format!("{key}.{name}"),
+                at,
+                format!("not a material key here: {instead}"),
+            ));
+        }
+    }
+    Ok(read.spec)
 }
 
 /// A `type = "microcylinder"` material at `key`: a preset's name or a file beside the scene.

@@ -335,7 +335,9 @@ pub(super) enum RawMaterial {
     Diffuse {
         reflectance: [f64; 3],
     },
-    Woven(RawWoven),
+    /// A woven surface: its keys, which the library reads
+    /// ([`SurfaceSpec::from_keys`](woven::surface::SurfaceSpec::from_keys)).
+    Woven(toml::Table),
     /// A microcylinder fabric: a preset's name or a file.
     Microcylinder {
         material: String,
@@ -355,117 +357,6 @@ pub(super) enum RawMaterial {
         sheen_color: Option<[f64; 3]>,
         roughness: Option<f64>,
     },
-}
-
-/// A `type = "woven"` material.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawWoven {
-    pub(super) material: String,
-    pub(super) pattern: Option<RawPattern>,
-    #[serde(default = "default_yarns")]
-    pub(super) yarns_per_unit: RawYarns,
-    pub(super) weft_color: Option<[f64; 3]>,
-    pub(super) warp_color: Option<[f64; 3]>,
-    pub(super) u_max_deg: Option<f64>,
-    #[serde(default)]
-    pub(super) gap: f64,
-    pub(super) detail: Option<String>,
-    pub(super) irregularity: Option<RawYarns>,
-    pub(super) irregularity_length: Option<f64>,
-}
-
-fn default_yarns() -> RawYarns {
-    RawYarns::Same(woven::surface::DEFAULT_YARNS_PER_UNIT)
-}
-
-/// `yarns_per_unit` and `irregularity`: one number for both families, or `[weft, warp]`. Read
-/// by hand, not as an untagged enum: serde's untagged enums lose the value's place (TOML then
-/// blames the whole table) and say only that no variant matched.
-pub(super) enum RawYarns {
-    Same(f64),
-    PerAxis([f64; 2]),
-}
-
-impl<'de> Deserialize<'de> for RawYarns {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        struct Visitor;
-        impl<'de> serde::de::Visitor<'de> for Visitor {
-            type Value = RawYarns;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a number, or [weft, warp]: a list of two numbers")
-            }
-            fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<RawYarns, E> {
-                Ok(RawYarns::Same(v))
-            }
-            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<RawYarns, E> {
-                Ok(RawYarns::Same(v as f64))
-            }
-            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<RawYarns, E> {
-                Ok(RawYarns::Same(v as f64))
-            }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(
-                self,
-                mut seq: A,
-            ) -> std::result::Result<RawYarns, A::Error> {
-                let mut pair = [0.0; 2];
-                for (k, slot) in pair.iter_mut().enumerate() {
-                    *slot = seq
-                        .next_element()?
-                        .ok_or_else(|| serde::de::Error::invalid_length(k, &self))?;
-                }
-                if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
-                    return Err(serde::de::Error::invalid_length(3, &self));
-                }
-                Ok(RawYarns::PerAxis(pair))
-            }
-        }
-        d.deserialize_any(Visitor)
-    }
-}
-
-/// A woven material's `pattern`: a name, rows of 0 and 1, or `{ wif = "FILE" }`. Read by hand
-/// for the reasons [`RawYarns`] is.
-pub(super) enum RawPattern {
-    Name(String),
-    Matrix(Vec<Vec<u8>>),
-    Wif(RawWif),
-}
-
-impl<'de> Deserialize<'de> for RawPattern {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        struct Visitor;
-        impl<'de> serde::de::Visitor<'de> for Visitor {
-            type Value = RawPattern;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a pattern's name, its rows of 0 and 1, or { wif = \"FILE\" }")
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<RawPattern, E> {
-                Ok(RawPattern::Name(v.to_string()))
-            }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(
-                self,
-                seq: A,
-            ) -> std::result::Result<RawPattern, A::Error> {
-                Deserialize::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
-                    .map(RawPattern::Matrix)
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(
-                self,
-                map: A,
-            ) -> std::result::Result<RawPattern, A::Error> {
-                Deserialize::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(RawPattern::Wif)
-            }
-        }
-        d.deserialize_any(Visitor)
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct RawWif {
-    pub(super) wif: String,
 }
 
 /// The 1-based line of byte `offset` in `text`.
