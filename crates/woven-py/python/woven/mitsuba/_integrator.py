@@ -1,0 +1,143 @@
+"""``woven_path``: Mitsuba 3's ``path`` estimator that hands the camera ray's footprint to the
+first surface it meets, so that a woven BSDF's ``detail = "auto"`` and its footprint filter work
+as in ``woven render``.
+
+Mitsuba's ``path`` integrator drops a camera ray's differentials before it traces it, so a BSDF
+never learns how much of the surface a pixel covers (``si.duv_dx``, ``si.duv_dy`` stay zero). This
+integrator is the same estimator — emitters hit with multiple importance sampling against the
+BSDF's draw, next-event estimation with MIS, Russian roulette from ``rr_depth`` on, at most
+``max_depth`` vertices — written in Dr.Jit, with one difference: at the first vertex it computes
+the uv partials from the camera ray's differentials (``si.compute_uv_partials``), scaled back to a
+whole pixel's step as ``woven render``'s footprint is (Mitsuba scales a camera ray's
+differentials by 1/√spp). Later vertices have none, as in ``woven render``.
+
+Keys: ``max_depth`` (default 6, -1 for no limit, as ``path``'s) and ``rr_depth`` (default 5).
+``hide_emitters`` is ``path``'s.
+"""
+
+from __future__ import annotations
+
+
+def _integrator_class(mi):
+    """The ``woven_path`` integrator class for the current variant."""
+    import drjit as dr
+
+    jit = dr.is_jit_v(mi.Float)
+
+    def mis(a, b):
+        """The power heuristic (β = 2) weight of a draw with density ``a`` against ``b``."""
+        a2 = dr.square(a)
+        return dr.detach(dr.select(a > 0, a2 / (a2 + dr.square(b)), 0.0))
+
+    class WovenPath(mi.SamplingIntegrator):
+        """Mitsuba's ``path`` estimator, with the camera ray's footprint at the first vertex
+        (see the module ``woven.mitsuba._integrator``)."""
+
+        def __init__(self, props):
+            mi.SamplingIntegrator.__init__(self, props)
+            max_depth = props.get("max_depth", 6)
+            if max_depth < -1:
+                raise ValueError(
+                    f"woven_path: `max_depth` = {max_depth}: expected -1 (no limit) or >= 0"
+                )
+            self.max_depth = 0xFFFFFFFF if max_depth == -1 else int(max_depth)
+            rr_depth = props.get("rr_depth", 5)
+            if rr_depth <= 0:
+                raise ValueError(f"woven_path: `rr_depth` = {rr_depth}: expected > 0")
+            self.rr_depth = int(rr_depth)
+
+        def sample(self, scene, sampler, ray, medium=None, active=True):
+            ctx = mi.BSDFContext()
+            active = mi.Bool(active)
+            # The camera ray's footprint, over a whole pixel (render() scaled it by 1/√spp).
+            # (A copy: RayDifferential3f(ray) keeps the ray and drops its differentials.)
+            camera = mi.RayDifferential3f(ray)
+            camera.o_x, camera.o_y, camera.d_x, camera.d_y = ray.o_x, ray.o_y, ray.d_x, ray.d_y
+            camera.has_differentials = ray.has_differentials
+            camera.scale_differential(dr.sqrt(mi.Float(sampler.sample_count())))
+            ray = camera
+            si = scene.ray_intersect(
+                mi.Ray3f(ray), ray_flags=mi.RayFlags.All, coherent=True, active=active
+            )
+            si.compute_uv_partials(ray)
+            # The sampler is loop state too: its draws advance from one vertex to the next.
+            state = (
+                sampler,
+                si,
+                mi.Spectrum(0.0),  # L
+                mi.Spectrum(1.0),  # beta, the path's throughput
+                mi.Float(1.0),  # eta, the relative index of refraction so far
+                mi.UInt32(0),  # depth
+                dr.zeros(mi.SurfaceInteraction3f),  # the previous vertex
+                mi.Float(1.0),  # the density that drew this vertex's direction
+                mi.Bool(True),  # whether that draw was a delta (no MIS for emitters)
+                active,
+            )
+            state = dr.while_loop(
+                state,
+                lambda *s: s[-1],
+                lambda *s: self._vertex(scene, ctx, *s),
+                labels=("sampler", "si", "L", "beta", "eta", "depth", "prev", "prev_pdf", "prev_delta", "active"),
+                label="woven_path",
+            )
+            return state[2], mi.Bool(True), []
+
+        def _vertex(
+            self, scene, ctx, sampler, si, L, beta, eta, depth, prev, prev_pdf, prev_delta, active
+        ):
+            """One vertex of the path: what it sees of an emitter, its light by next-event
+            estimation, and the draw of the next direction."""
+            # An emitter hit (the environment where the ray left the scene), weighed against
+            # the light sampling that could have drawn it.
+            ds = mi.DirectionSample3f(scene, si=si, ref=prev)
+            em_pdf = dr.select(
+                prev_delta, 0.0, scene.pdf_emitter_direction(prev, ds, active & ~prev_delta)
+            )
+            visible = active & ~((depth == 0) & self.hide_emitters)
+            if jit or ds.emitter is not None:
+                emitted = ds.emitter.eval(si, visible)
+                L = L + dr.select(visible, beta * mis(prev_pdf, em_pdf) * emitted, 0.0)
+            go_on = active & si.is_valid() & (depth + 1 < self.max_depth)
+            if not jit and not go_on:
+                # A scalar variant's path has ended (its one lane has no BSDF to ask).
+                return sampler, si, L, beta, eta, depth, prev, prev_pdf, prev_delta, mi.Bool(False)
+            bsdf = si.bsdf()
+
+            # Next-event estimation.
+            smooth = mi.has_flag(bsdf.flags(), mi.BSDFFlags.Smooth)
+            em_active = go_on & smooth
+            ds, em_weight = scene.sample_emitter_direction(
+                si, sampler.next_2d(), True, em_active
+            )
+            em_active &= ds.pdf != 0.0
+            wo = si.to_local(ds.d)
+            f, bsdf_pdf = bsdf.eval_pdf(ctx, si, wo, em_active)
+            em_mis = dr.select(ds.delta, 1.0, mis(ds.pdf, bsdf_pdf))
+            L = L + dr.select(em_active, beta * em_mis * f * em_weight, 0.0)
+
+            # The next direction, drawn by the BSDF.
+            bs, weight = bsdf.sample(ctx, si, sampler.next_1d(), sampler.next_2d(), go_on)
+            beta = beta * dr.select(go_on, weight, 0.0)
+            eta = eta * dr.select(go_on, bs.eta, 1.0)
+            prev = si
+            prev_pdf = bs.pdf
+            prev_delta = mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta)
+            ray = si.spawn_ray(si.to_world(bs.wo))
+            depth = dr.select(active, depth + 1, depth)
+
+            # Russian roulette, as Mitsuba's `path`: on the throughput with η² folded in.
+            rr_prob = dr.minimum(dr.max(beta) * dr.square(eta), 0.95)
+            roulette = depth >= self.rr_depth
+            beta = dr.select(roulette, beta * dr.rcp(rr_prob), beta)
+            survives = ~roulette | (sampler.next_1d() < rr_prob)
+            active = go_on & survives & (dr.max(beta) != 0.0)
+            si = scene.ray_intersect(ray, ray_flags=mi.RayFlags.All, coherent=False, active=active)
+            return sampler, si, L, beta, eta, depth, prev, prev_pdf, prev_delta, active
+
+        def aov_names(self):
+            return []
+
+        def to_string(self):
+            return f"WovenPath[max_depth={self.max_depth}, rr_depth={self.rr_depth}]"
+
+    return WovenPath
