@@ -17,6 +17,7 @@ mod fit;
 mod keys;
 mod material;
 mod render;
+mod scene;
 mod signals;
 mod surface;
 mod table;
@@ -67,6 +68,7 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<bsdf::RoughPlastic>()?;
     m.add_function(wrap_pyfunction!(material::presets, m)?)?;
     m.add_function(wrap_pyfunction!(bsdf::open_material, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::portable_scene, m)?)?;
     m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
     m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;
     m.add_function(wrap_pyfunction!(material::to_spherical, m)?)?;

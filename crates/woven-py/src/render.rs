@@ -10,7 +10,7 @@ use woven_render::scene::{Scene, SceneDescription};
 use woven_render::woven_material::{TableCache, TableGrid};
 
 /// A renderer error as the Python exception that fits it, with the library's message.
-fn render_err(err: woven_render::Error) -> PyErr {
+pub(crate) fn render_err(err: woven_render::Error) -> PyErr {
     match &err {
         woven_render::Error::Io { .. } | woven_render::Error::Woven(woven::Error::Io { .. }) => {
             PyOSError::new_err(crate::message(&err))

@@ -373,3 +373,8 @@ class RoughPlastic(Bsdf):
         specular_reflectance: Optional[ArrayLike] = None,
         nonlinear: bool = False,
     ) -> None: ...
+
+def portable_scene(
+    scene: str, *, width: Optional[int] = None, height: Optional[int] = None
+) -> Dict[str, Any]:
+    """A ``woven render`` scene (or ``"showcase"``) as plain data for another renderer."""

@@ -11,6 +11,7 @@
 mod build;
 mod check;
 mod parse;
+pub mod portable;
 
 use crate::accel::Accel;
 use crate::camera::Camera;

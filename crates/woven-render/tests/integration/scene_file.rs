@@ -650,18 +650,10 @@ fn type_errors_name_the_key_and_what_it_takes() {
         (
             "pattern = 3",
             "material.m.pattern",
-            "a pattern's name (\"plain\", \"twill-2/1\", \"satin-5\", \"sateen-5\"), its rows of 0 and 1",
+            "a name (\"plain\", \"twill-2/1\", \"satin-5\", \"sateen-5\"), a 0/1 matrix of rows",
         ),
-        (
-            "pattern = [[1, 2]]",
-            "material.m.pattern[0][1]",
-            "0 or 1",
-        ),
-        (
-            "colour = [1, 0, 0]",
-            "material.m.colour",
-            "unknown field",
-        ),
+        ("pattern = [[1, 2]]", "material.m.pattern[0][1]", "0 or 1"),
+        ("colour = [1, 0, 0]", "material.m.colour", "unknown field"),
         (
             "pattern = { wiff = \"a.wif\" }",
             "material.m.pattern.wiff",

@@ -34,7 +34,7 @@ use super::{
 use crate::color::Rgb;
 use crate::error::Error;
 use crate::fiber::{DEFAULT_WAVELENGTH_NM, WAVELENGTH_RANGE_NM};
-use crate::keys::{shown_key, KeySource, KeyValue};
+use crate::keys::{shown_key, KeySource, KeyValue, Keys};
 use crate::material::{Material, Weave};
 use crate::weave::PatternSpec;
 use std::path::Path;
@@ -557,5 +557,36 @@ fn colour(k: &SurfaceKey, v: &KeyValue) -> Result<Rgb, Error> {
     match c.as_deref() {
         Some(&[r, g, b]) if [r, g, b].iter().all(|x| (0.0..=1.0).contains(x)) => Ok(Rgb([r, g, b])),
         _ => Err(k.refuse(v)),
+    }
+}
+
+impl SurfaceSpec {
+    /// The keys that read back as this surface on its material
+    /// ([`from_keys_on`](Self::from_keys_on)`(self.material, …)`): every key but `material`,
+    /// `pattern` and `weft_fraction` (the material carries its weave), and `u_max_deg` only
+    /// where the tilt is not the material's own. What a front end hands another renderer (the
+    /// Mitsuba plugin's scene translation) so that it reads the same surface.
+    pub fn to_keys(&self) -> Keys {
+        use KeyValue::{Float, List, Text};
+        let pair = |p: [f64; 2]| List(vec![Float(p[0]), Float(p[1])]);
+        let rgb = |c: Rgb| List(c.0.iter().map(|&x| Float(x)).collect());
+        let mut keys = Keys::new()
+            .with("yarns_per_unit", pair(self.yarns_per_unit))
+            .with("gap", Float(self.gap))
+            .with("detail", Text(self.detail.name().into()))
+            .with("irregularity", pair(self.irregularity.spread))
+            .with("irregularity_length", Float(self.irregularity.length));
+        for (name, colour) in [
+            ("weft_color", self.weft_color),
+            ("warp_color", self.warp_color),
+        ] {
+            if let Some(c) = colour {
+                keys.insert(name, rgb(c));
+            }
+        }
+        if self.u_max != SurfaceSpec::new(self.material.clone()).u_max {
+            keys.insert("u_max_deg", Float(self.u_max.to_degrees()));
+        }
+        keys
     }
 }

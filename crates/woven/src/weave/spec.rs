@@ -21,8 +21,8 @@ pub enum PatternSpec {
 }
 
 /// The forms a pattern value takes, as an error states them.
-pub const PATTERN_FORMS: &str = "a pattern's name (\"plain\", \"twill-2/1\", \"satin-5\", \
-     \"sateen-5\"), its rows of 0 and 1 like [[1, 0], [0, 1]], or { wif = \"FILE\" }";
+pub const PATTERN_FORMS: &str = "a name (\"plain\", \"twill-2/1\", \"satin-5\", \
+     \"sateen-5\"), a 0/1 matrix of rows like [[1, 0], [0, 1]], or { wif = \"FILE\" }";
 
 impl PatternSpec {
     /// Reads a pattern value; errors name `name` (`weave.pattern` in material files, `pattern`

@@ -355,3 +355,34 @@ fn from_keys_refuses_what_the_keys_cannot_be_together() {
     let e = refused(Keys::new().with("gap", KeyValue::Float(0.1)));
     assert_eq!(e.key, "material", "{e}");
 }
+
+/// `to_keys` is `from_keys_on`'s inverse: a surface with every key set, and one with none, read
+/// back from its keys on its material as the same surface.
+#[test]
+fn to_keys_reads_back_as_the_same_surface() {
+    let keys = Keys::new()
+        .with("material", KeyValue::Text("satin-charmeuse".into()))
+        .with("pattern", KeyValue::Text("twill-3/1".into()))
+        .with("yarns_per_unit", KeyValue::Text("80, 120".into()))
+        .with("weft_color", samples("weft_color").0)
+        .with("gap", KeyValue::Float(0.1))
+        .with("detail", KeyValue::Text("yarns".into()))
+        .with("irregularity", KeyValue::Float(0.3))
+        .with("irregularity_length", KeyValue::Float(40.0))
+        .with("u_max_deg", KeyValue::Float(17.0));
+    let plain = Keys::new().with("material", KeyValue::Text("satin-charmeuse".into()));
+    for source in [keys, plain] {
+        let spec = SurfaceSpec::from_keys(&source).unwrap().spec;
+        let again = SurfaceSpec::from_keys_on(spec.material.clone(), &spec.to_keys()).unwrap();
+        let (a, b) = (format!("{spec:?}"), format!("{:?}", again.spec));
+        if a != b {
+            // Degrees and back may round the tilt by an ulp; nothing else may change.
+            assert!((spec.u_max - again.spec.u_max).abs() < 1e-15, "{a}\n{b}");
+            let again = SurfaceSpec {
+                u_max: spec.u_max,
+                ..again.spec
+            };
+            assert_eq!(a, format!("{again:?}"));
+        }
+    }
+}
