@@ -69,6 +69,7 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material::presets, m)?)?;
     m.add_function(wrap_pyfunction!(bsdf::open_material, m)?)?;
     m.add_function(wrap_pyfunction!(scene::portable_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
     m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;
     m.add_function(wrap_pyfunction!(material::to_spherical, m)?)?;

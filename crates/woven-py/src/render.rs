@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 use woven_render::render::{render_with_progress, RenderOptions};
-use woven_render::scene::{Scene, SceneDescription};
+use woven_render::scene::{FilmOverrides, Scene, SceneDescription};
 use woven_render::woven_material::{TableCache, TableGrid};
 
 /// A renderer error as the Python exception that fits it, with the library's message.
@@ -54,11 +54,13 @@ pub fn render<'py>(
         }
     }
     let image = crate::signals::until_interrupted(py, |stop| -> woven_render::Result<_> {
-        let mut desc = SceneDescription::from_path(&scene)?;
-        desc.film.spp = spp.unwrap_or(desc.film.spp);
-        desc.film.width = width.unwrap_or(desc.film.width);
-        desc.film.height = height.unwrap_or(desc.film.height);
-        desc.film.seed = seed.unwrap_or(desc.film.seed);
+        let desc = SceneDescription::from_path(&scene)?.with_overrides(&FilmOverrides {
+            spp,
+            width,
+            height,
+            seed,
+            ..FilmOverrides::default()
+        })?;
         let tables = match woven::table::cache::Cache::user() {
             Ok(disk) if cache => TableCache::with_disk(disk),
             _ => TableCache::default(),

@@ -3,7 +3,7 @@
 //! `scene::portable`).
 
 use crate::render::render_err;
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -11,7 +11,7 @@ use std::path::Path;
 use woven::keys::{KeySource, KeyValue, Keys};
 use woven::Vec3;
 use woven_render::scene::portable::{Portable, PortableGeometry, PortableLight, PortableMaterial};
-use woven_render::scene::{CameraSpec, SceneDescription, SHOWCASE_SCENE};
+use woven_render::scene::{CameraSpec, FilmOverrides, SceneDescription, SHOWCASE_SCENE};
 
 /// The scene file `scene` (or `"showcase"`, the built-in one), checked as `woven render` checks
 /// it, as plain data for another renderer: a dict with `camera` (`origin`, `target`, `up`,
@@ -35,23 +35,19 @@ pub fn portable_scene<'py>(
     width: Option<usize>,
     height: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    for (name, value) in [("width", width), ("height", height)] {
-        if value == Some(0) {
-            return Err(PyValueError::new_err(format!(
-                "`{name}` = 0: expected at least 1"
-            )));
-        }
-    }
     let portable = if scene == "showcase" {
         SceneDescription::from_str(SHOWCASE_SCENE, "<showcase>", Path::new("."))
     } else {
         SceneDescription::from_path(Path::new(scene))
     }
-    .and_then(|mut d| {
-        d.film.width = width.unwrap_or(d.film.width);
-        d.film.height = height.unwrap_or(d.film.height);
-        d.portable()
+    .and_then(|d| {
+        d.with_overrides(&FilmOverrides {
+            width,
+            height,
+            ..FilmOverrides::default()
+        })
     })
+    .and_then(|d| d.portable())
     .map_err(render_err)?;
     to_dict(py, &portable)
 }
@@ -255,4 +251,64 @@ fn light<'py>(py: Python<'py>, l: &PortableLight) -> PyResult<Bound<'py, PyDict>
         }
     }
     Ok(d)
+}
+
+/// Writes `pixels` (height, width, 3; linear RGB, row 0 at the top) to `path` as `woven render`
+/// writes its images: a `.exr` linear float32, a `.png` sRGB through the display (exposure and
+/// tone map) of the scene file `scene` (or `"showcase"`; None: the default display), written to
+/// a temporary file and renamed into place. Raises ValueError for another extension or pixels
+/// that are not finite, OSError when the file cannot be written.
+#[pyfunction]
+#[pyo3(signature = (pixels, path, scene = None))]
+pub fn write_image(
+    pixels: numpy::PyReadonlyArray3<'_, f64>,
+    path: std::path::PathBuf,
+    scene: Option<&str>,
+) -> PyResult<()> {
+    let shape = pixels.shape();
+    let (height, width) = (shape[0], shape[1]);
+    if shape[2] != 3 || width == 0 || height == 0 {
+        return Err(PyValueError::new_err(format!(
+            "`pixels` has shape {shape:?}: expected (height, width, 3), not empty"
+        )));
+    }
+    let values = pixels.as_array();
+    if values.iter().any(|x| !x.is_finite()) {
+        return Err(PyValueError::new_err(
+            "`pixels` holds a value that is not finite: expected finite linear RGB",
+        ));
+    }
+    let display = match scene {
+        None => woven_render::tonemap::Display::default(),
+        Some("showcase") => {
+            SceneDescription::from_str(SHOWCASE_SCENE, "<showcase>", Path::new("."))
+                .map_err(render_err)?
+                .film
+                .display
+        }
+        Some(file) => {
+            SceneDescription::from_path(Path::new(file))
+                .map_err(render_err)?
+                .film
+                .display
+        }
+    };
+    let rgb: Vec<woven_render::Rgb> = values
+        .as_standard_layout()
+        .as_slice()
+        .expect("a standard layout")
+        .chunks_exact(3)
+        .map(|c| woven_render::Rgb([c[0], c[1], c[2]]))
+        .collect();
+    let image = woven_render::render::Image {
+        width,
+        height,
+        std_error: vec![woven_render::Rgb::BLACK; rgb.len()],
+        pixels: rgb,
+        invalid_samples: 0,
+        spp: 0,
+        seconds: 0.0,
+        noisy: None,
+    };
+    woven_render::output::write(&image, &path, &display).map_err(render_err)
 }

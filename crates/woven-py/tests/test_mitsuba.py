@@ -807,8 +807,13 @@ def test_shaped_floats_go_to_the_library_in_jit(llvm, cache):
         woven.mitsuba.JitLayout(surface, mi)
     bsdf = mi.load_dict({"type": "woven", "material": "satin-charmeuse", "detail": "yarns"})
     assert bsdf.library
-    rng = np.random.default_rng(3)
-    n = 500
+    assert_eval_is_the_librarys(bsdf, surface, seed=3, n=500)
+
+
+def assert_eval_is_the_librarys(bsdf, surface, seed, n):
+    """The plugin's `eval` (without its cosine) is `surface.eval` on `n` random points and
+    directions, to float32's precision."""
+    rng = np.random.default_rng(seed)
     uv, view, light = f32(rng.random((n, 2))), f32(random_dirs(rng, n)), f32(random_dirs(rng, n))
     si = dr.zeros(mi.SurfaceInteraction3f, n)
     si.uv, si.wi = mi.Point2f(*uv.T), mi.Vector3f(*view.T)
@@ -1078,10 +1083,4 @@ def test_a_weft_fraction_with_shaped_floats_renders_in_jit(llvm, cache):
                             progress=False)
     bsdf = mi.load_dict({"type": "woven", "material": "satin-charmeuse", "weft_fraction": 0.2})
     assert bsdf.library and "float_crest" in bsdf.why
-    rng = np.random.default_rng(4)
-    n = 300
-    uv, view, light = f32(rng.random((n, 2))), f32(random_dirs(rng, n)), f32(random_dirs(rng, n))
-    si = dr.zeros(mi.SurfaceInteraction3f, n)
-    si.uv, si.wi = mi.Point2f(*uv.T), mi.Vector3f(*view.T)
-    got = np3(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(*light.T))) / light[:, 2:3]
-    np.testing.assert_allclose(got, surface.eval(uv, light, view), rtol=1e-5, atol=1e-7)
+    assert_eval_is_the_librarys(bsdf, surface, seed=4, n=300)

@@ -12,7 +12,9 @@ use woven::table::TableOptions;
 use woven_render::output::{self, Format};
 use woven_render::render::{render_with_progress, RenderOptions};
 use woven_render::rng::SamplerKind;
-use woven_render::scene::{Scene, SceneDescription, EXAMPLE_SCENE, MAX_EXPOSURE, SHOWCASE_SCENE};
+use woven_render::scene::{
+    FilmOverrides, Scene, SceneDescription, EXAMPLE_SCENE, MAX_FILM_SIDE, MAX_SPP, SHOWCASE_SCENE,
+};
 use woven_render::tonemap::ToneMap;
 use woven_render::woven_material::{TableCache, TableGrid};
 
@@ -54,15 +56,15 @@ pub struct RenderArgs {
     pub output: Option<PathBuf>,
 
     /// Samples per pixel (overrides [film] spp).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_SPP as i64))]
     pub spp: Option<u32>,
 
     /// Image width in pixels (overrides [film] width).
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
+    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=MAX_FILM_SIDE as i64))]
     pub width: Option<u32>,
 
     /// Image height in pixels (overrides [film] height).
-    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=16384))]
+    #[arg(long, value_name = "PIXELS", value_parser = clap::value_parser!(u32).range(1..=MAX_FILM_SIDE as i64))]
     pub height: Option<u32>,
 
     /// Random seed (overrides [film] seed); a seed always renders the same image.
@@ -116,7 +118,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         return Ok(());
     }
     let start = Instant::now();
-    let (mut desc, stem) = match &args.scene {
+    let (desc, stem) = match &args.scene {
         Some(path) => (
             SceneDescription::from_path(path)?,
             path.file_stem()
@@ -127,35 +129,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             "showcase".to_string(),
         ),
     };
-    if let Some(n) = args.spp {
-        desc.film.spp = n as usize;
-    }
-    if let Some(w) = args.width {
-        desc.film.width = w as usize;
-    }
-    if let Some(h) = args.height {
-        desc.film.height = h as usize;
-    }
-    if let Some(s) = args.seed {
-        desc.film.seed = s;
-    }
-    if let Some(kind) = args.sampler {
-        desc.film.sampler = kind;
-    }
-    if let Some(ev) = args.exposure {
-        if ev.abs() > MAX_EXPOSURE {
-            bail!(
-                "--exposure {ev}: expected a number of stops in [-{MAX_EXPOSURE}, {MAX_EXPOSURE}]"
-            );
-        }
-        desc.film.display.exposure = ev;
-    }
-    if let Some(map) = args.tonemap {
-        desc.film.display.tonemap = map;
-    }
-    if args.denoise || args.no_denoise {
-        desc.film.denoise = args.denoise;
-    }
+    let desc = desc.with_overrides(&FilmOverrides {
+        spp: args.spp.map(|n| n as usize),
+        width: args.width.map(|w| w as usize),
+        height: args.height.map(|h| h as usize),
+        seed: args.seed,
+        sampler: args.sampler,
+        exposure: args.exposure,
+        tonemap: args.tonemap,
+        denoise: (args.denoise || args.no_denoise).then_some(args.denoise),
+    })?;
     let outputs: Vec<PathBuf> = match &args.output {
         Some(path) => {
             if Format::of(path).is_none() {

@@ -60,6 +60,7 @@ from ._woven import (
     set_threads,
     threads,
     to_spherical,
+    write_image,
 )
 from . import batch  # noqa: E402  (stdlib only; dask is imported when asked for)
 
@@ -84,6 +85,7 @@ __all__ = [
     "comparison_table",
     "render",
     "portable_scene",
+    "write_image",
     "set_threads",
     "threads",
     "batch",

@@ -378,3 +378,6 @@ def portable_scene(
     scene: str, *, width: Optional[int] = None, height: Optional[int] = None
 ) -> Dict[str, Any]:
     """A ``woven render`` scene (or ``"showcase"``) as plain data for another renderer."""
+
+def write_image(pixels: ArrayLike, path: PathLike, scene: Optional[str] = None) -> None:
+    """Writes linear RGB (height, width, 3) as ``woven render`` writes its images."""

@@ -10,8 +10,11 @@
 
 mod build;
 mod check;
+mod overrides;
 mod parse;
 pub mod portable;
+
+pub use overrides::FilmOverrides;
 
 use crate::accel::Accel;
 use crate::camera::Camera;

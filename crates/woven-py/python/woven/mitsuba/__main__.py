@@ -1,13 +1,12 @@
 """``python -m woven.mitsuba SCENE.toml -o OUT.exr``: a ``woven render`` scene rendered by
 Mitsuba 3 with the woven plugin (``showcase`` for the built-in one). The scene is translated by
-``woven.mitsuba._scene`` (the library reads and checks it); the output is the linear image
-(EXR), or sRGB (PNG, Mitsuba's conversion, clipped) for a name ending in ``.png``, written to a
-temporary file and renamed into place."""
+``woven.mitsuba._scene`` (the library reads and checks it); the output is written as ``woven
+render`` writes its own (``woven.write_image``): the linear image (EXR), or sRGB through the
+scene's display (PNG), to a temporary file renamed into place."""
 
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import tempfile
 import time
@@ -51,21 +50,26 @@ def main(argv=None):
     woven.mitsuba.register()
     size = (args.width, args.height) if args.width else None
     t0 = time.time()
+
+    def progress(view, done, total):
+        print(f"\r  {view}: {done}/{total} spp", end="\n" if done == total else "",
+              file=sys.stderr, flush=True)
+
     with tempfile.TemporaryDirectory() as folder:
         try:
-            image = render(args.scene, mi, folder, spp=args.spp, size=size, seed=args.seed)
+            image = render(args.scene, mi, folder, spp=args.spp, size=size, seed=args.seed,
+                           progress=progress)
         except (ValueError, OSError) as e:
             print(f"error: {e}", file=sys.stderr)
             return 1
     seconds = time.time() - t0
     out = args.output
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp{out.suffix}")
-    bitmap = mi.Bitmap(image.astype("float32"))
-    if out.suffix.lower() == ".png":
-        bitmap = bitmap.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.UInt8, srgb_gamma=True)
-    bitmap.write(str(tmp))
-    os.replace(tmp, out)
+    try:
+        woven.write_image(image, out, scene=args.scene)
+    except (ValueError, OSError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 1
     h, w = image.shape[:2]
     print(f"rendered {args.scene} at {w}x{h} in {seconds:.1f} s ({args.variant}); wrote {out}")
     return 0

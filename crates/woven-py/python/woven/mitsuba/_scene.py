@@ -179,24 +179,51 @@ def _rectangle_to_world(r, mi):
     return mi.ScalarTransform4f(m.tolist())
 
 
-def render(scene, mi, folder, spp=None, size=None, seed=None):
+def render(scene, mi, folder, spp=None, size=None, seed=None, progress=None):
     """Renders ``scene`` (a path, or ``"showcase"``) in the current Mitsuba variant at its own
     size, spp and seed, or ``size`` (width, height), ``spp`` and ``seed``: the linear image
     (height, width, 3), the inset pasted in with its white border, as ``woven render
-    --no-denoise`` renders it (the library places the inset on the film, resized or not)."""
+    --no-denoise`` renders it (the library places the inset on the film, resized or not).
+    ``progress(view, done, total)`` is told each pass's end (view "main" or "inset")."""
     width, height = size or (None, None)
     portable = woven.portable_scene(str(scene), width=width, height=height)
-    image = _render_view(portable, mi, folder, spp, seed)
+    tell = progress or (lambda view, done, total: None)
+    image = _render_view(portable, mi, folder, spp, seed, lambda *a: tell("main", *a))
     inset = portable["inset"]
     if inset is not None:
         (x0, y0), (w, h) = inset["inner"]
-        close = _render_view(portable, mi, folder, spp, seed, inset["camera"], (w, h))
+        close = _render_view(
+            portable, mi, folder, spp, seed, lambda *a: tell("inset", *a), inset["camera"], (w, h)
+        )
         (ox, oy), (ow, oh) = inset["outer"]
         image[oy:oy + oh, ox:ox + ow] = 1.0
         image[y0:y0 + h, x0:x0 + w] = close
     return image
 
 
-def _render_view(portable, mi, folder, spp, seed, camera=None, size=None):
-    d = scene_dict(portable, mi, folder, camera=camera, size=size, spp=spp, seed=seed)
-    return np.array(mi.render(mi.load_dict(d)), dtype=np.float64)[..., :3]
+# The most samples one Mitsuba render takes at once: the plugin's library lanes run in Dr.Jit's
+# evaluated mode, which holds every lane's state (about 0.7 kB a sample: the 960 × 540 showcase
+# at 64 spp in one pass needs over 23 GB). Larger renders go in passes of whole samples per pixel,
+# each with its own seed, averaged: an independent sampler's estimate of all of them.
+LANE_BUDGET = 1 << 21
+
+
+def _render_view(portable, mi, folder, spp, seed, tell, camera=None, size=None):
+    width, height = size or portable["size"]
+    total = int(spp or portable["spp"])
+    seed = int(portable["seed"] if seed is None else seed)
+    per_pass = max(1, min(total, LANE_BUDGET // (width * height)))
+    passes = -(-total // per_pass)
+    d = scene_dict(portable, mi, folder, camera=camera, size=size, spp=per_pass, seed=seed)
+    scene = mi.load_dict(d)
+    image, done = 0.0, 0
+    for k in range(passes):
+        n = min(per_pass, total - done)
+        # One pass keeps the scene's own seed, so that a render within the budget is Mitsuba's
+        # render of that seed; later passes take seeds of their own.
+        pass_seed = seed if k == 0 else seed * 1_000_003 + k
+        pixels = np.array(mi.render(scene, spp=n, seed=pass_seed), dtype=np.float64)[..., :3]
+        image = image + pixels * n
+        done += n
+        tell(done, total)
+    return image / total
