@@ -84,6 +84,7 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PARALLEL_MIN", arrays::PARALLEL_MIN)?;
     m.add("BATCH_BUDGET_BYTES", arrays::BATCH_BUDGET_BYTES)?;
     m.add("UNIT_TOLERANCE", arrays::UNIT_TOLERANCE)?;
+    m.add("MAX_DYED_DIFFUSE", woven::table::Albedos::MAX_DYED_DIFFUSE)?;
     m.add("SURFACE_KEYS", surface_keys(m.py())?)?;
     Ok(())
 }

@@ -34,6 +34,7 @@ renders a scene file as ``woven render``; ``woven.batch`` runs many fits, tables
 
 from ._woven import (
     BATCH_BUDGET_BYTES,
+    MAX_DYED_DIFFUSE,
     PARALLEL_MIN,
     SURFACE_KEYS,
     UNIT_TOLERANCE,
@@ -92,6 +93,7 @@ __all__ = [
     "PARALLEL_MIN",
     "BATCH_BUDGET_BYTES",
     "UNIT_TOLERANCE",
+    "MAX_DYED_DIFFUSE",
     "SURFACE_KEYS",
     "__version__",
 ]

@@ -15,6 +15,7 @@ BATCH_BUDGET_BYTES: int
 """The most memory one array of a call may take, bytes (2 GiB): an argument's float64 copy or a
 result. A larger batch raises MemoryError, naming the budget and the excess, before allocating."""
 UNIT_TOLERANCE: float
+MAX_DYED_DIFFUSE: float
 """How far from 1 a direction's length may be (1e-6); a direction off by more raises ValueError
 naming the argument, the row and its length."""
 SURFACE_KEYS: Tuple[Dict[str, str], ...]

@@ -59,13 +59,13 @@ impl WovenSurface {
 }
 
 /// `albedos` with the body scaled by `factor` (an [`Irregularity`](super::Irregularity)'s), each kept in its range
-/// (`ρ0 ≤ 0.999`, `ρ ≤ 1`, as [`Albedos::dyed`] keeps them).
+/// (`ρ0 ≤` [`Albedos::MAX_DYED_DIFFUSE`], `ρ ≤ 1`, as [`Albedos::dyed`] keeps them).
 fn scaled(albedos: [Albedos; 3], factor: f64) -> [Albedos; 3] {
     if factor == 1.0 {
         return albedos;
     }
     albedos.map(|a| Albedos {
-        diffuse: (a.diffuse * factor).min(0.999),
+        diffuse: (a.diffuse * factor).min(Albedos::MAX_DYED_DIFFUSE),
         interreflection: (a.interreflection * factor).min(1.0),
     })
 }

@@ -226,6 +226,11 @@ pub struct Albedos {
 }
 
 impl Albedos {
+    /// The largest dyed body albedo `ρ0` (a dye of 1 is kept just below it: the fiber BRDF's
+    /// body term is defined for `ρ0 < 1`). The one home of the cap the dye rule
+    /// ([`dyed`](Self::dyed)), irregular dyeing and the Mitsuba plugin's traced dyes apply.
+    pub const MAX_DYED_DIFFUSE: f64 = 0.999;
+
     /// The material's own albedos.
     pub fn of(material: &Material) -> Albedos {
         Albedos {
@@ -248,7 +253,7 @@ impl Albedos {
         };
         c.0.map(|c| if c.is_nan() { 0.0 } else { c })
             .map(|c| Albedos {
-                diffuse: c.clamp(0.0, 0.999),
+                diffuse: c.clamp(0.0, Albedos::MAX_DYED_DIFFUSE),
                 interreflection: if self.diffuse > 0.0 {
                     (self.interreflection * c / self.diffuse).clamp(0.0, 1.0)
                 } else {

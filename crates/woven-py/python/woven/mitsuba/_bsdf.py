@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+import woven
+
 from ._float import _const
 from ._frames import FLAT, FLOAT, _tilt_from, _tilt_into, _turn, _unturn
 from ._layout import JitLayout
@@ -68,7 +70,7 @@ def _bsdf_class(mi):
             c = c.eval(si, active)
             c = dr.clip(dr.select(dr.isnan(c), 0.0, c), 0.0, 1.0)
             d0, r0 = self.own
-            rho0 = dr.clip(c, 0.0, 0.999)
+            rho0 = dr.clip(c, 0.0, woven.MAX_DYED_DIFFUSE)
             rho = dr.clip(r0 * c / d0, 0.0, 1.0) if d0 > 0 else c * 0.0 + r0
             return rho0, rho
 
