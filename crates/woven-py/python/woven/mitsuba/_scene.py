@@ -71,12 +71,16 @@ def scene_dict(portable, mi, folder, camera=None, size=None, spp=None, seed=None
     return d
 
 
+def _rgb(v):
+    """A colour as Mitsuba's dict writes it."""
+    return {"type": "rgb", "value": [float(x) for x in v]}
+
+
 def _bsdf(name, m, folder):
     """A material's Mitsuba BSDF dict."""
-    rgb = lambda v: {"type": "rgb", "value": [float(x) for x in v]}  # noqa: E731
     kind = m["type"]
     if kind == "diffuse":
-        return {"type": "diffuse", "reflectance": rgb(m["reflectance"])}
+        return {"type": "diffuse", "reflectance": _rgb(m["reflectance"])}
     if kind == "roughplastic":
         return {
             "type": "roughplastic",
@@ -85,15 +89,15 @@ def _bsdf(name, m, folder):
             "int_ior": m["int_ior"],
             "ext_ior": m["ext_ior"],
             "nonlinear": m["nonlinear"],
-            "diffuse_reflectance": rgb(m["diffuse_reflectance"]),
-            "specular_reflectance": rgb(m["specular_reflectance"]),
+            "diffuse_reflectance": _rgb(m["diffuse_reflectance"]),
+            "specular_reflectance": _rgb(m["specular_reflectance"]),
         }
     path = folder / f"material-{_safe(name)}.toml"
     path.write_text(m["material"])
     bsdf = {"type": "woven", "material": str(path)}
     for key, value in m.get("keys", {}).items():
         if key in ("weft_color", "warp_color"):
-            bsdf[key] = rgb(value)
+            bsdf[key] = _rgb(value)
         elif isinstance(value, list):
             # A pair: Mitsuba's properties hold no lists; the library reads "a, b".
             bsdf[key] = ", ".join(repr(float(x)) for x in value)
@@ -138,15 +142,14 @@ def _shape(shape, bsdf, mi):
 
 def _light(light, k, folder, mi):
     """A light's entries of the scene dict (a rectangle light is a shape with an emitter)."""
-    rgb = lambda v: {"type": "rgb", "value": [float(x) for x in v]}  # noqa: E731
     kind = light["type"]
     weight = float(light["sampling_weight"])
     extra = {} if weight == 1.0 else {"sampling_weight": weight}
     if kind == "point":
         return {f"light-{k}": {"type": "point", "position": list(light["position"]),
-                               "intensity": rgb(light["intensity"]), **extra}}
+                               "intensity": _rgb(light["intensity"]), **extra}}
     if kind == "constant":
-        return {f"light-{k}": {"type": "constant", "radiance": rgb(light["radiance"]), **extra}}
+        return {f"light-{k}": {"type": "constant", "radiance": _rgb(light["radiance"]), **extra}}
     if kind in ("map", "map_file"):
         if kind == "map":
             pixels = np.asarray(light["pixels"], dtype=np.float32)
@@ -162,8 +165,8 @@ def _light(light, k, folder, mi):
         return {f"light-{k}": {
             "type": "rectangle",
             "to_world": _rectangle_to_world(light, mi),
-            "bsdf": {"type": "diffuse", "reflectance": rgb([0.0, 0.0, 0.0])},
-            "emitter": {"type": "area", "radiance": rgb(light["radiance"]), **extra},
+            "bsdf": {"type": "diffuse", "reflectance": _rgb([0.0, 0.0, 0.0])},
+            "emitter": {"type": "area", "radiance": _rgb(light["radiance"]), **extra},
         }}
     raise ValueError(f"woven.mitsuba: a light of type {kind!r} (light[{k}]) is not translated")
 
