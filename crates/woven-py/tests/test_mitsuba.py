@@ -318,12 +318,11 @@ def test_plugin_render_agrees_with_woven_render(llvm, cache, cli, tmp_path, ligh
     within noise (their z-scores, from the 8 seeds' spread, have an RMS below 2), and every pixel
     by compare.stats' rule.
 
-    Mitsuba's `path` integrator gives the plugin no footprints, so "auto" shades the yarns on the
-    weave's relief everywhere (the library lane by lane, the rule for no footprint). `woven
+    Mitsuba's `path` integrator gives the plugin no footprints, so "auto" shades the yarns
+    everywhere (the library lane by lane, the rule for no footprint). `woven
     render` knows its camera rays' footprints; the field of view (11.5°, the plane's middle) puts
     them at 0.38–0.46 cells, where "auto" resolves the same level, so the two are one estimator.
-    (At 45°, 1.7 cells, `woven render`'s filter blends toward the ratio-scaled macro lobes: 0.5 %
-    below the resolved relief's mean here, the ratio's table; docs/python.md.)"""
+    (At 45°, 1.7 cells, `woven render`'s filter blends toward the macro BRDF, the yarns' mean.)"""
     scene, d = plane_scene(tmp_path, light)
     scene.path.write_text(scene.path.read_text().replace("fov_deg = 45.0", "fov_deg = 11.5"))
     scene.fov_deg = d["sensor"]["fov"] = 11.5
@@ -1040,7 +1039,7 @@ def test_woven_path_is_paths_estimator(llvm):
 def test_woven_path_agrees_with_woven_render_where_footprints_filter(llvm, cache, cli, tmp_path):
     """plane_scene at its own 45° field of view, where a pixel spans about 1.7 cells: `woven
     render` knows each camera ray's footprint and blends toward the macro BRDF; Mitsuba's `path`
-    gives the plugin none, so "auto" shades the resolved relief everywhere and its pixels part
+    gives the plugin none, so "auto" shades the yarns everywhere and its pixels part
     from `woven render`'s; `woven_path` hands the plugin the first hit's footprint, and the two
     renderers agree (image means within 0.5 %, 8×8-block z RMS below 2, every pixel by
     compare.stats' rule, per-pixel z RMS near 1)."""
@@ -1070,7 +1069,7 @@ def test_woven_path_agrees_with_woven_render_where_footprints_filter(llvm, cache
     # Pixel by pixel (the seeds are fixed): with the footprint the differences are noise (z RMS
     # 0.84 measured); without it each sample meets its own cell and the pixels part from `woven
     # render`'s filtered ones beyond their noise (z RMS 1.61, 99.83 % within), while the means
-    # agree (+0.05 % both: the far level keeps the relief's mean).
+    # agree (+0.05 % both: the far level keeps the yarns' mean).
     assert st["rms_z"] < 1.2, st
     assert means["path"][0]["rms_z"] > 1.3, means["path"][0]
 

@@ -240,7 +240,8 @@ def test_the_library_decides_which_surfaces_jit_variants_trace(yarn):
     as on a pattern (a JIT variant used to raise for the weft fraction)."""
     assert woven.Surface(table=yarn, pattern="plain", detail="yarns").route is None
     assert woven.Surface(table=yarn, weft_fraction=0.4, u_max_deg=20).route is None
-    assert "relief" in woven.Surface(table=yarn, pattern="plain").route
+    assert "fibres" in woven.Surface(table=yarn, pattern="plain").route
+    assert "relief" in woven.Surface(table=yarn, pattern="plain", detail="yarns", relief=True).route
     uneven = woven.Surface(table=yarn, pattern="plain", detail="cloth", irregularity=0.2)
     assert "irregularity" in uneven.route
     for weave in ({"pattern": "satin-5"}, {"weft_fraction": 0.2}):

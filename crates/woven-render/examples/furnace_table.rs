@@ -1,13 +1,14 @@
 //! The white furnace table of docs/render.md ("Levels of detail"): a white-dyed plain weave of
 //! the polyester sateen's yarn, 16 cells across a 4 × 4 plane, seen from `(0, −1, 1)` at 30° in a
 //! uniform sky of radiance 1 (hidden), one bounce, 128 × 128 pixels at 256 independent samples,
-//! at fibre, auto and yarn level, flat and tilted 60° with gaps of 0.3. Prints a Markdown row
+//! at fibre, auto, yarn and cloth level, flat and tilted 60° with gaps of 0.3, without the relief
+//! and with it. Prints a Markdown row
 //! per case: the brightest pixel (its largest channel), the share of pixels above 1.05, the
 //! image's mean (green) and the largest excess over 1 in the pixel's own standard errors. Tables
 //! on a coarse grid (12 × 7 directions, 31 and 61 slopes), as the furnace test renders them
 //! (`a_white_woven_plane_is_nowhere_brighter_than_the_furnace` in
 //! crates/woven-render/tests/integration/furnace.rs, which CI runs at 24 × 24 pixels). About
-//! three and a half minutes on two cores.
+//! six minutes on two cores.
 //!
 //! `cargo run --release -p woven-render --example furnace_table`
 
@@ -41,14 +42,18 @@ fn render_text(text: &str) -> Image {
 }
 
 fn main() {
-    println!("| (detail, tilt °, gap) | brightest | above 1.05 | mean | most above 1 (standard errors) |");
+    println!("| (detail, relief, tilt °, gap) | brightest | above 1.05 | mean | most above 1 (standard errors) |");
     println!("|---|---|---|---|---|");
     for config in [
-        ("fibers", 0.0, 0.0),
-        ("auto", 0.0, 0.0),
-        ("yarns", 0.0, 0.0),
-        ("yarns", 60.0, 0.3),
-        ("fibers", 60.0, 0.3),
+        ("fibers", false, 0.0, 0.0),
+        ("auto", false, 0.0, 0.0),
+        ("yarns", false, 0.0, 0.0),
+        ("cloth", false, 0.0, 0.0),
+        ("yarns", false, 60.0, 0.3),
+        ("fibers", false, 60.0, 0.3),
+        ("fibers", true, 0.0, 0.0),
+        ("auto", true, 0.0, 0.0),
+        ("fibers", true, 60.0, 0.3),
     ] {
         let image = render_text(&white_plane("polyester-sateen", config, 16, 128, 256));
         let (brightest, above, mean, excess, _) = furnace_figures(&image);

@@ -161,20 +161,32 @@ fn a_woven_sphere_in_a_furnace_renders_its_directional_albedo() {
 mod white_plane_scene;
 pub use white_plane_scene::{furnace_figures, white_plane};
 
-/// Renders the white plane of every preset at fibre, auto and yarn level, flat and tilted with
-/// gaps, at 16 cells and at 128 (many yarns, whose drawn slopes average out);
-/// asserts no pixel above 1 by more than its noise and, at 128 cells, the fibre level's mean
-/// within 2 % of the resolved yarn level's (`auto`, far away); prints the figures.
+/// Renders the white plane of every preset at each level, without the relief (fibres, auto,
+/// yarns, cloth) and with it (fibres, auto), flat and tilted with gaps, at 16 cells and at 128
+/// (many yarns, whose drawn slopes average out); asserts no pixel above 1 by more than its
+/// noise and, at 128 cells, the levels' means within 1 % of the cloth level's without the relief
+/// (one macro BRDF: the paper's), the fibres' within 2 % of `auto` far away with it (the
+/// ratio-scaled macro lobes); prints the figures.
 fn white_planes(presets: &[&str], px: usize, spp: usize) {
+    const LEVELS: [(&str, bool); 6] = [
+        ("fibers", false),
+        ("auto", false),
+        ("yarns", false),
+        ("cloth", false),
+        ("fibers", true),
+        ("auto", true),
+    ];
     for preset in presets.iter().copied() {
         for (u_max, gap) in [(0.0, 0.0), (60.0, 0.3)] {
             for cells in [16, 128] {
                 let (mut means, mut noise) = (Vec::new(), Vec::new());
-                for detail in ["fibers", "auto", "yarns"] {
-                    let text = white_plane(preset, (detail, u_max, gap), cells, px, spp);
+                for (detail, relief) in LEVELS {
+                    let text = white_plane(preset, (detail, relief, u_max, gap), cells, px, spp);
                     let image = crate::render_text(&text);
                     let (brightest, above, mean, excess, mean_se) = furnace_figures(&image);
-                    let what = format!("{preset} {detail} u_max {u_max}° gap {gap}, {cells} cells");
+                    let what = format!(
+                        "{preset} {detail} relief {relief} u_max {u_max}° gap {gap}, {cells} cells"
+                    );
                     eprintln!(
                         "white furnace: {what}: brightest {brightest:.3}, above 1.05 {:.1} %, \
                          mean {mean:.4}, most above 1: {excess:.1} standard errors",
@@ -189,27 +201,33 @@ fn white_planes(presets: &[&str], px: usize, spp: usize) {
                     means.push(mean);
                     noise.push(mean_se);
                 }
-                // Far away `auto` is the resolved yarns' cell average (the ratio-scaled macro
-                // lobes): the fibres keep its mean, within 2 % and the two means' noise (3
-                // standard errors of their difference). (The paper's yarns, unshadowed by their
-                // neighbours, are brighter: printed, not held.)
-                if cells == 128 {
-                    let se = noise[0].hypot(noise[1]);
-                    assert!(
-                        (means[0] - means[1]).abs() <= 0.02 * means[1] + 3.0 * se,
-                        "{preset} u_max {u_max}° gap {gap}: fibres' mean {} vs resolved yarns' {} \
-                         (± {se:.4})",
-                        means[0],
-                        means[1]
-                    );
+                if cells < 128 {
+                    continue;
                 }
+                // Within 1 % (2 % on the relief) and the two means' noise (3 standard errors
+                // of their difference).
+                let agree = |a: usize, b: usize, within: f64| {
+                    let se = noise[a].hypot(noise[b]);
+                    assert!(
+                        (means[a] - means[b]).abs() <= within * means[b] + 3.0 * se,
+                        "{preset} u_max {u_max}° gap {gap}: {:?} mean {} vs {:?} {} (± {se:.4})",
+                        LEVELS[a],
+                        means[a],
+                        LEVELS[b],
+                        means[b]
+                    );
+                };
+                for level in 0..3 {
+                    agree(level, 3, 0.01);
+                }
+                agree(4, 5, 0.02);
             }
         }
     }
 }
 
 /// A white woven plane in a furnace is nowhere brighter than the sky, at every level of detail,
-/// with and without tilt and gaps (the sateen); the fibre level keeps the resolved yarn level's
+/// with and without tilt and gaps, with and without the relief (the sateen); the levels keep one
 /// mean. The same plane at 128 × 128 pixels and 256 samples, docs/render.md's table, takes
 /// minutes: `cargo run --release -p woven-render --example furnace_table`.
 #[test]

@@ -145,6 +145,7 @@ fn pattern_cells_average_to_the_macro_brdf() {
             u_max: 0.0,
             gap: 0.0,
             irregularity: Default::default(),
+            relief: false,
         };
         WovenMaterial::build(&spec, &grid, cache, &|| {}, &|_, _| {}).unwrap()
     };
@@ -192,6 +193,7 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
         u_max: 0.0,
         gap: 0.0,
         irregularity: Default::default(),
+        relief: false,
     };
     let mut spec = spec;
     spec.material.weave = Some(Weave::Pattern {
@@ -336,6 +338,7 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
         u_max: 0.0,
         gap: 0.0,
         irregularity: Default::default(),
+        relief: false,
     };
     let m = build_tiny(&spec);
     let own = woven::table::Albedos::of(&plain);
@@ -393,6 +396,7 @@ fn tables_are_kept_on_disk_between_runs() {
         u_max: 0.0,
         gap: 0.0,
         irregularity: Default::default(),
+        relief: false,
     };
     let builds = std::sync::atomic::AtomicUsize::new(0);
     for _ in 0..2 {

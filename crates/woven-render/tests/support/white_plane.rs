@@ -1,13 +1,14 @@
 //! The white furnace's scene and its figures, shared by the furnace test
 //! (`tests/integration/furnace.rs`) and the `furnace_table` example.
 
-/// The white furnace of a woven plane: a white-dyed plain weave of `preset`, `cells` cells
+/// The white furnace of a woven plane: a white-dyed plain weave of `preset` (laid as a relief
+/// where `relief`), `cells` cells
 /// across (16: 4 a unit of length, the close-up of the furnace table in docs/render.md), 4 × 4 units, seen from `(0, −1, 1)` at 30° in a
 /// uniform sky of radiance 1 (hidden), one bounce, `px` × `px` pixels at `spp` independent
 /// samples.
 pub fn white_plane(
     preset: &str,
-    (detail, u_max_deg, gap): (&str, f64, f64),
+    (detail, relief, u_max_deg, gap): (&str, bool, f64, f64),
     cells: usize,
     px: usize,
     spp: usize,
@@ -46,6 +47,7 @@ pub fn white_plane(
         u_max_deg = {u_max_deg}
         gap = {gap}
         detail = "{detail}"
+        relief = {relief}
         "#
     )
 }

@@ -233,6 +233,24 @@ pub const SURFACE_KEYS: &[SurfaceKey] = &[
         },
     },
     SurfaceKey {
+        name: "relief",
+        default: Text::Words("false"),
+        valid: Text::Words("true or false; true needs a pattern"),
+        meaning: Text::Words(
+            "lay the weave as a relief at every level: yarns dip under the yarns they cross and \
+             shadow their neighbours, and the cloth level carries the ratio they average to \
+             (docs/model.md, \"The relief\"). false: the paper's BRDF at every level, the one \
+             `woven eval`, the tables and every fit have",
+        ),
+        update: |s, v, _| {
+            let KeyValue::Bool(on) = v else {
+                return Err(key("relief").refuse(v));
+            };
+            s.spec.relief = *on;
+            Ok(())
+        },
+    },
+    SurfaceKey {
         name: "irregularity",
         default: Text::Made(|| Irregularity::default().spread[0].to_string()),
         valid: Text::Made(|| format!("{}: one number or (weft, warp)", spread_valid())),
@@ -574,6 +592,7 @@ impl SurfaceSpec {
             .with("yarns_per_unit", pair(self.yarns_per_unit))
             .with("gap", Float(self.gap))
             .with("detail", Text(self.detail.name().into()))
+            .with("relief", KeyValue::Bool(self.relief))
             .with("irregularity", pair(self.irregularity.spread))
             .with("irregularity_length", Float(self.irregularity.length));
         for (name, colour) in [

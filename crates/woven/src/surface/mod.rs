@@ -152,7 +152,8 @@ pub struct WovenSurface {
     /// The exact yarn and its draws, where fibres are resolved ([`Detail::Auto`] and
     /// [`Detail::Fibers`] on a pattern).
     fibers: Option<Fibers>,
-    /// The weave's relief, where fibres are resolved: the resolved levels' geometry.
+    /// The weave's relief, where [`SurfaceSpec::relief`] is on (on a pattern): the geometry of
+    /// every level.
     relief: Option<Relief>,
     /// The relief's ratio table ([`WovenSurface::relief_ratio`]), built on first use.
     ratio: std::sync::OnceLock<Arc<ReliefRatio>>,
@@ -242,7 +243,7 @@ impl WovenSurface {
             gap: spec.gap,
             detail: spec.detail,
             irregularity: spec.irregularity,
-            relief: fibers.as_ref().and_then(|_| spec.relief()),
+            relief: spec.relief_geometry(),
             fibers,
             ratio: std::sync::OnceLock::new(),
             crowned: std::sync::OnceLock::new(),

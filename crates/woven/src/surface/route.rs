@@ -44,8 +44,10 @@ pub enum Route {
 /// Why a JIT renderer hands a surface to the library.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LibraryReason {
-    /// `detail` "fibers" or "auto" on a pattern: the weave's relief and its fibres.
+    /// `detail` "fibers" or "auto" on a pattern: the yarns' fibres.
     Resolved(Detail),
+    /// `relief` on a pattern: the weave's relief (ray-marched) at every level.
+    Relief,
     /// Floats shaped by `float_crest` and `float_flank` (their crest and flanks).
     ShapedFloats {
         /// `float_crest`.
@@ -60,11 +62,12 @@ pub enum LibraryReason {
 impl fmt::Display for LibraryReason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            LibraryReason::Resolved(d) => write!(
-                f,
-                "`detail` = {:?} resolves the weave's relief and its fibres",
-                d.name()
-            ),
+            LibraryReason::Resolved(d) => {
+                write!(f, "`detail` = {:?} resolves the yarns' fibres", d.name())
+            }
+            LibraryReason::Relief => {
+                f.write_str("`relief` = true lays the weave's relief, ray-marched at every level")
+            }
             LibraryReason::ShapedFloats { crest, flank } => write!(
                 f,
                 "floats shaped by `float_crest` = {crest} and `float_flank` = {flank}"
@@ -89,7 +92,7 @@ impl WovenSurface {
 
     /// Where a JIT renderer takes this surface's values from: traced where it only gathers and
     /// interpolates (a flat or whole table, the macro BRDF, a pattern at `detail` "yarns" or
-    /// "cloth" with flat or linearly tilted floats), else the library, with the reason. Shaped
+    /// "cloth" with flat or linearly tilted floats and no relief), else the library, with the reason. Shaped
     /// floats go to the library whatever lays them (a pattern or a weft fraction).
     pub fn route(&self) -> Route {
         let (crest, flank) = self.float.shape();
@@ -97,6 +100,9 @@ impl WovenSurface {
             return Route::Library(LibraryReason::ShapedFloats { crest, flank });
         }
         if matches!(self.layout, super::Layout::Pattern { .. }) {
+            if self.relief.is_some() {
+                return Route::Library(LibraryReason::Relief);
+            }
             if matches!(self.detail, Detail::Fibers | Detail::Auto) {
                 return Route::Library(LibraryReason::Resolved(self.detail));
             }

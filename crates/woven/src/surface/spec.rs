@@ -97,6 +97,12 @@ pub struct SurfaceSpec {
     /// How unevenly each yarn is dyed along its length ([`Irregularity`]; by default not at
     /// all). Needs a pattern.
     pub irregularity: Irregularity,
+    /// Whether the weave is a relief ([`relief`](Self::relief)): yarns dip under the yarns they
+    /// cross and shadow their neighbours, at every level (fibres and yarns on the relief, the
+    /// cloth as their ratio-scaled macro lobes, docs/model.md, "The relief"). `false` (the
+    /// default): the paper's BRDF at every level, which `woven eval`, the tables and every fit
+    /// are.
+    pub relief: bool,
 }
 
 impl SurfaceSpec {
@@ -115,6 +121,7 @@ impl SurfaceSpec {
             gap: 0.0,
             detail: Detail::Auto,
             irregularity: Irregularity::default(),
+            relief: false,
         }
     }
 
@@ -136,10 +143,11 @@ impl SurfaceSpec {
     }
 
     /// The relief of the surface's weave ([`Relief`]: its floats' hills and its yarns' round
-    /// crowns, laid on its pattern); `None` without a pattern.
-    pub fn relief(&self) -> Option<Relief> {
+    /// crowns, laid on its pattern); `None` without a pattern, or with
+    /// [`relief`](SurfaceSpec::relief) off.
+    pub fn relief_geometry(&self) -> Option<Relief> {
         match &self.material.weave {
-            Some(Weave::Pattern { pattern, .. }) => Some(Relief::new(
+            Some(Weave::Pattern { pattern, .. }) if self.relief => Some(Relief::new(
                 pattern,
                 self.yarns_per_unit,
                 self.float_profile(),
@@ -153,7 +161,8 @@ impl SurfaceSpec {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first offending one (`yarns_per_unit`,
-    /// `weft_color`, `warp_color`, `u_max`, `gap`, `irregularity`, `irregularity_length`), its
+    /// `weft_color`, `warp_color`, `u_max`, `gap`, `relief`, `irregularity`,
+    /// `irregularity_length`), its
     /// value and the valid range.
     pub fn validate(&self) -> Result<()> {
         let invalid = |name: &str, value: String, expected: &str| {
@@ -207,6 +216,13 @@ impl SurfaceSpec {
                     if name == "gap" { self.gap } else { self.u_max }
                 ),
                 "0: a flat fiber surface (no [yarn]) has no yarns to tilt or space",
+            );
+        }
+        if self.relief && !matches!(self.material.weave, Some(Weave::Pattern { .. })) {
+            return invalid(
+                "relief",
+                "true without a weave pattern".into(),
+                "false, or a material whose weave is a pattern (a relief lies on its cells)",
             );
         }
         self.irregularity.validate_for(&self.material)

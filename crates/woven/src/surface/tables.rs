@@ -12,19 +12,19 @@ use crate::Vec3;
 use std::sync::Arc;
 
 impl WovenSurface {
-    /// Builds now what the resolved levels would build on first use: the crowned yarn table and,
-    /// under `"auto"` (the one level that blends to the macro lobes the ratio scales), the
-    /// relief's ratio table, read from `dir` when it was stored there before (and stored there
-    /// when built). Nothing to do without a relief (`detail` other than `"fibers"` and
-    /// `"auto"`, or no pattern). `note` hears why a stored ratio was not used, or why a built
-    /// one could not be stored (the surface works either way).
+    /// Builds now what a relief's levels would build on first use: the crowned yarn table and,
+    /// at every level but `"fibers"` (which never blends to the macro lobes the ratio scales),
+    /// the relief's ratio table, read from `dir` when it was stored there before (and stored
+    /// there when built). Nothing to do without a relief ([`SurfaceSpec::relief`](super::SurfaceSpec::relief) off, or no
+    /// pattern). `note` hears why a stored ratio was not used, or why a built one could not be
+    /// stored (the surface works either way).
     pub fn prepare(&self, dir: Option<&std::path::Path>, note: &dyn Fn(&str)) {
         self.prepare_tilted(dir, note);
         if self.relief.is_none() {
             return;
         }
         let _ = self.crowned();
-        if self.detail != super::Detail::Auto {
+        if self.detail == super::Detail::Fibers {
             return;
         }
         self.ratio.get_or_init(|| {
@@ -70,8 +70,8 @@ impl WovenSurface {
         Ok(surface)
     }
 
-    /// Whether the surface resolves its weave's relief (`detail` `"fibers"` or `"auto"` on a
-    /// pattern): then it reads a crowned yarn table ([`with_crowned`](Self::with_crowned)) and
+    /// Whether the surface lays its weave's relief ([`SurfaceSpec::relief`](super::SurfaceSpec::relief) on a pattern):
+    /// then it reads a crowned yarn table ([`with_crowned`](Self::with_crowned)) and
     /// the relief's ratio ([`prepare`](Self::prepare)).
     pub fn resolves_relief(&self) -> bool {
         self.relief.is_some()

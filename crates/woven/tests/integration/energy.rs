@@ -185,6 +185,7 @@ fn weft_only_spec(name: &str, detail: Detail) -> SurfaceSpec {
     SurfaceSpec {
         yarns_per_unit: [1.0, 1.0],
         detail,
+        relief: true,
         weft_color: None,
         warp_color: None,
         ..SurfaceSpec::new(material)
@@ -204,7 +205,9 @@ impl ExactResolved {
     pub fn new(name: &str) -> ExactResolved {
         let spec = weft_only_spec(name, Detail::Auto);
         ExactResolved {
-            relief: spec.relief().expect("a weft-only weave has a relief"),
+            relief: spec
+                .relief_geometry()
+                .expect("a weft-only weave has a relief"),
             surface: WovenSurface::new(&spec, yarn_table(name)).unwrap(),
             yarn: crate::surface::exact_yarn(name),
         }

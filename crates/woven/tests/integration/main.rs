@@ -10,6 +10,7 @@ mod export;
 mod fiber;
 mod golden;
 mod grounded;
+mod levels;
 mod masking;
 mod material_files;
 mod microcylinder;

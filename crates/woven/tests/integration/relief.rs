@@ -10,11 +10,13 @@ use woven::surface::{Detail, SurfacePoint, SurfaceSpec, WovenSurface};
 use woven::table::{Table, TableOptions};
 use woven::Vec3;
 
-/// A preset laid in its own weave at one cell a unit, at `detail`, on a table of its yarn.
+/// A preset laid in its own weave as a relief at one cell a unit, at `detail`, on a table of its
+/// yarn.
 pub fn surface(name: &str, detail: Detail, table: &Arc<Table>) -> WovenSurface {
     let spec = SurfaceSpec {
         yarns_per_unit: [1.0, 1.0],
         detail,
+        relief: true,
         ..SurfaceSpec::new(Material::preset(name).unwrap())
     };
     WovenSurface::new(&spec, Arc::clone(table)).unwrap()
@@ -144,10 +146,11 @@ fn the_satins_far_level_follows_its_resolved_yarns_at_and_between_nodes() {
 fn weft_share(name: &str, v: Vec3) -> f64 {
     let spec = SurfaceSpec {
         yarns_per_unit: [1.0, 1.0],
+        relief: true,
         ..SurfaceSpec::new(Material::preset(name).unwrap())
     };
     let (Some(relief), Some(woven::material::Weave::Pattern { pattern, .. })) =
-        (spec.relief(), &spec.material.weave)
+        (spec.relief_geometry(), &spec.material.weave)
     else {
         panic!("{name} has no relief");
     };
@@ -219,6 +222,7 @@ fn the_relief_ratio_is_kept_on_disk() {
         let spec = SurfaceSpec {
             yarns_per_unit: [1.0, 1.0],
             detail: Detail::Auto,
+            relief: true,
             u_max: 25f64.to_radians(),
             ..SurfaceSpec::new(Material::preset(name).unwrap())
         };

@@ -432,12 +432,13 @@ fn yarn_draws_average_to_the_models_integrals() {
     }
 }
 
-/// The preset `name` in its own weave at fibre level, one cell a unit, on the shared table of
+/// The preset `name` in its own weave as a relief at fibre level, one cell a unit, on the shared table of
 /// its yarn.
 fn at_fibre_level(name: &str) -> WovenSurface {
     let spec = SurfaceSpec {
         yarns_per_unit: [1.0, 1.0],
         detail: Detail::Fibers,
+        relief: true,
         ..SurfaceSpec::new(Material::preset(name).unwrap())
     };
     WovenSurface::new(&spec, crate::energy::yarn_table(name)).unwrap()

@@ -233,6 +233,7 @@ fn samples(name: &str) -> (KeyValue, KeyValue) {
         "u_max_deg" => (Integer(30), Float(95.0)),
         "gap" => (Float(0.2), Float(f64::NAN)),
         "detail" => (Text("fibers".into()), Text("threads".into())),
+        "relief" => (Bool(true), Text("yes".into())),
         "irregularity" => (List(vec![Float(0.1), Float(0.4)]), Float(1.5)),
         "irregularity_length" => (Integer(60), Float(0.5)),
         "wavelength_nm" => (Float(450.0), Float(1.0)),
@@ -245,7 +246,7 @@ fn samples(name: &str) -> (KeyValue, KeyValue) {
 fn beside(name: &str) -> Keys {
     let keys = Keys::new().with("material", KeyValue::Text("silk".into()));
     match name {
-        "irregularity" | "irregularity_length" => {
+        "irregularity" | "irregularity_length" | "relief" => {
             keys.with("pattern", KeyValue::Text("plain".into()))
         }
         _ => keys,

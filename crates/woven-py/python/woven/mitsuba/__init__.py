@@ -29,8 +29,8 @@ therefore also registers ``woven_path``: ``path``'s estimator with the camera ra
 (over a whole pixel, as ``woven render``'s) at the first vertex; use it for woven scenes. Where
 the partials are zero (under ``path``, and at every later vertex) the plugin gives the library
 no footprint, and the library's rule for that case holds, as at every later vertex of ``woven
-render``'s paths: no filtering, and ``"auto"`` shades each point at yarn level on the weave's
-relief (docs/render.md).
+render``'s paths: no filtering, and ``"auto"`` shades each point at yarn level
+(docs/render.md).
 
 **Directions.** Mitsuba's ``si.wi`` points toward the viewer (woven's ``wo``) and ``wo`` toward
 the light (woven's ``wi``). ``sample`` draws the light direction for the viewer (the library's
@@ -39,13 +39,13 @@ missing reciprocity is handled exactly: the weight is the true f(wi, wo) cos θ 
 
 **Variants: traced, or the library lane by lane.** Scalar variants call the library's
 ``woven.Surface`` for each ray. JIT variants (``llvm_*``, ``cuda_*``) trace in Dr.Jit what
-Dr.Jit can gather: a surface at ``detail`` "yarns" or "cloth" (and any surface without a
-pattern) is the yarn table's interpolation and sampling (``JitTable``) at the lobes of each lane's
+Dr.Jit can gather: a surface at ``detail`` "yarns" or "cloth" without ``relief`` (and any
+surface without a pattern) is the yarn table's interpolation and sampling (``JitTable``) at the lobes of each lane's
 cell, float and gap (``JitLayout``, from the constants ``Surface.layout()`` hands over; the
 tilted floats' geometry in ``JitFloat``; a whole tilted float is one look-up in its own table,
 ``Surface.float_table``), compiled into Mitsuba's kernels. What the library
 computes and Dr.Jit does not trace — ``detail`` "auto" (the default) and "fibers" on a pattern
-(the weave's relief, its crowned table, the fibres' draws), floats shaped by
+(the fibres' draws), ``relief`` (the weave's relief, its crowned table and ratio), floats shaped by
 ``float_crest``/``float_flank`` (on a pattern or a weft fraction), ``irregularity``, and
 microcylinder fabrics — the library decides (``Surface.route``, the reason why or None), and
 it evaluates, samples and weighs lane by lane: each call hands the lanes' arrays to ``woven.Surface``
@@ -95,7 +95,7 @@ def register(symbolic=False):
 
     In a JIT variant it also switches Dr.Jit, in the calling thread, to evaluated loops, calls
     and conditionals, which the surfaces the library evaluates lane by lane need (``detail``
-    "auto", the default, and "fibers" on a pattern; shaped floats; ``irregularity``): call it
+    "auto", the default, and "fibers" on a pattern; ``relief``; shaped floats; ``irregularity``): call it
     in the thread that renders. ``symbolic=True`` leaves Dr.Jit's modes alone, for scenes whose
     woven surfaces are all traced (``detail`` "yarns" or "cloth"): a surface that needs the
     library then raises an error naming this when it is called."""
