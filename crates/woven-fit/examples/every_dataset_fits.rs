@@ -3,7 +3,7 @@
 //! it took. A fit that fails, or whose errors are not finite, is reported and makes the run exit
 //! with status 1. About an hour on two cores, so not in CI: its tests fit the baselines to one
 //! dataset of each family, the cloth model to CUReT's linen and to MERL's light-brown fabric
-//! (crates/woven-fit/tests/fit_real.rs).
+//! (crates/woven-fit/tests/integration/fit_real.rs).
 //!
 //! ```text
 //! cargo run --release -p woven-fit --example every_dataset_fits [DATASET…]

@@ -3,7 +3,8 @@
 //! ratio, so `detail = "auto"` keeps its mean from close-up to far away.
 
 use crate::common::Rng;
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 use woven::bsdf::Bsdf;
 use woven::material::Material;
 use woven::surface::{Detail, SurfacePoint, SurfaceSpec, WovenSurface};
@@ -22,7 +23,20 @@ pub fn surface(name: &str, detail: Detail, table: &Arc<Table>) -> WovenSurface {
     WovenSurface::new(&spec, Arc::clone(table)).unwrap()
 }
 
+/// The dyeable table of `name`'s yarn on a 24 × 12 × 61 grid, built once per preset and shared
+/// by the tests that ask for it.
 pub fn table(name: &str) -> Arc<Table> {
+    static TABLES: OnceLock<Mutex<HashMap<String, Arc<Table>>>> = OnceLock::new();
+    let tables = TABLES.get_or_init(|| Mutex::new(HashMap::new()));
+    // Held while building: a second test asking for the same yarn waits for this build.
+    let mut tables = tables.lock().unwrap_or_else(|e| e.into_inner());
+    let table = tables
+        .entry(name.to_string())
+        .or_insert_with(|| build_table(name));
+    Arc::clone(table)
+}
+
+fn build_table(name: &str) -> Arc<Table> {
     let m = Material::preset(name).unwrap().yarn_family();
     let options = TableOptions {
         n_theta: 24,

@@ -1,5 +1,5 @@
 //! `woven serve` as a process: SIGINT (Ctrl-C) and SIGTERM stop it within a second, a fit
-//! running or not. (woven-serve's `tests/server.rs` tests the server in-process.)
+//! running or not. (woven-serve's `tests/integration/server.rs` tests the server in-process.)
 #![cfg(unix)]
 
 use std::io::{BufRead, BufReader, Read, Write};

@@ -1,7 +1,7 @@
 //! The HTTP API end to end through the router (no socket): good requests answer what the library
 //! computes, bad ones a JSON error with the right status.
 
-#[path = "../../woven/tests/support/mutation.rs"]
+#[path = "../../../woven/tests/support/mutation.rs"]
 mod mutation;
 use axum::body::Body;
 use axum::http::{header, Request, StatusCode};
@@ -654,7 +654,7 @@ async fn a_newer_request_on_the_channel_stops_the_older() {
 /// a regression test with its minimal input.
 mod hostile_bodies {
     use super::*;
-    use crate::mutation::{edits, mutate};
+    use super::mutation::{edits, mutate};
     use proptest::prelude::*;
 
     /// Proptest cases of arbitrary bytes (each posted to every endpoint).

@@ -5,7 +5,7 @@
 
 #![allow(clippy::approx_constant)] // angles copied from CUReT's table.txt
 
-#[path = "../../woven/tests/support/mutation.rs"]
+#[path = "../../../woven/tests/support/mutation.rs"]
 mod mutation;
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -992,7 +992,7 @@ proptest! {
 /// minimal input.
 mod hostile_readers {
     use super::*;
-    use crate::mutation::{edits, mutate};
+    use super::mutation::{edits, mutate};
     use woven_fit::data::{curet, gonio, grid};
 
     /// Proptest cases per property.

@@ -1,6 +1,6 @@
 //! The server on a real socket ([`woven_serve::server::serve`]): a fit whose client goes away
 //! stops, stopping the server stops its fits, and slow clients are cut off by the read timeout.
-//! `woven-cli`'s `tests/serve.rs` sends SIGINT to the `woven serve` process itself.
+//! `woven-cli`'s `tests/integration/serve.rs` sends SIGINT to the `woven serve` process itself.
 
 use serde_json::{json, Value};
 use std::net::SocketAddr;

@@ -1,0 +1,9 @@
+//! Integration tests of `woven-fit` (one binary: each is a whole-program-optimized link under
+//! `cargo test --release`, per STYLE.md).
+
+mod data;
+mod fit;
+mod fit_real;
+mod grounded;
+mod microcylinder;
+mod refusals;
