@@ -991,8 +991,8 @@ proptest! {
 /// 3757-point grid, to keep the count high. A failure found stays as a regression test with its
 /// minimal input.
 mod hostile_readers {
-    use super::*;
     use super::mutation::{edits, mutate};
+    use super::*;
     use woven_fit::data::{curet, gonio, grid};
 
     /// Proptest cases per property.

@@ -653,8 +653,8 @@ async fn a_newer_request_on_the_channel_stops_the_older() {
 /// 20 000 cases ran clean in 2.3 s on 2 cores while this was written). A failure found stays as
 /// a regression test with its minimal input.
 mod hostile_bodies {
-    use super::*;
     use super::mutation::{edits, mutate};
+    use super::*;
     use proptest::prelude::*;
 
     /// Proptest cases of arbitrary bytes (each posted to every endpoint).
