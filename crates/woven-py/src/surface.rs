@@ -462,7 +462,9 @@ impl Surface {
     /// `yarns_per_unit`, `u_max` (radians), `float_shape` (the floats' `(crest, flank)`, `(0, 0)`
     /// for a linear tilt), `gap`, `weft_fraction`, `filter_cells` (the
     /// footprint filter's start and end, in cells), `macro` (the macro BRDF's lobes: a list of
-    /// `(warp, float, weight)`, `float` true for a whole tilted float), `albedos` (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`), and for a
+    /// `(warp, float, weight)`, `float` true for a whole tilted float), `albedos` (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`),
+    /// `dye_rule` (`(cap, slope, offset)`: a colour `c` per channel, NaN read as 0 and clamped
+    /// to `[0, 1]`, dyes `ρ0 = min(c, cap)`, `ρ = clamp(slope c + offset, 0, 1)`), and for a
     /// pattern `cells` (rows × cols, 1 where the weft is on top) and `floats` (rows × cols × 2:
     /// cells before in the float, float length; empty without a tilt).
     fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -493,6 +495,8 @@ impl Surface {
             albedos.set_item(name, a)?;
         }
         d.set_item("albedos", albedos)?;
+        let rule = s.dye_rule();
+        d.set_item("dye_rule", (rule.cap, rule.slope, rule.offset))?;
         if let Some(p) = s.pattern() {
             let cells: Vec<u8> = p.to_matrix().concat();
             d.set_item(

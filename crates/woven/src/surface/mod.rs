@@ -375,6 +375,13 @@ impl WovenSurface {
         matches!(self.layout, Layout::Flat { .. })
     }
 
+    /// The dye rule of the surface's own albedos ([`Albedos::dye_rule`]): how a colour read per
+    /// point (a front end's texture) sets a family's albedos, as [`albedos`](Self::albedos) are
+    /// set from `weft_color` and `warp_color`.
+    pub fn dye_rule(&self) -> crate::table::DyeRule {
+        self.own.dye_rule()
+    }
+
     /// The albedos per channel of the weft (`warp = false`) or the warp.
     pub fn albedos(&self, warp: bool) -> &[Albedos; 3] {
         if warp {

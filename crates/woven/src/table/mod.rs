@@ -246,20 +246,53 @@ impl Albedos {
     /// `ρ0` (kept below 1), and `ρ` scales with it (`ρ·c/ρ0`, at most 1; unchanged when `ρ0` is
     /// 0). No colour: these, in every channel. A channel that is not a number (a NaN texel)
     /// counts as 0, black, as the renderer counts a NaN sample. The one rule every dyed surface
-    /// follows.
+    /// follows ([`dye_rule`](Self::dye_rule) states it as constants).
     pub fn dyed(self, colour: Option<Rgb>) -> [Albedos; 3] {
         let Some(c) = colour else {
             return [self; 3];
         };
-        c.0.map(|c| if c.is_nan() { 0.0 } else { c })
-            .map(|c| Albedos {
-                diffuse: c.clamp(0.0, Albedos::MAX_DYED_DIFFUSE),
-                interreflection: if self.diffuse > 0.0 {
-                    (self.interreflection * c / self.diffuse).clamp(0.0, 1.0)
-                } else {
-                    self.interreflection
-                },
-            })
+        let rule = self.dye_rule();
+        c.0.map(|c| rule.apply(c))
+    }
+
+    /// The dye rule of these (a material's own) albedos as constants: what
+    /// [`dyed`](Self::dyed) does to one channel, for a front end that dyes per lane (the
+    /// Mitsuba plugin's textured colours) and applies it without knowing why.
+    pub fn dye_rule(self) -> DyeRule {
+        let (slope, offset) = if self.diffuse > 0.0 {
+            (self.interreflection / self.diffuse, 0.0)
+        } else {
+            (0.0, self.interreflection)
+        };
+        DyeRule {
+            cap: Albedos::MAX_DYED_DIFFUSE,
+            slope,
+            offset,
+        }
+    }
+}
+
+/// How a dye `c` (one channel) sets the albedos ([`Albedos::dye_rule`]): `c` read as 0 where it
+/// is not a number and clamped to `[0, 1]`, then `ρ0 = min(c, cap)` and
+/// `ρ = clamp(slope·c + offset, 0, 1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DyeRule {
+    /// The largest `ρ0` ([`Albedos::MAX_DYED_DIFFUSE`]).
+    pub cap: f64,
+    /// `ρ/ρ0` of the material's own albedos (0 when its `ρ0` is 0).
+    pub slope: f64,
+    /// The material's own `ρ` when its `ρ0` is 0, else 0.
+    pub offset: f64,
+}
+
+impl DyeRule {
+    /// The albedos of one channel dyed `c`.
+    pub fn apply(self, c: f64) -> Albedos {
+        let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+        Albedos {
+            diffuse: c.min(self.cap),
+            interreflection: (self.slope * c + self.offset).clamp(0.0, 1.0),
+        }
     }
 }
 

@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-import woven
-
 from ._float import _const
 from ._frames import FLAT, FLOAT, _tilt_from, _tilt_into, _turn, _unturn
 from ._layout import JitLayout
@@ -29,7 +27,6 @@ def _bsdf_class(mi):
             self.filter = self.surface.footprint_filter
             self.table = self.surface.table
             self.material = self.surface.material
-            self.own = self.table.raw()["own"]
             flags = (
                 mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide | mi.BSDFFlags.Anisotropic
             )
@@ -38,6 +35,8 @@ def _bsdf_class(mi):
             self.m_flags = flags
             self.m_components = [flags]
             lay = self.surface.layout()
+            # The library's dye rule as constants, for colours read per lane (textures).
+            self.dye_rule = lay["dye_rule"]
             # Where the library answers each lane (every variant's scalar calls, and in JIT
             # variants the levels Dr.Jit does not trace: see the module's docs).
             # The library decides which surfaces a JIT variant traces (Surface.route).
@@ -59,7 +58,8 @@ def _bsdf_class(mi):
 
         def _dye(self, key, si, active):
             """(ρ0, ρ) per channel for the weft or the warp at ``si``: a textured colour read
-            there (the library's dye rule, woven::surface), else the layout's albedos."""
+            there, dyed by the library's rule (``Albedos::dye_rule``, its constants from the
+            layout), else the layout's albedos."""
             c = self.textures.get(key)
             if c is None:
                 a = self.layout.albedos["warp" if key == "warp_color" else "weft"]
@@ -69,10 +69,8 @@ def _bsdf_class(mi):
             # In [0, 1], as the library path takes it (an HDR texture saturates).
             c = c.eval(si, active)
             c = dr.clip(dr.select(dr.isnan(c), 0.0, c), 0.0, 1.0)
-            d0, r0 = self.own
-            rho0 = dr.clip(c, 0.0, woven.MAX_DYED_DIFFUSE)
-            rho = dr.clip(r0 * c / d0, 0.0, 1.0) if d0 > 0 else c * 0.0 + r0
-            return rho0, rho
+            cap, slope, offset = self.dye_rule
+            return dr.minimum(c, cap), dr.clip(slope * c + offset, 0.0, 1.0)
 
         def _albedos(self, warp, si, active):
             weft = self._dye("weft_color", si, active)
