@@ -85,6 +85,7 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BATCH_BUDGET_BYTES", arrays::BATCH_BUDGET_BYTES)?;
     m.add("UNIT_TOLERANCE", arrays::UNIT_TOLERANCE)?;
     m.add("MAX_DYED_DIFFUSE", woven::table::Albedos::MAX_DYED_DIFFUSE)?;
+    m.add("JIT_LAYOUT_VERSION", woven::surface::JIT_LAYOUT_VERSION)?;
     m.add("SURFACE_KEYS", surface_keys(m.py())?)?;
     Ok(())
 }

@@ -16,8 +16,7 @@ use woven::bsdf::{Bsdf, Transport};
 use woven::color::Rgb;
 use woven::keys::{KeySource, KeyValue, Keys};
 use woven::surface::{
-    KeyedSurface, Lobe, PointBsdf, Route, SurfacePoint, SurfaceSpec, Tilt, WovenSurface,
-    FILTER_CELLS, MAX_LOBES,
+    KeyedSurface, PointBsdf, Route, SurfacePoint, SurfaceSpec, Tilt, WovenSurface, MAX_LOBES,
 };
 use woven::table::TableOptions;
 
@@ -458,56 +457,55 @@ impl Surface {
     }
 
     /// What the surface lays on its uv, for code that re-traces it (the Mitsuba plugin's
-    /// Dr.Jit variants): a dict with `kind` ("flat", "whole", "macro" or "pattern"),
-    /// `yarns_per_unit`, `u_max` (radians), `float_shape` (the floats' `(crest, flank)`, `(0, 0)`
-    /// for a linear tilt), `gap`, `weft_fraction`, `filter_cells` (the
-    /// footprint filter's start and end, in cells), `macro` (the macro BRDF's lobes: a list of
-    /// `(warp, float, weight)`, `float` true for a whole tilted float), `albedos` (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`),
-    /// `dye_rule` (`(cap, slope, offset)`: a colour `c` per channel, NaN read as 0 and clamped
-    /// to `[0, 1]`, dyes `ρ0 = min(c, cap)`, `ρ = clamp(slope c + offset, 0, 1)`), and for a
-    /// pattern `cells` (rows × cols, 1 where the weft is on top) and `floats` (rows × cols × 2:
-    /// cells before in the float, float length; empty without a tilt).
+    /// Dr.Jit variants): the library's `JitLayout` (woven::surface) as a dict, every rule
+    /// evaluated in Rust: `version` (the layout's version, `woven.JIT_LAYOUT_VERSION`), `kind`
+    /// (what each point traces: "flat", "whole", "macro" — a pattern at "cloth" too — or
+    /// "pattern"), `detail`, `yarns_per_unit`, `u_max` (radians), `float_shape` (the floats'
+    /// `(crest, flank)`, `(0, 0)` for a linear tilt), `gap`, `weft_fraction`, `filter_cells`
+    /// (the footprint filter's start and end, in cells), `macro` (the macro BRDF's lobes: a
+    /// list of `(warp, float, weight)`, `float` true for a whole tilted float), `albedos`
+    /// (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`), `dye_rule` (`(cap, slope, offset)`: a colour
+    /// `c` per channel, NaN read as 0 and clamped to `[0, 1]`, dyes `ρ0 = min(c, cap)`,
+    /// `ρ = clamp(slope c + offset, 0, 1)`), and for a pattern `cells` (rows × cols, 1 where
+    /// the weft is on top) and `floats` (rows × cols × 2: cells before in the float, float
+    /// length; empty without a tilt).
     fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = &*self.inner;
+        let lay = self.inner.jit_layout();
         let d = PyDict::new(py);
-        d.set_item("kind", s.kind().name())?;
-        d.set_item("detail", s.detail().name())?;
-        d.set_item("yarns_per_unit", s.yarns_per_unit().to_vec())?;
-        d.set_item("u_max", s.u_max())?;
-        d.set_item("float_shape", s.float_profile().shape())?;
-        d.set_item("gap", s.gap())?;
-        d.set_item("weft_fraction", s.weft_fraction())?;
-        d.set_item("filter_cells", FILTER_CELLS.to_vec())?;
-        let lobes: Vec<(bool, bool, f64)> = s
-            .macro_lobes()
-            .lobes()
+        d.set_item("version", lay.version)?;
+        d.set_item("kind", lay.kind.name())?;
+        d.set_item("detail", lay.detail.name())?;
+        d.set_item("yarns_per_unit", lay.yarns_per_unit.to_vec())?;
+        d.set_item("u_max", lay.u_max)?;
+        d.set_item("float_shape", lay.float_shape)?;
+        d.set_item("gap", lay.gap)?;
+        d.set_item("weft_fraction", lay.weft_fraction)?;
+        d.set_item("filter_cells", lay.filter_cells.to_vec())?;
+        let lobes: Vec<(bool, bool, f64)> = lay
+            .macro_lobes
             .iter()
-            .map(|l: &Lobe| (l.warp, l.tilt == Tilt::Float, l.weight))
+            .map(|l| (l.warp, l.whole_float, l.weight))
             .collect();
         d.set_item("macro", PyList::new(py, lobes)?)?;
         let albedos = PyDict::new(py);
-        for (name, warp) in [("weft", false), ("warp", true)] {
-            let a: Vec<(f64, f64)> = s
-                .albedos(warp)
-                .iter()
-                .map(|a| (a.diffuse, a.interreflection))
-                .collect();
+        for (name, a) in ["weft", "warp"].into_iter().zip(&lay.albedos) {
+            let a: Vec<(f64, f64)> = a.iter().map(|a| (a.diffuse, a.interreflection)).collect();
             albedos.set_item(name, a)?;
         }
         d.set_item("albedos", albedos)?;
-        let rule = s.dye_rule();
+        let rule = lay.dye_rule;
         d.set_item("dye_rule", (rule.cap, rule.slope, rule.offset))?;
-        if let Some(p) = s.pattern() {
-            let cells: Vec<u8> = p.to_matrix().concat();
+        if let Some(first) = lay.cells.first() {
+            let (rows, cols) = (lay.cells.len(), first.len());
             d.set_item(
                 "cells",
-                PyArray1::from_vec(py, cells).reshape([p.rows(), p.cols()])?,
+                PyArray1::from_vec(py, lay.cells.concat()).reshape([rows, cols])?,
             )?;
-            let floats: Vec<u16> = s.floats().iter().flat_map(|f| [f.before, f.len]).collect();
+            let floats: Vec<u16> = lay.floats.iter().flat_map(|f| [f.before, f.len]).collect();
             let shape = if floats.is_empty() {
                 [0, 0, 2]
             } else {
-                [p.rows(), p.cols(), 2]
+                [rows, cols, 2]
             };
             d.set_item("floats", PyArray1::from_vec(py, floats).reshape(shape)?)?;
         }

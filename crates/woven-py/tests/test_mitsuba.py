@@ -1074,6 +1074,23 @@ def test_woven_path_agrees_with_woven_render_where_footprints_filter(llvm, cache
     assert means["path"][0]["rms_z"] > 1.3, means["path"][0]
 
 
+def test_a_layout_of_another_version_is_refused_by_name(llvm, yarn_tables):
+    """The plugin traces one version of the library's layout: another is refused, naming both
+    versions, not misread."""
+    from woven.mitsuba._layout import LAYOUT_VERSION, JitLayout
+
+    table, _ = yarn_tables["belt-cloth"]
+    surface = woven.Surface(table=table, pattern="plain", detail="yarns")
+    assert surface.layout()["version"] == LAYOUT_VERSION == woven.JIT_LAYOUT_VERSION
+
+    class Other:
+        def layout(self):
+            return {**surface.layout(), "version": LAYOUT_VERSION + 1}
+
+    with pytest.raises(ValueError, match=f"version {LAYOUT_VERSION + 1}"):
+        JitLayout(Other(), mi)
+
+
 def test_a_weft_fraction_with_shaped_floats_renders_in_jit(llvm, cache):
     """A grounded preset's shaped floats on a weft fraction: the library's route sends it to the
     library lane by lane (JitLayout used to refuse it, "use a scalar variant"), and the plugin's

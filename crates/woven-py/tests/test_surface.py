@@ -234,6 +234,24 @@ def test_footprint_filter_off_ignores_the_calls_footprints(yarn):
     assert not np.allclose(on.eval(uv, wi, wo, wide), on.eval(uv, wi, wo))
 
 
+def test_the_jit_layout_is_the_librarys_typed_and_versioned(yarn):
+    """Surface.layout() is the library's JitLayout: versioned (woven.JIT_LAYOUT_VERSION), with
+    every rule evaluated in Rust: a pattern at "cloth" is traced as the macro BRDF, the macro
+    lobes' weights are the γ-mix's, and the dye rule comes as constants that dye a colour as
+    the surface dyes its own weft_color."""
+    lay = woven.Surface(table=yarn, pattern="twill-2/1", detail="cloth").layout()
+    assert lay["version"] == woven.JIT_LAYOUT_VERSION >= 1
+    assert lay["kind"] == "macro" and lay["detail"] == "cloth"
+    assert sum(w for _, _, w in lay["macro"]) == pytest.approx(1.0)
+    assert woven.Surface(table=yarn, pattern="plain", detail="yarns").layout()["kind"] == "pattern"
+    c = [0.7, 0.05, float("nan")]
+    dyed = woven.Surface(table=yarn, pattern="plain", weft_color=[0.7, 0.05, 0.0]).layout()
+    cap, slope, offset = dyed["dye_rule"]
+    for x, (rho0, rho) in zip(c, dyed["albedos"]["weft"]):
+        x = 0.0 if x != x else min(max(x, 0.0), 1.0)
+        assert (min(x, cap), min(max(slope * x + offset, 0.0), 1.0)) == pytest.approx((rho0, rho))
+
+
 def test_the_library_decides_which_surfaces_jit_variants_trace(yarn):
     """Surface.route: None where Mitsuba's JIT variants trace the surface in Dr.Jit, else the
     reason the library answers lane by lane. Shaped floats go to the library on a weft fraction

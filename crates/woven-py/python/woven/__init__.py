@@ -35,6 +35,7 @@ renders a scene file as ``woven render``; ``woven.batch`` runs many fits, tables
 from ._woven import (
     BATCH_BUDGET_BYTES,
     MAX_DYED_DIFFUSE,
+    JIT_LAYOUT_VERSION,
     PARALLEL_MIN,
     SURFACE_KEYS,
     UNIT_TOLERANCE,
@@ -94,6 +95,7 @@ __all__ = [
     "BATCH_BUDGET_BYTES",
     "UNIT_TOLERANCE",
     "MAX_DYED_DIFFUSE",
+    "JIT_LAYOUT_VERSION",
     "SURFACE_KEYS",
     "__version__",
 ]

@@ -16,6 +16,7 @@ BATCH_BUDGET_BYTES: int
 result. A larger batch raises MemoryError, naming the budget and the excess, before allocating."""
 UNIT_TOLERANCE: float
 MAX_DYED_DIFFUSE: float
+JIT_LAYOUT_VERSION: int
 """How far from 1 a direction's length may be (1e-6); a direction off by more raises ValueError
 naming the argument, the row and its length."""
 SURFACE_KEYS: Tuple[Dict[str, str], ...]

@@ -107,7 +107,7 @@ use ratio::ReliefRatio;
 pub use ratio::{
     ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG,
 };
-pub use route::{LayoutKind, LibraryReason, Route};
+pub use route::{JitLayout, LayoutKind, LibraryReason, MacroLobe, Route, JIT_LAYOUT_VERSION};
 pub use spec::{Detail, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG};
 
 /// Gauss–Legendre nodes over a whole float's lit and seen part (what a whole float's table,

@@ -4,8 +4,63 @@
 //! interpolated, and hand every other surface to the library lane by lane. The rule lives here,
 //! once; the plugin asks it.
 
-use super::{Detail, WovenSurface};
+use super::{Detail, Tilt, WovenSurface, FILTER_CELLS};
+use crate::table::{Albedos, DyeRule};
+use crate::weave::FloatPlace;
 use std::fmt;
+
+/// The version of [`JitLayout`]: raised whenever a field is added or changes its meaning, so
+/// that a JIT front end written for another refuses the layout by name instead of misreading
+/// it.
+pub const JIT_LAYOUT_VERSION: u32 = 1;
+
+/// What a JIT renderer gathers to trace a surface ([`WovenSurface::jit_layout`]): arrays and
+/// constants, every rule (which lobes the macro BRDF has and their weights, the dyes and their
+/// rule, what a pattern at `"cloth"` traces) evaluated here. The renderer indexes the cells and
+/// floats, blends by the footprint and interpolates the tables; it decides nothing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JitLayout {
+    /// [`JIT_LAYOUT_VERSION`].
+    pub version: u32,
+    /// What each point traces: a pattern at `detail = "cloth"` is the macro BRDF everywhere
+    /// ([`LayoutKind::Macro`]).
+    pub kind: LayoutKind,
+    /// The surface's level of detail.
+    pub detail: Detail,
+    /// Pattern cells per unit of `u` and of `v`.
+    pub yarns_per_unit: [f64; 2],
+    /// The floats' tilt at their ends, radians (0: flat).
+    pub u_max: f64,
+    /// The floats' `(crest, flank)` ([`FloatProfile::shape`](crate::yarn::float::FloatProfile::shape)); `(0, 0)`: a linear tilt.
+    pub float_shape: (f64, f64),
+    /// The fraction of a cell's width between yarns.
+    pub gap: f64,
+    /// The macro BRDF's weft fraction γ.
+    pub weft_fraction: f64,
+    /// The footprint filter's start and end, in cells ([`FILTER_CELLS`]).
+    pub filter_cells: [f64; 2],
+    /// The macro BRDF's lobes, weight 1 in all (less the holes).
+    pub macro_lobes: Vec<MacroLobe>,
+    /// The weft's and the warp's dyed albedos per channel.
+    pub albedos: [[Albedos; 3]; 2],
+    /// The dye rule for a colour read per point ([`WovenSurface::dye_rule`]).
+    pub dye_rule: DyeRule,
+    /// A pattern's cells, row by row, 1 where the weft is on top; empty without one.
+    pub cells: Vec<Vec<u8>>,
+    /// Each cell's place in its float ([`Pattern::floats`](crate::weave::Pattern::floats)), row by row; empty without a tilt.
+    pub floats: Vec<FloatPlace>,
+}
+
+/// One lobe of the macro BRDF, as a JIT renderer traces it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MacroLobe {
+    /// The warp (the table turned 90°), or the weft.
+    pub warp: bool,
+    /// A whole tilted float (its own table's look-up), or flat.
+    pub whole_float: bool,
+    /// The lobe's weight.
+    pub weight: f64,
+}
 
 /// What a surface lays on its uv, as a front end names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,6 +135,41 @@ impl fmt::Display for LibraryReason {
 }
 
 impl WovenSurface {
+    /// What a JIT renderer gathers to trace this surface ([`JitLayout`]); meaningful where
+    /// [`route`](Self::route) says [`Route::Traced`], and filled for every surface (a front end
+    /// reads its constants, the cells and floats, whatever the route).
+    pub fn jit_layout(&self) -> JitLayout {
+        let kind = match self.kind() {
+            LayoutKind::Pattern if self.detail == Detail::Cloth => LayoutKind::Macro,
+            kind => kind,
+        };
+        JitLayout {
+            version: JIT_LAYOUT_VERSION,
+            kind,
+            detail: self.detail,
+            yarns_per_unit: self.yarns_per_unit,
+            u_max: self.u_max,
+            float_shape: self.float.shape(),
+            gap: self.gap,
+            weft_fraction: self.weft_fraction(),
+            filter_cells: FILTER_CELLS,
+            macro_lobes: self
+                .macro_lobes()
+                .lobes()
+                .iter()
+                .map(|l| MacroLobe {
+                    warp: l.warp,
+                    whole_float: l.tilt == Tilt::Float,
+                    weight: l.weight,
+                })
+                .collect(),
+            albedos: [self.weft, self.warp],
+            dye_rule: self.dye_rule(),
+            cells: self.pattern().map_or_else(Vec::new, |p| p.to_matrix()),
+            floats: self.floats().to_vec(),
+        }
+    }
+
     /// What the surface lays on its uv.
     pub fn kind(&self) -> LayoutKind {
         match &self.layout {

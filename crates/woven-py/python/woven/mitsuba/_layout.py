@@ -8,6 +8,10 @@ import numpy as np
 from ._float import JitFloat
 from ._frames import FLAT, FLOAT
 
+# The version of the library's JitLayout (woven::surface::JIT_LAYOUT_VERSION) this code traces:
+# written here, not read, so a library that changed the layout is refused, not misread.
+LAYOUT_VERSION = 1
+
 
 class JitLayout:
     """The layout of a ``woven.Surface`` in Dr.Jit: the lobes mixed at each lane's point. The
@@ -26,9 +30,13 @@ class JitLayout:
         self.mi, self.dr = mi, dr
         self.filter = footprint_filter
         lay = surface.layout()
-        self.kind = lay["kind"]
-        if lay["detail"] == "cloth" and self.kind == "pattern":
-            self.kind = "macro"  # every point the macro BRDF
+        if lay.get("version") != LAYOUT_VERSION:
+            raise ValueError(
+                f"woven BSDF: the library hands over a surface layout of version"
+                f" {lay.get('version')}, and this plugin traces version {LAYOUT_VERSION}:"
+                " install the plugin and the library from the same woven build"
+            )
+        self.kind = lay["kind"]  # a pattern at "cloth" is already "macro"
         self.nu, self.nv = lay["yarns_per_unit"]
         self.u_max, self.gap = lay["u_max"], lay["gap"]
         if self.u_max > 0 and tuple(lay.get("float_shape", (0.0, 0.0))) != (0.0, 0.0):
