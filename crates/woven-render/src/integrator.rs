@@ -15,11 +15,11 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
 use crate::light::{Emitter, EmitterHit};
-use crate::material::{MaterialAt, MaterialSample, ShadingPoint};
+use crate::material::{BsdfScratch, MaterialSample, ShadingPoint};
 use crate::rng::Sampler;
 use crate::scene::{Scene, Strategy};
+use woven::bsdf::Transport;
 use woven::math::sampling::power_heuristic as power;
-use woven::surface::PointBsdf;
 use woven::Vec3;
 
 /// The offset of a spawned ray's origin from its surface, relative to the point's magnitude
@@ -49,10 +49,9 @@ pub struct FirstHit {
     /// estimate of its albedo, so a texture or a weave shows in it. White where no direction is
     /// drawn there (an emitter, or a path too short to reflect), black where the draw fails.
     pub albedo: Rgb,
-    /// The warp's share of the BRDF there ([`SurfaceMaterial::warp_share`]): which yarn the
-    /// ray met, without noise.
-    ///
-    /// [`SurfaceMaterial::warp_share`]: crate::material::SurfaceMaterial::warp_share
+    /// The warp's share of the BRDF there, seen along the camera ray
+    /// ([`Bsdf::warp_share`](woven::bsdf::Bsdf::warp_share)): which yarn the ray met, without
+    /// noise.
     pub warp_share: f64,
 }
 
@@ -71,11 +70,11 @@ impl FirstHit {
 }
 
 /// What a path tracer keeps from one path to the next so that no vertex allocates or moves
-/// much: the slot its vertices build their material's BSDF in ([`MaterialAt`]). One per
-/// thread; `'a` is the scene's lifetime.
+/// much: where its vertices build their material's BSDF ([`BsdfScratch`]). One per thread;
+/// `'a` is the scene's lifetime.
 #[derive(Default)]
 pub struct Scratch<'a> {
-    bsdf: Option<PointBsdf<'a>>,
+    bsdf: BsdfScratch<'a>,
 }
 
 /// What is known of a camera ray before it is traced.
@@ -221,8 +220,8 @@ fn trace<'a>(
             },
             footprint: footprint.map_or([[0.0; 2]; 2], |f| f.uv(&ray, &hit)),
         };
-        // The material here: its BSDF at the point is built once, for every question below.
-        let material = MaterialAt::new(material, at, &mut scratch.bsdf);
+        // The material's BSDF here, built once for every question below.
+        let bsdf = material.bsdf(&at, &mut scratch.bsdf);
 
         // Next-event estimation.
         if use_lights {
@@ -231,7 +230,7 @@ fn trace<'a>(
             if let Some(ls) = scene.lights[k].sample_li(hit.p, [u1, u2]) {
                 let wi = frame.to_local(ls.wi);
                 if wi.z > 0.0 && ls.wi.dot(hit.ng) > 0.0 && !ls.radiance.is_black() {
-                    let f = material.eval(wi, wo);
+                    let f = bsdf.eval(wi, wo);
                     if !f.is_black() {
                         let shadow = spawn(&hit, ls.wi);
                         let t_max = if ls.distance.is_finite() {
@@ -245,7 +244,7 @@ fn trace<'a>(
                             let w = if ls.delta || settings.strategy == Strategy::Light {
                                 1.0
                             } else {
-                                power(light_pdf, material.pdf(wi, wo))
+                                power(light_pdf, bsdf.pdf(wi, wo, Transport::Radiance))
                             };
                             l += beta * f * ls.radiance * (wi.z * w / light_pdf);
                         }
@@ -261,14 +260,15 @@ fn trace<'a>(
         // The lobe choice has a dimension of its own (stratified points stay stratified).
         let uc = sampler.uniform();
         let (u1, u2) = sampler.next2();
-        let Some(s) = material.sample(wo, uc, [u1, u2]) else {
+        let drawn = bsdf.sample(wo, uc, [u1, u2], Transport::Radiance);
+        let Some(s) = drawn.filter(|s| s.pdf > 0.0) else {
             if let (0, Some(f)) = (depth, first.as_mut()) {
                 f.albedo = Rgb::BLACK;
             }
             break;
         };
         if let (0, Some(f)) = (depth, first.as_mut()) {
-            f.warp_share = material.warp_share();
+            f.warp_share = bsdf.warp_share(wo);
             f.albedo = albedo_estimate(&s);
         }
         let wi = frame.to_world(s.wi);

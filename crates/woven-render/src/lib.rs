@@ -48,8 +48,9 @@
 //! - [`scene`]: the scene file: parsing, checks, building (a file each).
 //! - [`render`]: tiles over all cores, per-pixel means, progress reported to a callback.
 //! - [`integrator`]: the path tracer (NEE + MIS, Russian roulette, Mitsuba's depth).
-//! - [`material`]: the [`SurfaceMaterial`](material::SurfaceMaterial) trait, a material at a
-//!   path vertex ([`MaterialAt`](material::MaterialAt)) and the diffuse material;
+//! - [`material`]: the [`SurfaceMaterial`](material::SurfaceMaterial) trait (one door: a
+//!   material's BSDF at a point, built once per path vertex into a
+//!   [`BsdfScratch`](material::BsdfScratch)) and the diffuse material;
 //!   [`woven_material`]: the woven cloth.
 //! - [`light`]: the [`Emitter`](light::Emitter) interface (`sample_li`, `pdf_li`, `le`) and
 //!   the point, environment and rectangle lights; [`camera`], [`geometry`], [`shapes`],

@@ -3,19 +3,19 @@
 //! Directions are unit vectors in the local shading frame ([`Frame`](crate::geometry::Frame)):
 //! `z` the shading normal, `x` along `∂p/∂u` (the weft), `y` along `∂p/∂v` (the warp), both
 //! pointing away from the surface. `wi` points toward the light (the paper's `s`), `wo` toward
-//! the viewer (`v`). [`SurfaceMaterial::eval`] is the BRDF `f(wi, wo)` per channel in sr⁻¹,
-//! *without* the cosine. Camera paths know `wo` and draw `wi`, so [`SurfaceMaterial::sample`]
-//! draws `wi` for a given `wo`, and [`SurfaceMaterial::pdf`] is the density of that draw.
+//! the viewer (`v`). A BSDF's `eval` is `f(wi, wo)` per channel in sr⁻¹, *without* the cosine.
+//! Camera paths know `wo` and draw `wi` ([`Transport::Radiance`]).
 //!
-//! A path tracer asks a material at each vertex through a [`MaterialAt`]: the material's BSDF
-//! at the point ([`SurfaceMaterial::point_bsdf`]) is built there once, in place, and answers the
-//! vertex's eval, sample and pdf.
+//! A material has one door, [`SurfaceMaterial::bsdf`]: its BSDF at a point, built once per path
+//! vertex (into a [`BsdfScratch`] the path keeps, where building it costs more than a call) and
+//! asked there for eval, sample, pdf and the warp's share, as pbrt's materials answer
+//! `GetBSDF`.
 
 use crate::color::Rgb;
 use std::f64::consts::FRAC_1_PI;
 use woven::bsdf::{Bsdf, BsdfSample, LobeFlags, Transport};
 use woven::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
-use woven::surface::PointBsdf;
+use woven::surface::{PointBsdf, WovenSurface};
 use woven::Vec3;
 
 /// What a material may read at a shading point besides the directions: its uv and the pixel's
@@ -23,25 +23,44 @@ use woven::Vec3;
 /// surfaces read).
 pub use woven::surface::SurfacePoint as ShadingPoint;
 
-/// A direction drawn by [`SurfaceMaterial::sample`] (the library's sample type, per channel):
-/// `wi` drawn for the given `wo`, `f(wi, wo)` and the density `wi` was drawn with (> 0).
+/// A direction drawn by a material's BSDF: `wi` drawn for the given `wo`, `f(wi, wo)` and the
+/// density `wi` was drawn with.
 pub type MaterialSample = BsdfSample<Rgb>;
+
+/// A material's BSDF at a point, as the path tracer asks it (per channel).
+pub type MaterialBsdf<'a> = dyn Bsdf<Value = Rgb> + 'a;
+
+/// Where materials build their BSDF at a point when it depends on the point (a woven surface's
+/// lobes there: over a kilobyte, built in place, since building it anew and moving it was a
+/// tenth of a plane's render time). A path keeps one and its vertices build over it; `'a` is
+/// the materials' lifetime.
+#[derive(Default)]
+pub struct BsdfScratch<'a> {
+    woven: Option<PointBsdf<'a>>,
+}
+
+impl<'a> BsdfScratch<'a> {
+    /// `surface`'s BSDF at `at`, built over what an earlier vertex left here.
+    #[inline]
+    pub fn woven(&mut self, surface: &'a WovenSurface, at: &ShadingPoint) -> &PointBsdf<'a> {
+        surface.at_into(at, &mut self.woven);
+        self.woven
+            .as_ref()
+            .expect("WovenSurface::at_into fills the slot")
+    }
+}
 
 /// A reflecting surface as the path tracer uses it. Implementations are `Send + Sync` and
 /// allocate nothing per call.
 pub trait SurfaceMaterial: Send + Sync {
-    /// The BRDF `f(wi, wo)`, sr⁻¹ per channel, without the cosine; 0 when either direction is
-    /// below the surface.
-    fn eval(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> Rgb;
-
-    /// Draws `wi` for the viewer direction `wo` (a camera path:
-    /// [`Transport::Radiance`]): `uc` in `[0, 1)` picks a lobe,
-    /// `u` in `[0, 1)²` draws within it. `None` when no direction results (`wo` below the
-    /// surface, or a rejected draw).
-    fn sample(&self, wo: Vec3, at: &ShadingPoint, uc: f64, u: [f64; 2]) -> Option<MaterialSample>;
-
-    /// The density per unit solid angle with which [`sample`](Self::sample) draws `wi` for `wo`.
-    fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64;
+    /// The material's BSDF at `at`: the one door a renderer asks a material through, once per
+    /// path vertex. A material the same everywhere is its own BSDF; one that varies builds it
+    /// into `scratch`.
+    fn bsdf<'a, 's>(
+        &'a self,
+        at: &ShadingPoint,
+        scratch: &'s mut BsdfScratch<'a>,
+    ) -> &'s MaterialBsdf<'a>;
 
     /// Whether the material reads [`ShadingPoint::uv`] (one that does not is handed `[0, 0]`,
     /// and a sphere's uv, two inverse trigonometric functions, is not worked out).
@@ -55,91 +74,24 @@ pub trait SurfaceMaterial: Send + Sync {
         false
     }
 
-    /// The warp's share of the BRDF at `at`, in `[0, 1]`; 0 for a material without yarns. It
-    /// tells a weave's yarn families apart without noise (the denoiser's guide).
-    fn warp_share(&self, _at: &ShadingPoint) -> f64 {
-        0.0
+    /// `f(wi, wo)` at `at`: [`bsdf`](Self::bsdf)'s, built for this one question (for tests and
+    /// tools; a renderer asks the BSDF it built once per vertex).
+    fn eval(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> Rgb {
+        self.bsdf(at, &mut BsdfScratch::default()).eval(wi, wo)
     }
 
-    /// The material's BSDF at `at`, where building it costs more than a call: a woven
-    /// surface's lobes at the point (and on a relief, the yarn the viewer's ray meets), built
-    /// into `slot` (over what a previous vertex left there: a path keeps one slot). A
-    /// [`MaterialAt`] builds it once per path vertex and asks it what it would ask
-    /// [`eval`](Self::eval), [`sample`](Self::sample) and [`pdf`](Self::pdf), which must answer
-    /// as it does ([`Transport::Radiance`]). Returns whether it built one; `false` (the
-    /// default): the vertex asks those.
-    fn point_bsdf<'a>(&'a self, _at: &ShadingPoint, _slot: &mut Option<PointBsdf<'a>>) -> bool {
-        false
-    }
-}
-
-/// A material at one path vertex: what a path tracer asks there. The material's BSDF at the
-/// point ([`SurfaceMaterial::point_bsdf`]) is built with it and answers every question, as the
-/// material's own methods would, bit for bit.
-///
-/// It is built eagerly, into a slot the path keeps (`'s`): a vertex that reaches its material
-/// always asks it something, and building a point's BSDF (over a kilobyte of lobes) anew and
-/// moving it into place was a tenth of a plane's render time.
-pub struct MaterialAt<'a, 's> {
-    material: &'a dyn SurfaceMaterial,
-    at: ShadingPoint,
-    bsdf: Option<&'s PointBsdf<'a>>,
-}
-
-impl<'a, 's> MaterialAt<'a, 's> {
-    /// `material` at `at`, its BSDF there built into `slot` (one per path; whatever an earlier
-    /// vertex left there is overwritten).
-    #[inline]
-    pub fn new(
-        material: &'a dyn SurfaceMaterial,
-        at: ShadingPoint,
-        slot: &'s mut Option<PointBsdf<'a>>,
-    ) -> MaterialAt<'a, 's> {
-        let built = material.point_bsdf(&at, slot);
-        let slot: &'s Option<PointBsdf<'a>> = slot;
-        MaterialAt {
-            material,
-            at,
-            bsdf: if built { slot.as_ref() } else { None },
-        }
+    /// A draw of `wi` for `wo` at `at` ([`Transport::Radiance`]): [`bsdf`](Self::bsdf)'s, for
+    /// this one question.
+    fn sample(&self, wo: Vec3, at: &ShadingPoint, uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
+        self.bsdf(at, &mut BsdfScratch::default())
+            .sample(wo, uc, u, Transport::Radiance)
     }
 
-    /// The material's BSDF here; `None` for a material without one.
-    #[inline]
-    fn bsdf(&self) -> Option<&'s PointBsdf<'a>> {
-        self.bsdf
-    }
-
-    /// [`SurfaceMaterial::eval`] here.
-    #[inline]
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        match self.bsdf() {
-            Some(b) => b.eval(wi, wo),
-            None => self.material.eval(wi, wo, &self.at),
-        }
-    }
-
-    /// [`SurfaceMaterial::sample`] here.
-    #[inline]
-    pub fn sample(&self, wo: Vec3, uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
-        match self.bsdf() {
-            Some(b) => b.sample(wo, uc, u, Transport::Radiance),
-            None => self.material.sample(wo, &self.at, uc, u),
-        }
-    }
-
-    /// [`SurfaceMaterial::pdf`] here.
-    #[inline]
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f64 {
-        match self.bsdf() {
-            Some(b) => b.pdf(wi, wo, Transport::Radiance),
-            None => self.material.pdf(wi, wo, &self.at),
-        }
-    }
-
-    /// [`SurfaceMaterial::warp_share`] here.
-    pub fn warp_share(&self) -> f64 {
-        self.material.warp_share(&self.at)
+    /// The density of [`sample`](Self::sample)'s draw: [`bsdf`](Self::bsdf)'s, for this one
+    /// question.
+    fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64 {
+        self.bsdf(at, &mut BsdfScratch::default())
+            .pdf(wi, wo, Transport::Radiance)
     }
 }
 
@@ -150,8 +102,14 @@ pub struct Diffuse {
     pub reflectance: Rgb,
 }
 
-impl SurfaceMaterial for Diffuse {
-    fn eval(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> Rgb {
+impl Bsdf for Diffuse {
+    type Value = Rgb;
+
+    fn lobes(&self) -> LobeFlags {
+        LobeFlags::REFLECTION | LobeFlags::DIFFUSE
+    }
+
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             Rgb::BLACK
         } else {
@@ -159,12 +117,31 @@ impl SurfaceMaterial for Diffuse {
         }
     }
 
-    fn sample(&self, wo: Vec3, _: &ShadingPoint, _uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
-        if wo.z <= 0.0 {
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+        let drawn = match mode {
+            Transport::Radiance => wi,
+            Transport::Importance => wo,
+        };
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            0.0
+        } else {
+            drawn.z * FRAC_1_PI
+        }
+    }
+
+    fn sample(
+        &self,
+        known: Vec3,
+        _uc: f64,
+        u: [f64; 2],
+        mode: Transport,
+    ) -> Option<MaterialSample> {
+        if known.z <= 0.0 {
             return None;
         }
-        let wi = cosine_hemisphere(u[0], u[1]);
-        let pdf = cosine_hemisphere_pdf(wi.z);
+        let drawn = cosine_hemisphere(u[0], u[1]);
+        let pdf = cosine_hemisphere_pdf(drawn.z);
+        let (wi, wo) = woven::bsdf::pair_of(known, drawn, mode);
         // A draw on the horizon has density 0: reject it rather than divide by it.
         (pdf > 0.0).then_some(MaterialSample {
             wi,
@@ -174,13 +151,15 @@ impl SurfaceMaterial for Diffuse {
             lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
         })
     }
+}
 
-    fn pdf(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> f64 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            0.0
-        } else {
-            wi.z * FRAC_1_PI
-        }
+impl SurfaceMaterial for Diffuse {
+    fn bsdf<'a, 's>(
+        &'a self,
+        _: &ShadingPoint,
+        _: &'s mut BsdfScratch<'a>,
+    ) -> &'s MaterialBsdf<'a> {
+        self
     }
 
     fn uses_uv(&self) -> bool {
@@ -194,17 +173,11 @@ impl SurfaceMaterial for Diffuse {
 pub struct Uniform<B>(pub B);
 
 impl<B: Bsdf<Value = Rgb>> SurfaceMaterial for Uniform<B> {
-    fn eval(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> Rgb {
-        self.0.eval(wi, wo)
-    }
-
-    fn sample(&self, wo: Vec3, _: &ShadingPoint, uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
-        self.0
-            .sample(wo, uc, u, Transport::Radiance)
-            .filter(|s| s.pdf > 0.0)
-    }
-
-    fn pdf(&self, wi: Vec3, wo: Vec3, _: &ShadingPoint) -> f64 {
-        self.0.pdf(wi, wo, Transport::Radiance)
+    fn bsdf<'a, 's>(
+        &'a self,
+        _: &ShadingPoint,
+        _: &'s mut BsdfScratch<'a>,
+    ) -> &'s MaterialBsdf<'a> {
+        &self.0
     }
 }

@@ -6,16 +6,13 @@
 //! (a [`TableCache`] shares tables between the materials of a scene and, with
 //! [`TableCache::with_disk`], keeps them on disk between runs), and the result is a
 //! [`SurfaceMaterial`]: the surface's BSDF at each shading point, sampled for camera paths
-//! ([`Transport::Radiance`]).
+//! ([`Transport::Radiance`](woven::bsdf::Transport::Radiance)).
 
-use crate::material::{MaterialSample, ShadingPoint, SurfaceMaterial};
+use crate::material::{BsdfScratch, MaterialBsdf, ShadingPoint, SurfaceMaterial};
 use crate::Result;
-use crate::Rgb;
-use woven::bsdf::{Bsdf, Transport};
 use woven::progress::Progress;
-use woven::surface::{PointBsdf, WovenSurface};
+use woven::surface::WovenSurface;
 use woven::table::TableOptions;
-use woven::Vec3;
 
 /// The wavelength every woven table is built at, nm (the middle of the visible range, green):
 /// the library's default (the `wavelength_nm` of `woven::surface::SURFACE_KEYS`).
@@ -93,43 +90,15 @@ impl WovenMaterial {
 
 impl SurfaceMaterial for WovenMaterial {
     #[inline]
-    fn eval(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> Rgb {
-        self.surface.at(at).eval(wi, wo)
-    }
-
-    #[inline]
-    fn sample(&self, wo: Vec3, at: &ShadingPoint, uc: f64, u: [f64; 2]) -> Option<MaterialSample> {
-        self.surface.at(at).sample(wo, uc, u, Transport::Radiance)
-    }
-
-    #[inline]
-    fn pdf(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> f64 {
-        self.surface.at(at).pdf(wi, wo, Transport::Radiance)
+    fn bsdf<'a, 's>(
+        &'a self,
+        at: &ShadingPoint,
+        scratch: &'s mut BsdfScratch<'a>,
+    ) -> &'s MaterialBsdf<'a> {
+        scratch.woven(&self.surface, at)
     }
 
     fn uses_footprint(&self) -> bool {
         self.surface.uses_footprint()
-    }
-
-    #[inline]
-    fn point_bsdf<'a>(&'a self, at: &ShadingPoint, slot: &mut Option<PointBsdf<'a>>) -> bool {
-        self.surface.at_into(at, slot);
-        true
-    }
-
-    fn warp_share(&self, at: &ShadingPoint) -> f64 {
-        let mix = self.surface.lobes(at);
-        let warp: f64 = mix
-            .lobes()
-            .iter()
-            .filter(|l| l.warp)
-            .map(|l| l.weight)
-            .sum();
-        let total = mix.total();
-        if total > 0.0 {
-            warp / total
-        } else {
-            0.0
-        }
     }
 }

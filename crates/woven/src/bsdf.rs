@@ -164,6 +164,13 @@ pub trait Bsdf: Send + Sync {
         u: [f64; 2],
         mode: Transport,
     ) -> Option<BsdfSample<Self::Value>>;
+
+    /// The warp's share of the BSDF for a viewer toward `wo`, in `[0, 1]`: which yarn family
+    /// the view meets (on a relief, the yarn its ray meets first). 0 without yarns. It tells a
+    /// weave's families apart without noise (a denoiser's guide).
+    fn warp_share(&self, _wo: Vec3) -> f64 {
+        0.0
+    }
 }
 
 /// Splits a pair `(wi, wo)` into `(known, drawn)` for `mode`: the known direction is the `s` a
@@ -261,6 +268,10 @@ macro_rules! forward_bsdf {
                 mode: Transport,
             ) -> Option<BsdfSample<B::Value>> {
                 (**self).sample(known, uc, u, mode)
+            }
+
+            fn warp_share(&self, wo: Vec3) -> f64 {
+                (**self).warp_share(wo)
             }
         }
     )*};

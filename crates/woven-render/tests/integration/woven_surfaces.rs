@@ -2,12 +2,13 @@
 //! averaging to the macro BRDF.
 
 use std::path::Path;
+use woven::bsdf::Transport;
 use woven::material::{Material, Weave};
 use woven::surface::Detail;
 use woven::table::{Table, TableOptions};
 use woven::Vec3;
 use woven_render::camera::Camera;
-use woven_render::material::{MaterialAt, ShadingPoint, SurfaceMaterial};
+use woven_render::material::{BsdfScratch, ShadingPoint, SurfaceMaterial};
 use woven_render::render::{render, RenderOptions};
 use woven_render::scene::{Scene, SceneDescription};
 use woven_render::woven_material::{TableCache, TableGrid, WovenMaterial, WovenSpec};
@@ -470,10 +471,11 @@ fn a_cloth_draped_over_a_sphere_renders() {
     assert!(image.at(12, 12).0[0] > 0.0);
 }
 
-/// A path vertex ([`MaterialAt`]) builds the woven surface's BSDF once and answers with it: bit
-/// for bit what the material's own `eval`, `sample` and `pdf` answer (each building it anew),
-/// on a resolved relief (tilted floats, gaps, fibres and yarns under `auto`), in any order of
-/// questions, its BSDF built over the previous point's (one slot, as a path keeps it).
+/// A path vertex builds the woven surface's BSDF once through the material's one door
+/// ([`SurfaceMaterial::bsdf`]) and answers with it: bit for bit what the material's `eval`,
+/// `sample` and `pdf` answer (each building it anew), on a relief (tilted floats, gaps, fibres
+/// and yarns under `auto`), in any order of questions, its BSDF built over the previous
+/// point's (one scratch, as a path keeps it); and the warp's share seen along the view.
 #[test]
 fn a_vertex_answers_as_the_material_does_bit_for_bit() {
     let mut material = Material::preset("polyester-sateen").unwrap();
@@ -482,13 +484,14 @@ fn a_vertex_answers_as_the_material_does_bit_for_bit() {
         yarns_per_unit: [8.0, 8.0],
         u_max: 0.4,
         gap: 0.15,
+        relief: true,
         ..WovenSpec::new(material)
     };
     let m = build_tiny(&spec);
     let bits = |c: woven_render::Rgb| c.0.map(f64::to_bits);
     let mut rng = woven::math::rng::SplitMix(27);
     let mut drawn = 0;
-    let mut slot = None;
+    let mut scratch = BsdfScratch::default();
     for k in 0..400 {
         // Footprints from none (yarns) through fibres to a few cells (toward the macro BRDF).
         let size = [0.0, 0.002, 0.02, 0.1, 0.4][k % 5];
@@ -496,16 +499,17 @@ fn a_vertex_answers_as_the_material_does_bit_for_bit() {
             uv: [rng.uniform(), rng.uniform()],
             footprint: [[size, 0.0], [0.0, size * 0.7]],
         };
-        let vertex = MaterialAt::new(&m, at, &mut slot);
+        let vertex = m.bsdf(&at, &mut scratch);
         let (wo, wi) = (rng.direction(1.45), rng.direction(1.45));
         let (uc, u) = (rng.uniform(), [rng.uniform(), rng.uniform()]);
-        let ask_sample = |v: &MaterialAt| v.sample(wo, uc, u);
+        let ask_sample = || vertex.sample(wo, uc, u, Transport::Radiance);
+        let pdf = || vertex.pdf(wi, wo, Transport::Radiance);
         // The integrator's order (eval, pdf, sample), or sampling first.
         let (f, pdf, s) = if k % 2 == 0 {
-            (vertex.eval(wi, wo), vertex.pdf(wi, wo), ask_sample(&vertex))
+            (vertex.eval(wi, wo), pdf(), ask_sample())
         } else {
-            let s = ask_sample(&vertex);
-            (vertex.eval(wi, wo), vertex.pdf(wi, wo), s)
+            let s = ask_sample();
+            (vertex.eval(wi, wo), pdf(), s)
         };
         assert_eq!(bits(f), bits(m.eval(wi, wo, &at)), "eval at {at:?}");
         assert_eq!(pdf.to_bits(), m.pdf(wi, wo, &at).to_bits(), "pdf at {at:?}");
@@ -517,7 +521,8 @@ fn a_vertex_answers_as_the_material_does_bit_for_bit() {
             assert_eq!(dir(s.wi), dir(want.wi));
             assert_eq!(bits(s.f), bits(want.f));
             assert_eq!(s.pdf.to_bits(), want.pdf.to_bits());
-            assert_eq!(vertex.warp_share().to_bits(), m.warp_share(&at).to_bits());
+            let alone = m.bsdf(&at, &mut BsdfScratch::default()).warp_share(wo);
+            assert_eq!(vertex.warp_share(wo).to_bits(), alone.to_bits());
         }
     }
     assert!(drawn > 200, "only {drawn} draws succeeded");

@@ -8,7 +8,7 @@ use woven::math::rng::SplitMix;
 use woven::surface::Detail;
 use woven::weave::Pattern;
 use woven::Vec3;
-use woven_render::material::{ShadingPoint, SurfaceMaterial};
+use woven_render::material::{BsdfScratch, ShadingPoint, SurfaceMaterial};
 use woven_render::woven_material::{TableCache, WovenMaterial, WovenSpec};
 
 /// The sateen's yarn woven in `pattern` (or a weft fraction), one cell per unit of uv.
@@ -260,19 +260,24 @@ fn blended_tilted_gapped_points_sample_with_their_density() {
     );
 }
 
-/// The denoiser's guide `warp_share`: at the yarn level each point lies on one family (0 or 1)
+/// The denoiser's guide `warp_share` (the BSDF's at the point, seen from straight above): at the
+/// yarn level each point lies on one family (0 or 1)
 /// and a 2/1 twill's points are a third one family, two thirds the other; a macro BRDF of weft
 /// fraction 0.7 is 0.3 warp everywhere.
 #[test]
 fn the_warp_share_tells_the_yarn_families_apart() {
     let twill = material(Ok(Pattern::from_name("twill-2/1").unwrap()), 0.0, 0.0);
+    let share = |m: &WovenMaterial, uv: [f64; 2]| {
+        m.bsdf(&at(uv[0], uv[1]), &mut BsdfScratch::default())
+            .warp_share(Vec3::new(0.0, 0.0, 1.0))
+    };
     // Over the pattern's repeat, 3 × 3 yarns (one a unit of uv).
     let n = 30;
     let mut sum = 0.0;
     for i in 0..n {
         for j in 0..n {
             let uv = [i, j].map(|k| 3.0 * (k as f64 + 0.5) / n as f64);
-            let s = twill.warp_share(&at(uv[0], uv[1]));
+            let s = share(&twill, uv);
             assert!(s == 0.0 || s == 1.0, "share {s}");
             sum += s;
         }
@@ -284,7 +289,7 @@ fn the_warp_share_tells_the_yarn_families_apart() {
     );
     let macro_cloth = material(Err(0.7), 0.0, 0.0);
     for uv in [[0.1, 0.2], [0.55, 0.9]] {
-        let s = macro_cloth.warp_share(&at(uv[0], uv[1]));
+        let s = share(&macro_cloth, uv);
         assert!((s - 0.3).abs() < 1e-12, "share {s}");
     }
 }

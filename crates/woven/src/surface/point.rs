@@ -234,4 +234,22 @@ impl Bsdf for PointBsdf<'_> {
             lobe: LobeFlags::REFLECTION | LobeFlags::GLOSSY,
         })
     }
+
+    /// The warp lobes' share of the weights the view meets (on a relief, the yarn the ray
+    /// toward `wo` meets first); 0 over a hole.
+    fn warp_share(&self, wo: Vec3) -> f64 {
+        let mix = self.mix_seen_from(wo);
+        let total = mix.total();
+        if total > 0.0 {
+            let warp: f64 = mix
+                .lobes()
+                .iter()
+                .filter(|l| l.warp)
+                .map(|l| l.weight)
+                .sum();
+            warp / total
+        } else {
+            0.0
+        }
+    }
 }
