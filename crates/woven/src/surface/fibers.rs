@@ -139,7 +139,7 @@ impl WovenSurface {
                 across: wound - wound.floor(),
                 theta_a,
                 phi,
-                draws: f.draw_shares(if warp { &self.warp } else { &self.weft }),
+                draws: f.draw_shares(self.dyes.albedos(warp)),
             };
             mix.push_point(warp, tilt, scale * fibers, point);
         }

@@ -84,7 +84,7 @@ impl WovenSurface {
         }
         let (table, float) = match (&self.relief, lobe.resolved) {
             (Some(relief), true) => (self.crowned(), &relief.float(lobe.warp)),
-            _ => (&*self.yarn, &self.float),
+            _ => (&*self.tables.yarn, &self.float),
         };
         let value = |a: Vec3, b: Vec3| read(table, a, b);
         // A leaning facet's radiance for unit irradiance on the cloth: its BRDF in its own
@@ -139,7 +139,7 @@ impl WovenSurface {
         }
         let untilted = |k: Vec3, d: Vec3| match (&lobe.point, &self.fibers) {
             (Some(p), Some(f)) => point_pdf(f, p, k, d),
-            _ => self.yarn.pdf_direction(k, d),
+            _ => self.tables.yarn.pdf_direction(k, d),
         };
         let tilted = |lean: Lean| {
             let (k, d) = (lean.into_frame(k), lean.into_frame(d));
@@ -173,7 +173,7 @@ impl WovenSurface {
             _ if lobe.tilt == Tilt::Float => self
                 .tilted_table(lobe.warp, lobe.resolved)
                 .sample_direction(k, u[0], u[1])?,
-            _ => self.yarn.sample_direction(k, u[0], u[1])?,
+            _ => self.tables.yarn.sample_direction(k, u[0], u[1])?,
         };
         if d.z <= 0.0 || pdf.is_nan() || pdf <= 0.0 {
             return None;

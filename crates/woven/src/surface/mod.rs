@@ -78,13 +78,15 @@ use std::sync::Arc;
 
 // The surface's ideas, one module each: `spec` (what a surface is, its limits and checks),
 // `keys` (the keys front ends write it with, and their one reader), `route` (what a JIT
-// renderer traces and what it asks the library for),
+// renderer traces and what it asks the library for), `dyes` (the surface's dyes),
 // `layout` (the pattern's cells, tilt, gaps and relief, the γ-mix and the footprint filter: a
 // point's lobes), `fibers` (the fibre level: per-yarn draws, a point on its yarn), `lobe` (one
 // lobe's BRDF, density and draws in its frame), `point` (the BSDF at a point), `tables` (the
-// resolved levels' crowned table and relief ratio), `ratio` (that ratio's table), `irregular`
+// tables a surface renders from: its yarn's, the crowned table, the tilted floats' and the
+// relief's ratio), `ratio` (that ratio's table), `irregular`
 // (uneven dyeing along the yarns). This file: the surface itself, how it is built, what it
 // reports.
+mod dyes;
 mod fibers;
 pub mod irregular;
 mod keys;
@@ -96,6 +98,7 @@ mod route;
 mod spec;
 mod tables;
 
+use dyes::Dyes;
 use fibers::Fibers;
 pub use fibers::{YarnPoint, STRANDS};
 pub use irregular::Irregularity;
@@ -109,6 +112,7 @@ pub use ratio::{
 };
 pub use route::{JitLayout, LayoutKind, LibraryReason, MacroLobe, Route, JIT_LAYOUT_VERSION};
 pub use spec::{Detail, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG};
+use tables::SurfaceTables;
 
 /// Gauss–Legendre nodes over a whole float's lit and seen part (what a whole float's table,
 /// [`Table::tilted`](crate::table::Table::tilted), tabulates).
@@ -133,36 +137,26 @@ enum Layout {
     },
 }
 
-/// A woven surface, ready to evaluate at points ([`WovenSurface::at`]).
+/// A woven surface, ready to evaluate at points ([`WovenSurface::at`]): what it lays on its uv
+/// (the layout: the pattern, its cells' size, the floats' tilt, the gaps, the relief), its dyes
+/// (`surface/dyes.rs`) and the tables it renders from (`surface/tables.rs`).
 #[derive(Clone, Debug)]
 pub struct WovenSurface {
-    yarn: Arc<Table>,
     layout: Layout,
-    /// The material's own albedos (what dyes replace).
-    own: Albedos,
-    weft: [Albedos; 3],
-    warp: [Albedos; 3],
     yarns_per_unit: [f64; 2],
     u_max: f64,
     /// The floats' profile: tilt `u_max`, the material's crest and flanks.
     float: FloatProfile,
     gap: f64,
     detail: Detail,
-    irregularity: Irregularity,
     /// The exact yarn and its draws, where fibres are resolved ([`Detail::Auto`] and
     /// [`Detail::Fibers`] on a pattern).
     fibers: Option<Fibers>,
     /// The weave's relief, where [`SurfaceSpec::relief`] is on (on a pattern): the geometry of
     /// every level.
     relief: Option<Relief>,
-    /// The relief's ratio table ([`WovenSurface::relief_ratio`]), built on first use.
-    ratio: std::sync::OnceLock<Arc<ReliefRatio>>,
-    /// The yarn's table averaged over its crown ([`Table::crowned`]), built on first use: the
-    /// resolved macro lobes' BRDF before the ratio.
-    crowned: std::sync::OnceLock<Arc<Table>>,
-    /// Whole tilted floats' tables ([`Table::tilted`]), each built on first use: the yarn's on
-    /// the surface's floats, and the crowned yarn's on the relief's weft and warp floats.
-    tilted: [std::sync::OnceLock<Arc<Table>>; 3],
+    dyes: Dyes,
+    tables: SurfaceTables,
 }
 
 impl WovenSurface {
@@ -232,22 +226,16 @@ impl WovenSurface {
             None
         };
         Ok(WovenSurface {
-            yarn,
             layout,
-            own,
-            weft: own.dyed(spec.weft_color),
-            warp: own.dyed(spec.warp_color),
             yarns_per_unit: spec.yarns_per_unit,
             u_max: spec.u_max,
             float: spec.float_profile(),
             gap: spec.gap,
             detail: spec.detail,
-            irregularity: spec.irregularity,
             relief: spec.relief_geometry(),
             fibers,
-            ratio: std::sync::OnceLock::new(),
-            crowned: std::sync::OnceLock::new(),
-            tilted: Default::default(),
+            dyes: Dyes::new(own, [spec.weft_color, spec.warp_color], spec.irregularity),
+            tables: SurfaceTables::new(yarn),
         })
     }
 
@@ -288,22 +276,16 @@ impl WovenSurface {
             }
         }
         Ok(WovenSurface {
-            yarn: table,
             layout: Layout::Whole,
-            own,
-            weft: own.dyed(color),
-            warp: own.dyed(color),
             yarns_per_unit: [1.0, 1.0],
             u_max: 0.0,
             float: FloatProfile::new(f64::MIN_POSITIVE),
             gap: 0.0,
             detail: Detail::Yarns,
-            irregularity: Irregularity::default(),
             fibers: None,
             relief: None,
-            ratio: std::sync::OnceLock::new(),
-            crowned: std::sync::OnceLock::new(),
-            tilted: Default::default(),
+            dyes: Dyes::new(own, [color; 2], Irregularity::default()),
+            tables: SurfaceTables::new(table),
         })
     }
 
@@ -348,7 +330,7 @@ impl WovenSurface {
 
     /// The yarn's table.
     pub fn table(&self) -> &Arc<Table> {
-        &self.yarn
+        &self.tables.yarn
     }
 
     /// The weave pattern laid on the surface, if any.
@@ -379,15 +361,11 @@ impl WovenSurface {
     /// point (a front end's texture) sets a family's albedos, as [`albedos`](Self::albedos) are
     /// set from `weft_color` and `warp_color`.
     pub fn dye_rule(&self) -> crate::table::DyeRule {
-        self.own.dye_rule()
+        self.dyes.rule()
     }
 
     /// The albedos per channel of the weft (`warp = false`) or the warp.
     pub fn albedos(&self, warp: bool) -> &[Albedos; 3] {
-        if warp {
-            &self.warp
-        } else {
-            &self.weft
-        }
+        self.dyes.albedos(warp)
     }
 }

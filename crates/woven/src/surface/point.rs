@@ -19,8 +19,8 @@ impl WovenSurface {
             entry: None,
             mix: LobeMix::default(),
             seen: std::sync::OnceLock::new(),
-            weft: self.weft,
-            warp: self.warp,
+            weft: self.dyes.weft,
+            warp: self.dyes.warp,
             factors: [1.0, 1.0],
         };
         point.reset(self, at);
@@ -42,7 +42,7 @@ impl WovenSurface {
     /// The weft's and the warp's dye factors at `at` ([`Irregularity::factor`](super::Irregularity::factor) of the yarns
     /// through the point); 1 and 1 without irregularity.
     pub fn dye_factors(&self, at: &SurfacePoint) -> [f64; 2] {
-        if !self.irregularity.is_active() || !matches!(self.layout, Layout::Pattern { .. }) {
+        if !self.dyes.irregularity.is_active() || !matches!(self.layout, Layout::Pattern { .. }) {
             return [1.0, 1.0];
         }
         let x = at.uv[0] * self.yarns_per_unit[0];
@@ -52,8 +52,8 @@ impl WovenSurface {
         }
         // The weft runs along x: its yarns are the rows, its length x; the warp the other way.
         [
-            self.irregularity.factor(y.floor() as i64, false, x),
-            self.irregularity.factor(x.floor() as i64, true, y),
+            self.dyes.irregularity.factor(y.floor() as i64, false, x),
+            self.dyes.irregularity.factor(x.floor() as i64, true, y),
         ]
     }
 }
@@ -119,8 +119,8 @@ impl<'a> PointBsdf<'a> {
         let factors = surface.dye_factors(at);
         self.surface = surface;
         self.seen = std::sync::OnceLock::new();
-        self.weft = scaled(surface.weft, factors[0]);
-        self.warp = scaled(surface.warp, factors[1]);
+        self.weft = scaled(surface.dyes.weft, factors[0]);
+        self.warp = scaled(surface.dyes.warp, factors[1]);
         self.factors = factors;
         self.mix.clear();
         self.entry = surface.split_into(at, &mut self.mix);
@@ -130,10 +130,10 @@ impl<'a> PointBsdf<'a> {
     /// channel clamped to `[0, 1]`, and varied along the yarns as the surface's are.
     pub fn dyed(mut self, weft_color: Option<Rgb>, warp_color: Option<Rgb>) -> Self {
         if weft_color.is_some() {
-            self.weft = scaled(self.surface.own.dyed(weft_color), self.factors[0]);
+            self.weft = scaled(self.surface.dyes.own.dyed(weft_color), self.factors[0]);
         }
         if warp_color.is_some() {
-            self.warp = scaled(self.surface.own.dyed(warp_color), self.factors[1]);
+            self.warp = scaled(self.surface.dyes.own.dyed(warp_color), self.factors[1]);
         }
         self
     }

@@ -60,7 +60,7 @@ fn key(surface: &WovenSurface) -> String {
     use crate::table::cache::{fnv1a, FNV_BASIS};
     let mut h = FNV_BASIS;
     let mut eat = |bytes: &[u8]| h = fnv1a(h, bytes);
-    let table = &surface.yarn;
+    let table = &surface.tables.yarn;
     for x in table.values() {
         eat(&x.to_le_bytes());
     }
@@ -80,7 +80,7 @@ fn key(surface: &WovenSurface) -> String {
         ENTRIES,
         crate::table::crown::CROWN_NODES,
         REVISION,
-        surface.own.diffuse,
+        surface.dyes.own.diffuse,
     )
     .as_bytes());
     format!("{h:016x}")

@@ -163,7 +163,7 @@ impl WovenSurface {
                     weight: l.weight,
                 })
                 .collect(),
-            albedos: [self.weft, self.warp],
+            albedos: [self.dyes.weft, self.dyes.warp],
             dye_rule: self.dye_rule(),
             cells: self.pattern().map_or_else(Vec::new, |p| p.to_matrix()),
             floats: self.floats().to_vec(),
@@ -196,7 +196,7 @@ impl WovenSurface {
             if matches!(self.detail, Detail::Fibers | Detail::Auto) {
                 return Route::Library(LibraryReason::Resolved(self.detail));
             }
-            if self.irregularity.is_active() {
+            if self.dyes.irregularity.is_active() {
                 return Route::Library(LibraryReason::Irregular);
             }
         }

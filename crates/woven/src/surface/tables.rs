@@ -11,6 +11,34 @@ use crate::yarn::float::FloatProfile;
 use crate::Vec3;
 use std::sync::Arc;
 
+/// The tables a [`WovenSurface`] renders from: its yarn's, and those built from it on first use
+/// (or prepared ahead, [`WovenSurface::prepare`]).
+#[derive(Clone, Debug)]
+pub(super) struct SurfaceTables {
+    /// The yarn's table.
+    pub(super) yarn: Arc<Table>,
+    /// The relief's ratio table ([`WovenSurface::relief_ratio`]).
+    pub(super) ratio: std::sync::OnceLock<Arc<ReliefRatio>>,
+    /// The yarn's table averaged over its crown ([`Table::crowned`]): the resolved macro lobes'
+    /// BRDF before the ratio.
+    pub(super) crowned: std::sync::OnceLock<Arc<Table>>,
+    /// Whole tilted floats' tables ([`Table::tilted`]): the yarn's on the surface's floats, and
+    /// the crowned yarn's on the relief's weft and warp floats.
+    pub(super) tilted: [std::sync::OnceLock<Arc<Table>>; 3],
+}
+
+impl SurfaceTables {
+    /// `yarn`'s, the others not built yet.
+    pub(super) fn new(yarn: Arc<Table>) -> SurfaceTables {
+        SurfaceTables {
+            yarn,
+            ratio: std::sync::OnceLock::new(),
+            crowned: std::sync::OnceLock::new(),
+            tilted: Default::default(),
+        }
+    }
+}
+
 impl WovenSurface {
     /// Builds now what a relief's levels would build on first use: the crowned yarn table and,
     /// at every level but `"fibers"` (which never blends to the macro lobes the ratio scales),
@@ -27,7 +55,7 @@ impl WovenSurface {
         if self.detail == super::Detail::Fibers {
             return;
         }
-        self.ratio.get_or_init(|| {
+        self.tables.ratio.get_or_init(|| {
             Arc::new(match dir {
                 Some(dir) => ReliefRatio::load_or_build(self, dir, note),
                 None => ReliefRatio::build(self),
@@ -91,15 +119,15 @@ impl WovenSurface {
                 expected: format!("a table crowned at {}°", crate::relief::CROWN_DEG),
             });
         }
-        let _ = self.crowned.set(crowned);
+        let _ = self.tables.crowned.set(crowned);
         Ok(self)
     }
 
     /// The yarn's table averaged over its crown (built on first use).
     pub(super) fn crowned(&self) -> &Table {
-        self.crowned.get_or_init(|| {
+        self.tables.crowned.get_or_init(|| {
             // On the yarn table's grid (an isotropic yarn's: the renderer's azimuths).
-            let (n_theta, n_phi, n_h) = self.yarn.dims();
+            let (n_theta, n_phi, n_h) = self.tables.yarn.dims();
             let options = TableOptions {
                 n_theta,
                 n_phi: if n_phi > 1 {
@@ -110,7 +138,7 @@ impl WovenSurface {
                 n_h,
                 ..TableOptions::default()
             };
-            Arc::new(self.yarn.crowned(crate::relief::CROWN_DEG, &options))
+            Arc::new(self.tables.yarn.crowned(crate::relief::CROWN_DEG, &options))
         })
     }
 
@@ -132,14 +160,14 @@ impl WovenSurface {
         match &self.relief {
             Some(relief) => {
                 let [weft, warp] = [false, true].map(|warp| relief.float(warp));
-                let first = self.tilted[1].get_or_init(|| build(self.crowned(), &weft));
-                self.tilted[2].get_or_init(|| match warp == weft {
+                let first = self.tables.tilted[1].get_or_init(|| build(self.crowned(), &weft));
+                self.tables.tilted[2].get_or_init(|| match warp == weft {
                     true => Arc::clone(first),
                     false => build(self.crowned(), &warp),
                 });
             }
             None => {
-                self.tilted[0].get_or_init(|| build(&self.yarn, &self.float));
+                self.tables.tilted[0].get_or_init(|| build(&self.tables.yarn, &self.float));
             }
         }
     }
@@ -152,14 +180,16 @@ impl WovenSurface {
     #[inline]
     pub(super) fn tilted_table(&self, warp: bool, resolved: bool) -> &Arc<Table> {
         match (&self.relief, resolved) {
-            (Some(relief), true) => self.tilted[1 + usize::from(warp)].get_or_init(|| {
+            (Some(relief), true) => self.tables.tilted[1 + usize::from(warp)].get_or_init(|| {
                 let float = relief.float(warp);
                 match warp && float == relief.float(false) {
                     true => Arc::clone(self.tilted_table(false, true)),
                     false => Arc::new(self.crowned().tilted(&float)),
                 }
             }),
-            _ => self.tilted[0].get_or_init(|| Arc::new(self.yarn.tilted(&self.float))),
+            _ => {
+                self.tables.tilted[0].get_or_init(|| Arc::new(self.tables.yarn.tilted(&self.float)))
+            }
         }
     }
 
@@ -176,7 +206,8 @@ impl WovenSurface {
         if self.relief.is_none() {
             return [1.0; 2];
         }
-        self.ratio
+        self.tables
+            .ratio
             .get_or_init(|| Arc::new(ReliefRatio::build(self)))
             .pair(s, v)
     }
@@ -187,7 +218,8 @@ impl WovenSurface {
         if self.relief.is_none() {
             return 1.0;
         }
-        self.ratio
+        self.tables
+            .ratio
             .get_or_init(|| Arc::new(ReliefRatio::build(self)))
             .at(warp, s, v)
     }
