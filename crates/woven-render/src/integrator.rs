@@ -260,6 +260,7 @@ fn trace<'a>(
         // The lobe choice has a dimension of its own (stratified points stay stratified).
         let uc = sampler.uniform();
         let (u1, u2) = sampler.next2();
+        // A draw of density 0 (or not a number) is no draw.
         let drawn = bsdf.sample(wo, uc, [u1, u2], Transport::Radiance);
         let Some(s) = drawn.filter(|s| s.pdf > 0.0) else {
             if let (0, Some(f)) = (depth, first.as_mut()) {
@@ -272,7 +273,7 @@ fn trace<'a>(
             f.albedo = albedo_estimate(&s);
         }
         let wi = frame.to_world(s.wi);
-        if wi.dot(hit.ng) <= 0.0 || s.pdf.is_nan() || s.pdf <= 0.0 {
+        if wi.dot(hit.ng) <= 0.0 {
             // Below the geometric surface: a one-sided surface transmits nothing.
             break;
         }

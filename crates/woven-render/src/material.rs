@@ -13,7 +13,7 @@
 
 use crate::color::Rgb;
 use std::f64::consts::FRAC_1_PI;
-use woven::bsdf::{Bsdf, BsdfSample, LobeFlags, Transport};
+use woven::bsdf::{known_and_drawn, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
 use woven::math::sampling::{cosine_hemisphere, cosine_hemisphere_pdf};
 use woven::surface::{PointBsdf, WovenSurface};
 use woven::Vec3;
@@ -118,10 +118,7 @@ impl Bsdf for Diffuse {
     }
 
     fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
-        let drawn = match mode {
-            Transport::Radiance => wi,
-            Transport::Importance => wo,
-        };
+        let (_, drawn) = known_and_drawn(wi, wo, mode);
         if wi.z <= 0.0 || wo.z <= 0.0 {
             0.0
         } else {
@@ -141,7 +138,7 @@ impl Bsdf for Diffuse {
         }
         let drawn = cosine_hemisphere(u[0], u[1]);
         let pdf = cosine_hemisphere_pdf(drawn.z);
-        let (wi, wo) = woven::bsdf::pair_of(known, drawn, mode);
+        let (wi, wo) = pair_of(known, drawn, mode);
         // A draw on the horizon has density 0: reject it rather than divide by it.
         (pdf > 0.0).then_some(MaterialSample {
             wi,
