@@ -460,13 +460,17 @@ impl Surface {
     /// Dr.Jit variants): the library's `JitLayout` (woven::surface) as a dict, every rule
     /// evaluated in Rust: `version` (the layout's version, `woven.JIT_LAYOUT_VERSION`), `kind`
     /// (what each point traces: "flat", "whole", "macro" — a pattern at "cloth" too — or
-    /// "pattern"), `detail`, `yarns_per_unit`, `u_max` (radians), `float_shape` (the floats'
-    /// `(crest, flank)`, `(0, 0)` for a linear tilt), `gap`, `weft_fraction`, `filter_cells`
+    /// "pattern"), `detail`, `yarns_per_unit`, `u_max` (radians), `float` (the floats' profile,
+    /// None without a tilt: `{"knots": [(t, ψ)], "rises": [...], "top": h}`, the tilt linear
+    /// between knots, the height at `t` in the piece from knot `k`
+    /// `rises[k] + ∫_{t_k}^t tan ψ − top`), `gap`, `weft_fraction`, `filter_cells`
     /// (the footprint filter's start and end, in cells), `macro` (the macro BRDF's lobes: a
     /// list of `(warp, float, weight)`, `float` true for a whole tilted float), `albedos`
     /// (`{"weft": [(ρ0, ρ)] * 3, "warp": ...}`), `dye_rule` (`(cap, slope, offset)`: a colour
     /// `c` per channel, NaN read as 0 and clamped to `[0, 1]`, dyes `ρ0 = min(c, cap)`,
-    /// `ρ = clamp(slope c + offset, 0, 1)`), and for a pattern `cells` (rows × cols, 1 where
+    /// `ρ = clamp(slope c + offset, 0, 1)`; `cap` also bounds a `ρ0` the irregularity
+    /// scales), `irregularity` (None where each yarn is dyed evenly, else
+    /// `{"spread": [σ_weft, σ_warp], "length": ℓ}`), and for a pattern `cells` (rows × cols, 1 where
     /// the weft is on top) and `floats` (rows × cols × 2: cells before in the float, float
     /// length; empty without a tilt).
     fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -477,7 +481,17 @@ impl Surface {
         d.set_item("detail", lay.detail.name())?;
         d.set_item("yarns_per_unit", lay.yarns_per_unit.to_vec())?;
         d.set_item("u_max", lay.u_max)?;
-        d.set_item("float_shape", lay.float_shape)?;
+        let float = match &lay.float {
+            Some(f) => {
+                let p = PyDict::new(py);
+                p.set_item("knots", f.knots.clone())?;
+                p.set_item("rises", f.rises.clone())?;
+                p.set_item("top", f.top)?;
+                p.into_any()
+            }
+            None => py.None().into_bound(py),
+        };
+        d.set_item("float", float)?;
         d.set_item("gap", lay.gap)?;
         d.set_item("weft_fraction", lay.weft_fraction)?;
         d.set_item("filter_cells", lay.filter_cells.to_vec())?;
@@ -495,6 +509,16 @@ impl Surface {
         d.set_item("albedos", albedos)?;
         let rule = lay.dye_rule;
         d.set_item("dye_rule", (rule.cap, rule.slope, rule.offset))?;
+        let irregular = match &lay.irregularity {
+            Some(i) => {
+                let p = PyDict::new(py);
+                p.set_item("spread", i.spread.to_vec())?;
+                p.set_item("length", i.length)?;
+                p.into_any()
+            }
+            None => py.None().into_bound(py),
+        };
+        d.set_item("irregularity", irregular)?;
         if let Some(first) = lay.cells.first() {
             let (rows, cols) = (lay.cells.len(), first.len());
             d.set_item(
@@ -536,7 +560,6 @@ impl Surface {
             .map(|inner| Table { inner })
     }
 
-    /// Whether the surface reads footprints (only patterns filter).
     /// Why a JIT variant of the Mitsuba plugin hands this surface to the library lane by lane
     /// (the library's rule, `WovenSurface::route`), or None where it traces it in Dr.Jit.
     #[getter]
@@ -553,6 +576,7 @@ impl Surface {
         self.filter
     }
 
+    /// Whether the surface reads footprints (only patterns filter).
     #[getter]
     fn uses_footprint(&self) -> bool {
         self.inner.uses_footprint()

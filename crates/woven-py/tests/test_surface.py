@@ -254,15 +254,27 @@ def test_the_jit_layout_is_the_librarys_typed_and_versioned(yarn):
 
 def test_the_library_decides_which_surfaces_jit_variants_trace(yarn):
     """Surface.route: None where Mitsuba's JIT variants trace the surface in Dr.Jit, else the
-    reason the library answers lane by lane. Shaped floats go to the library on a weft fraction
-    as on a pattern (a JIT variant used to raise for the weft fraction)."""
+    reason the library answers lane by lane: only the fibres ("auto", "fibers") and the relief.
+    Irregular dyes and shaped floats are traced, on a weft fraction as on a pattern, and the
+    layout carries what traces them."""
     assert woven.Surface(table=yarn, pattern="plain", detail="yarns").route is None
     assert woven.Surface(table=yarn, weft_fraction=0.4, u_max_deg=20).route is None
     assert "fibres" in woven.Surface(table=yarn, pattern="plain").route
     assert "relief" in woven.Surface(table=yarn, pattern="plain", detail="yarns", relief=True).route
-    uneven = woven.Surface(table=yarn, pattern="plain", detail="cloth", irregularity=0.2)
-    assert "irregularity" in uneven.route
+    uneven = woven.Surface(table=yarn, pattern="plain", detail="cloth", irregularity=[0.2, 0.3],
+                           irregularity_length=5.0)
+    assert uneven.route is None
+    assert uneven.layout()["irregularity"] == {"spread": [0.2, 0.3], "length": 5.0}
+    assert woven.Surface(table=yarn, pattern="plain", detail="cloth").layout()["irregularity"] is None
+    shaped = woven.Material.preset("satin-charmeuse").replace({"weave": None})
+    table = woven.Table.build(shaped, progress=False, colour=True, n_theta=4, n_phi=3, n_h=11,
+                              n_h_isotropic=11, azimuth_nodes=8)
     for weave in ({"pattern": "satin-5"}, {"weft_fraction": 0.2}):
-        s = woven.Surface(woven.Material.preset("satin-charmeuse"), detail="yarns",
-                          progress=False, **weave)
-        assert "float_crest" in s.route, (weave, s.route)
+        s = woven.Surface(table=table, detail="yarns", **weave)
+        assert s.route is None, (weave, s.route)
+        knots = s.layout()["float"]["knots"]
+        # Flat over the crest (float_crest), at full tilt over each flank (float_flank).
+        crest, flank = shaped.yarn["float_crest"], shaped.yarn["float_flank"]
+        u = s.layout()["u_max"]
+        assert len(knots) == 6 and knots[0] == (0.0, u) and knots[-1] == (1.0, -u), knots
+        assert abs(knots[1][0] - flank) < 1e-12 and abs(knots[3][0] - knots[2][0] - crest) < 1e-12

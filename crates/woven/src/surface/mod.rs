@@ -110,7 +110,9 @@ use ratio::ReliefRatio;
 pub use ratio::{
     ENTRIES as RATIO_ENTRIES, MAX_RATIO, PHI as RATIO_PHI, THETA_DEG as RATIO_THETA_DEG,
 };
-pub use route::{JitLayout, LayoutKind, LibraryReason, MacroLobe, Route, JIT_LAYOUT_VERSION};
+pub use route::{
+    JitFloat, JitLayout, LayoutKind, LibraryReason, MacroLobe, Route, JIT_LAYOUT_VERSION,
+};
 pub use spec::{Detail, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG};
 use tables::SurfaceTables;
 

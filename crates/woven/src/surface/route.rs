@@ -4,7 +4,7 @@
 //! interpolated, and hand every other surface to the library lane by lane. The rule lives here,
 //! once; the plugin asks it.
 
-use super::{Detail, Tilt, WovenSurface, FILTER_CELLS};
+use super::{Detail, Irregularity, Tilt, WovenSurface, FILTER_CELLS};
 use crate::table::{Albedos, DyeRule};
 use crate::weave::FloatPlace;
 use std::fmt;
@@ -12,7 +12,7 @@ use std::fmt;
 /// The version of [`JitLayout`]: raised whenever a field is added or changes its meaning, so
 /// that a JIT front end written for another refuses the layout by name instead of misreading
 /// it.
-pub const JIT_LAYOUT_VERSION: u32 = 1;
+pub const JIT_LAYOUT_VERSION: u32 = 2;
 
 /// What a JIT renderer gathers to trace a surface ([`WovenSurface::jit_layout`]): arrays and
 /// constants, every rule (which lobes the macro BRDF has and their weights, the dyes and their
@@ -31,8 +31,8 @@ pub struct JitLayout {
     pub yarns_per_unit: [f64; 2],
     /// The floats' tilt at their ends, radians (0: flat).
     pub u_max: f64,
-    /// The floats' `(crest, flank)` ([`FloatProfile::shape`](crate::yarn::float::FloatProfile::shape)); `(0, 0)`: a linear tilt.
-    pub float_shape: (f64, f64),
+    /// The floats' profile where they tilt (`u_max > 0`), else `None`.
+    pub float: Option<JitFloat>,
     /// The fraction of a cell's width between yarns.
     pub gap: f64,
     /// The macro BRDF's weft fraction γ.
@@ -43,12 +43,31 @@ pub struct JitLayout {
     pub macro_lobes: Vec<MacroLobe>,
     /// The weft's and the warp's dyed albedos per channel.
     pub albedos: [[Albedos; 3]; 2],
-    /// The dye rule for a colour read per point ([`WovenSurface::dye_rule`]).
+    /// The dye rule for a colour read per point ([`WovenSurface::dye_rule`]); its cap also
+    /// bounds a diffuse albedo the irregularity scales.
     pub dye_rule: DyeRule,
+    /// How each yarn's dye varies along it, where it does (an active irregularity on a
+    /// pattern, at every level), else `None`.
+    pub irregularity: Option<Irregularity>,
     /// A pattern's cells, row by row, 1 where the weft is on top; empty without one.
     pub cells: Vec<Vec<u8>>,
     /// Each cell's place in its float ([`Pattern::floats`](crate::weave::Pattern::floats)), row by row; empty without a tilt.
     pub floats: Vec<FloatPlace>,
+}
+
+/// A tilted float's profile as a JIT renderer traces it
+/// ([`FloatProfile`](crate::yarn::float::FloatProfile)): the tilt `ψ` is linear between
+/// knots, and the height at `t` in the piece from knot `k` is
+/// `rises[k] + ∫_{t_k}^t tan ψ − top`, that integral `tan ψ_k (t − t_k)` on a piece of constant
+/// tilt, else `(ln cos ψ_k − ln cos ψ(t)) / ψ′`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JitFloat {
+    /// `(t_k, ψ_k)`, `t` increasing from 0 to 1, `ψ` in radians.
+    pub knots: Vec<(f64, f64)>,
+    /// The height at each knot above the float's start.
+    pub rises: Vec<f64>,
+    /// The crest's height above the float's start.
+    pub top: f64,
 }
 
 /// One lobe of the macro BRDF, as a JIT renderer traces it.
@@ -103,15 +122,6 @@ pub enum LibraryReason {
     Resolved(Detail),
     /// `relief` on a pattern: the weave's relief (ray-marched) at every level.
     Relief,
-    /// Floats shaped by `float_crest` and `float_flank` (their crest and flanks).
-    ShapedFloats {
-        /// `float_crest`.
-        crest: f64,
-        /// `float_flank`.
-        flank: f64,
-    },
-    /// `irregularity`: each yarn dyed unevenly along its length.
-    Irregular,
 }
 
 impl fmt::Display for LibraryReason {
@@ -122,13 +132,6 @@ impl fmt::Display for LibraryReason {
             }
             LibraryReason::Relief => {
                 f.write_str("`relief` = true lays the weave's relief, ray-marched at every level")
-            }
-            LibraryReason::ShapedFloats { crest, flank } => write!(
-                f,
-                "floats shaped by `float_crest` = {crest} and `float_flank` = {flank}"
-            ),
-            LibraryReason::Irregular => {
-                f.write_str("`irregularity` dyes each yarn unevenly along its length")
             }
         }
     }
@@ -149,7 +152,11 @@ impl WovenSurface {
             detail: self.detail,
             yarns_per_unit: self.yarns_per_unit,
             u_max: self.u_max,
-            float_shape: self.float.shape(),
+            float: (self.u_max > 0.0).then(|| JitFloat {
+                knots: self.float.knots().to_vec(),
+                rises: self.float.rises().to_vec(),
+                top: self.float.top(),
+            }),
             gap: self.gap,
             weft_fraction: self.weft_fraction(),
             filter_cells: FILTER_CELLS,
@@ -165,6 +172,9 @@ impl WovenSurface {
                 .collect(),
             albedos: [self.dyes.weft, self.dyes.warp],
             dye_rule: self.dye_rule(),
+            irregularity: (self.dyes.irregularity.is_active()
+                && matches!(self.layout, super::Layout::Pattern { .. }))
+            .then_some(self.dyes.irregularity),
             cells: self.pattern().map_or_else(Vec::new, |p| p.to_matrix()),
             floats: self.floats().to_vec(),
         }
@@ -180,24 +190,17 @@ impl WovenSurface {
         }
     }
 
-    /// Where a JIT renderer takes this surface's values from: traced where it only gathers and
-    /// interpolates (a flat or whole table, the macro BRDF, a pattern at `detail` "yarns" or
-    /// "cloth" with flat or linearly tilted floats and no relief), else the library, with the reason. Shaped
-    /// floats go to the library whatever lays them (a pattern or a weft fraction).
+    /// Where a JIT renderer takes this surface's values from: traced where it only gathers,
+    /// interpolates and follows a float's profile (a flat or whole table, the macro BRDF, a
+    /// pattern at `detail` "yarns" or "cloth", its floats flat, tilted or shaped, its dyes even
+    /// or irregular), else the library, with the reason: the fibres, or the relief.
     pub fn route(&self) -> Route {
-        let (crest, flank) = self.float.shape();
-        if self.u_max > 0.0 && (crest, flank) != (0.0, 0.0) {
-            return Route::Library(LibraryReason::ShapedFloats { crest, flank });
-        }
         if matches!(self.layout, super::Layout::Pattern { .. }) {
             if self.relief.is_some() {
                 return Route::Library(LibraryReason::Relief);
             }
             if matches!(self.detail, Detail::Fibers | Detail::Auto) {
                 return Route::Library(LibraryReason::Resolved(self.detail));
-            }
-            if self.dyes.irregularity.is_active() {
-                return Route::Library(LibraryReason::Irregular);
             }
         }
         Route::Traced

@@ -157,6 +157,23 @@ impl FloatProfile {
         self.shape
     }
 
+    /// The knots `(t_k, ψ_k)` of the tilt, `t` increasing from 0 to 1, between which `ψ` is
+    /// linear (two for a linear tilt; up to six for a crest and flanks).
+    pub fn knots(&self) -> &[(f64, f64)] {
+        &self.knots[..self.len]
+    }
+
+    /// The height at each knot above the float's start, `∫₀^{t_k} tan ψ`: the height at `t` in
+    /// piece `k` is this knot's rise, plus the piece's own up to `t`, less [`top`](Self::top).
+    pub fn rises(&self) -> &[f64] {
+        &self.rise[..self.len]
+    }
+
+    /// The crest's height above the float's start, `∫₀^{1/2} tan ψ`.
+    pub fn top(&self) -> f64 {
+        self.top
+    }
+
     /// `∫ tan ψ` over the first `dt` of piece `i` (from knot `i` toward knot `i + 1`).
     #[inline]
     fn rise_within(&self, i: usize, dt: f64) -> f64 {

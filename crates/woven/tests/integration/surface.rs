@@ -663,3 +663,79 @@ fn crossings_are_shadowed_under_a_raking_light() {
     }
     println!("crossings: {}", report.join("; "));
 }
+
+/// A JIT renderer traces shaped floats and irregular dyes (only the fibres and the relief go to
+/// the library), and the layout it gathers holds the float's profile exactly: the height that
+/// [`JitFloat`]'s documented rule rebuilds from its knots, rises and top is
+/// [`FloatProfile::height`](woven::yarn::float::FloatProfile::height), and its tilt the
+/// profile's.
+#[test]
+fn a_jit_layout_traces_shaped_floats_and_irregular_dyes() {
+    use woven::surface::{JitFloat, LibraryReason, Route};
+    let table = yarn();
+    let mut shaped = spec("satin-5", 30.0, 0.1);
+    let yarn_params = shaped.material.yarn.as_mut().unwrap();
+    (yarn_params.float_crest, yarn_params.float_flank) = (0.2, 0.13);
+    shaped.irregularity = Irregularity {
+        spread: [0.2, 0.4],
+        length: 6.0,
+    };
+    for detail in [Detail::Yarns, Detail::Cloth] {
+        let s = SurfaceSpec {
+            detail,
+            ..shaped.clone()
+        };
+        let surface = WovenSurface::new(&s, Arc::clone(&table)).unwrap();
+        assert_eq!(surface.route(), Route::Traced, "{detail:?}");
+        let lay = surface.jit_layout();
+        assert_eq!(lay.irregularity, Some(s.irregularity), "{detail:?}");
+        let JitFloat { knots, rises, top } = lay.float.expect("a tilted float's profile");
+        assert_eq!(knots.len(), 6, "a crest and two flanks: five pieces");
+        let profile = surface.float_profile();
+        for k in 0..=400 {
+            let t = k as f64 / 400.0;
+            let i = (1..knots.len() - 1).filter(|&j| t >= knots[j].0).count();
+            let ((t0, p0), (t1, p1)) = (knots[i], knots[i + 1]);
+            let slope = (p1 - p0) / (t1 - t0);
+            let psi = p0 + slope * (t - t0);
+            let within = if slope == 0.0 {
+                p0.tan() * (t - t0)
+            } else {
+                (p0.cos().ln() - psi.cos().ln()) / slope
+            };
+            let height = rises[i] + within - top;
+            assert!((psi - profile.tilt(t)).abs() < 1e-14, "t {t}");
+            assert!((height - profile.height(t)).abs() < 1e-14, "t {t}");
+        }
+    }
+    // A weft fraction's floats tilt too, and its yarns cannot vary one by one.
+    let mut fraction = shaped.clone();
+    fraction.material.weave = Some(Weave::WeftFraction(0.3));
+    fraction.irregularity = Irregularity::default();
+    let surface = WovenSurface::new(&fraction, Arc::clone(&table)).unwrap();
+    assert_eq!(surface.route(), Route::Traced);
+    assert!(surface.jit_layout().float.is_some());
+    assert_eq!(surface.jit_layout().irregularity, None);
+    // What goes to the library, and why.
+    for (detail, relief, why) in [
+        (
+            Detail::Fibers,
+            false,
+            LibraryReason::Resolved(Detail::Fibers),
+        ),
+        (Detail::Auto, false, LibraryReason::Resolved(Detail::Auto)),
+        (Detail::Yarns, true, LibraryReason::Relief),
+    ] {
+        let s = SurfaceSpec {
+            detail,
+            relief,
+            ..shaped.clone()
+        };
+        let surface = WovenSurface::new(&s, Arc::clone(&table)).unwrap();
+        assert_eq!(
+            surface.route(),
+            Route::Library(why),
+            "{detail:?}, relief {relief}"
+        );
+    }
+}

@@ -42,12 +42,12 @@ missing reciprocity is handled exactly: the weight is the true f(wi, wo) cos θ 
 Dr.Jit can gather: a surface at ``detail`` "yarns" or "cloth" without ``relief`` (and any
 surface without a pattern) is the yarn table's interpolation and sampling (``JitTable``) at the lobes of each lane's
 cell, float and gap (``JitLayout``, from the constants ``Surface.layout()`` hands over; the
-tilted floats' geometry in ``JitFloat``; a whole tilted float is one look-up in its own table,
-``Surface.float_table``), compiled into Mitsuba's kernels. What the library
-computes and Dr.Jit does not trace — ``detail`` "auto" (the default) and "fibers" on a pattern
-(the fibres' draws), ``relief`` (the weave's relief, its crowned table and ratio), floats shaped by
-``float_crest``/``float_flank`` (on a pattern or a weft fraction), ``irregularity``, and
-microcylinder fabrics — the library decides (``Surface.route``, the reason why or None), and
+tilted floats' geometry in ``JitFloat``, linear or shaped by ``float_crest``/``float_flank``,
+from the profile's knots; each yarn's uneven dye in ``JitIrregularity``; a whole tilted float
+is one look-up in its own table, ``Surface.float_table``), compiled into Mitsuba's kernels.
+What the library computes and Dr.Jit does not trace — ``detail`` "auto" (the default) and
+"fibers" on a pattern (the fibres' draws), ``relief`` (the weave's relief, its crowned table
+and ratio), and microcylinder fabrics — the library decides (``Surface.route``, the reason why or None), and
 it evaluates, samples and weighs lane by lane: each call hands the lanes' arrays to ``woven.Surface``
 (rayon-parallel in Rust, the GIL released) and back, so there is one implementation of those
 levels. That needs Dr.Jit's evaluated (wavefront) mode, in which a call sees its lanes' values:
@@ -78,12 +78,13 @@ from ._bsdf import _bsdf_class
 from ._float import JitFloat
 from ._integrator import _integrator_class
 from ._frames import _turn, _unturn  # noqa: F401  (the tests pin them)
+from ._irregular import JitIrregularity
 from ._layout import JitLayout
 from ._microcylinder import _microcylinder_class
 from ._surface import _evaluated_mode
 from ._table import JitTable
 
-__all__ = ["register", "JitTable", "JitLayout", "JitFloat"]
+__all__ = ["register", "JitTable", "JitLayout", "JitFloat", "JitIrregularity"]
 
 _REGISTERED = set()
 
@@ -95,7 +96,7 @@ def register(symbolic=False):
 
     In a JIT variant it also switches Dr.Jit, in the calling thread, to evaluated loops, calls
     and conditionals, which the surfaces the library evaluates lane by lane need (``detail``
-    "auto", the default, and "fibers" on a pattern; ``relief``; shaped floats; ``irregularity``): call it
+    "auto", the default, and "fibers" on a pattern; ``relief``; microcylinder fabrics): call it
     in the thread that renders. ``symbolic=True`` leaves Dr.Jit's modes alone, for scenes whose
     woven surfaces are all traced (``detail`` "yarns" or "cloth"): a surface that needs the
     library then raises an error naming this when it is called."""

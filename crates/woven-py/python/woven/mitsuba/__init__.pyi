@@ -4,8 +4,9 @@ from typing import Any
 
 import woven
 
-def register() -> None:
-    """Registers the ``woven`` BSDF with Mitsuba for the current variant."""
+def register(symbolic: bool = False) -> None:
+    """Registers the ``woven`` BSDF and the ``woven_path`` integrator with Mitsuba for the
+    current variant."""
 
 class JitTable:
     """A woven table in Dr.Jit arrays; eval/pdf/sample_direction as Dr.Jit code."""

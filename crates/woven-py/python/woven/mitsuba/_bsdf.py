@@ -72,11 +72,21 @@ def _bsdf_class(mi):
             cap, slope, offset = self.dye_rule
             return dr.minimum(c, cap), dr.clip(slope * c + offset, 0.0, 1.0)
 
+        def _varied(self, albedos, si, family):
+            """``albedos`` scaled by the irregularity's factor of ``family`` (0 the weft, 1 the
+            warp) at ``si``, each kept in its range (the library's ``scaled``: ρ0 ≤ the dye
+            rule's cap, ρ ≤ 1)."""
+            irregular = self.layout.irregular
+            if irregular is None:
+                return albedos
+            m = irregular.factors(si)[family]
+            return dr.minimum(albedos[0] * m, self.dye_rule[0]), dr.minimum(albedos[1] * m, 1.0)
+
         def _albedos(self, warp, si, active):
-            weft = self._dye("weft_color", si, active)
+            weft = self._varied(self._dye("weft_color", si, active), si, 0)
             if warp is False:
                 return weft
-            warp_a = self._dye("warp_color", si, active)
+            warp_a = self._varied(self._dye("warp_color", si, active), si, 1)
             if warp is True:
                 return warp_a
             return (dr.select(warp, warp_a[0], weft[0]), dr.select(warp, warp_a[1], weft[1]))

@@ -7,10 +7,11 @@ import numpy as np
 
 from ._float import JitFloat
 from ._frames import FLAT, FLOAT
+from ._irregular import JitIrregularity
 
 # The version of the library's JitLayout (woven::surface::JIT_LAYOUT_VERSION) this code traces:
 # written here, not read, so a library that changed the layout is refused, not misread.
-LAYOUT_VERSION = 1
+LAYOUT_VERSION = 2
 
 
 class JitLayout:
@@ -22,7 +23,8 @@ class JitLayout:
     A lobe is ``(warp, along, weight)``, ``along`` as ``Surface.lobes`` reports the library's
     ``Tilt``: −1 flat, the entry fraction in [0, 1] for a point of a tilted float, 2 for a whole
     float (a constant, or lanes). ``float`` is the floats' profile (``JitFloat``), None without
-    a tilt."""
+    a tilt; ``irregular`` the yarns' dye factors (``JitIrregularity``), None where every yarn
+    is dyed evenly."""
 
     def __init__(self, surface, mi, footprint_filter=True):
         import drjit as dr
@@ -39,14 +41,11 @@ class JitLayout:
         self.kind = lay["kind"]  # a pattern at "cloth" is already "macro"
         self.nu, self.nv = lay["yarns_per_unit"]
         self.u_max, self.gap = lay["u_max"], lay["gap"]
-        if self.u_max > 0 and tuple(lay.get("float_shape", (0.0, 0.0))) != (0.0, 0.0):
-            crest, flank = lay["float_shape"]
-            raise ValueError(
-                f"woven BSDF: floats shaped by float_crest = {crest} and float_flank = {flank}"
-                " are not traced by the JIT variants yet (their floats tilt linearly); use a"
-                " scalar variant, or u_max_deg = 0"
-            )
-        self.float = JitFloat(self.u_max, mi) if self.u_max > 0 else None
+        self.float = None if lay["float"] is None else JitFloat(lay["float"], mi)
+        irregular = lay["irregularity"]
+        self.irregular = None if irregular is None else JitIrregularity(
+            irregular, lay["yarns_per_unit"], mi
+        )
         self.filter_lo, self.filter_hi = lay["filter_cells"]
         self.macro = [(bool(w), FLOAT if f else FLAT, float(g)) for w, f, g in lay["macro"]]
         self.albedos = lay["albedos"]
@@ -119,7 +118,3 @@ class JitLayout:
         out = [(warp, along, weight * (1.0 - w))]
         out += [(mw, mt, w * mg) for mw, mt, mg in self.macro]
         return out
-
-
-
-# Bisection steps of the float's roots: 2⁻²⁴ of [0, 1], float32's resolution.
