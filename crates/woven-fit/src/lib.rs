@@ -41,6 +41,9 @@
 //!   multi-start, then bounded Levenberg–Marquardt).
 //! - [`reference`](mod@reference): fitting to a reference model sampled over the hemisphere (the microcylinder
 //!   fabrics): the samples, dyes per yarn family, the scaled log error, the satin ridge ratio.
+//! - [`projection`]: a woven BRDF projected onto the standard lobes renderers carry (a sheen
+//!   over a Lambertian lobe and an anisotropic GGX along the yarn), beside the best isotropic
+//!   GGX + Lambert.
 //! - [`request`]: a fit described as plain data (model, start, held and freed parameters,
 //!   options), as `woven fit --data` and the Python bindings run it.
 //! - [`report`]: standard errors, warnings, statistics, the Markdown report, plot data and the
@@ -52,6 +55,7 @@ pub mod evaluate;
 pub mod fit;
 pub mod microcylinder;
 pub mod params;
+pub mod projection;
 pub mod reference;
 pub mod report;
 pub mod request;

@@ -25,11 +25,17 @@ pub const N_PHI_R: usize = 16;
 /// viewer over the whole hemisphere; 5 × 4 × 5 × 16 = 1600 pairs, plus the viewer exactly at
 /// the mirror direction of each light (the highlights' peaks).
 pub fn hemisphere_pairs() -> Vec<[f64; 4]> {
+    pairs_over(&THETA_I_DEG, &PHI_I_DEG, &THETA_R_DEG)
+}
+
+/// The pairs of [`hemisphere_pairs`] on other polar angles and light azimuths (degrees), the
+/// viewer at [`N_PHI_R`] azimuths round the circle and at each light's mirror direction.
+pub fn pairs_over(theta_i: &[f64], phi_i: &[f64], theta_r: &[f64]) -> Vec<[f64; 4]> {
     let mut out = Vec::new();
-    for ti in THETA_I_DEG {
-        for pi in PHI_I_DEG {
+    for &ti in theta_i {
+        for &pi in phi_i {
             let (ti, pi) = (ti.to_radians(), pi.to_radians());
-            for tr in THETA_R_DEG {
+            for &tr in theta_r {
                 for k in 0..N_PHI_R {
                     out.push([
                         ti,

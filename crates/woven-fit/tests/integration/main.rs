@@ -6,4 +6,5 @@ mod fit;
 mod fit_real;
 mod grounded;
 mod microcylinder;
+mod projection;
 mod refusals;

@@ -1,23 +1,29 @@
 //! Baseline BSDFs a cloth renderer reaches for beside the woven model: a sheen over a diffuse
-//! base, and a rough dielectric coating over a diffuse base. Both are RGB [`Bsdf`]s with the
+//! base, and a rough dielectric coating over a diffuse base, and the lobes a renderer of standard
+//! lobes carries. The two baselines are RGB [`Bsdf`]s, and every lobe here follows the
 //! crate's conventions (docs/conventions.md): `wi` toward the light, `wo` toward the viewer,
 //! `z` the normal, `f` in sr⁻¹ without the cosine and 0 below the horizon.
 //!
 //! - [`Sheen`]: the Estevez–Kulla "Charlie" sheen (glTF `KHR_materials_sheen`, Filament) over a
 //!   Lambertian base scaled by the sheen's albedo; [`SheenLobe`] is its lobe alone (the fitter's
 //!   `sheen` model evaluates it).
+//! - [`AnisotropicGgx`]: an anisotropic GGX specular lobe on a dielectric, its tangent along
+//!   `x` (the lobe a woven yarn's sheen is projected onto for renderers that carry only
+//!   standard lobes).
 //! - [`RoughPlastic`]: Mitsuba 3's `roughplastic` — a Beckmann or GGX dielectric coating over a
 //!   diffuse base with the coating's transmittance in and out and internal reflections.
 //!
-//! Each samples a mixture of its specular lobe's own distribution and a cosine hemisphere, and
+//! Each baseline samples a mixture of its specular lobe's own distribution and a cosine hemisphere, and
 //! reports the mixture's exact density. The quantities a constructor tabulates (directional
 //! albedos, transmittances) are functions of `cos θ` on `CosTable`'s grid.
 //!
 //! [`Bsdf`]: crate::bsdf::Bsdf
 
+mod ggx;
 mod plastic;
 mod sheen;
 
+pub use ggx::{AnisotropicGgx, MIN_GGX_ALPHA};
 pub use plastic::{Distribution, RoughPlastic, RoughPlasticParams};
 pub use sheen::{Sheen, SheenLobe, SheenParams, MIN_SHEEN_ROUGHNESS};
 
