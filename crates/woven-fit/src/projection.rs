@@ -1,5 +1,6 @@
 //! The projection of a woven BRDF onto the standard lobes that renderers carry (Blender's
-//! Cycles, OpenPBR, glTF): a Charlie sheen ([`SheenLobe`], glTF's `KHR_materials_sheen`) laid
+//! Cycles, OpenPBR, glTF): a Charlie sheen ([`SheenLobe`]: glTF's `KHR_materials_sheen` lobe,
+//! normalised so that its albedo stays at most 1, where glTF's exceeds it toward grazing) laid
 //! over a base of a Lambertian lobe and an anisotropic GGX whose tangent runs along the yarn
 //! ([`AnisotropicGgx`]),
 //!
@@ -7,15 +8,18 @@
 //! f = w_sheen f_sheen + (1 − w_sheen max(Ê(μi), Ê(μo))) (ρ/π + w_spec f_GGX(α_along, α_across))
 //! ```
 //!
-//! (the sheen's layering as glTF states it), their weights and roughnesses fitted to one yarn
-//! family's BRDF. Beside it, the best single isotropic GGX + Lambert: the baseline the mixture
-//! must beat.
+//! (the sheen's albedo scaling of the base, as glTF layers it), their weights and roughnesses
+//! fitted to one yarn family's BRDF. Beside it, the best single isotropic GGX + Lambert: the
+//! baseline the mixture must beat.
 //!
 //! The fit minimizes the log residuals of the luminance, `ln(p + ε) − ln(m + ε)`, at
-//! [`projection_pairs`] (light and viewer up to 80°), by Levenberg–Marquardt from several
-//! starts over unbounded coordinates (a logistic map keeps each parameter in its range). The
-//! isotropic fit's optimum is one of the mixture's starts, so the mixture is never worse. The
-//! error reported is [`rms_log_scaled`]: the RMS log error with the best overall scale removed.
+//! [`projection_pairs`] (light and viewer up to 80°; pairs where the reference is 0 left out), by
+//! Levenberg–Marquardt from several starts over unbounded coordinates (a logistic map keeps
+//! each bounded parameter in its range, an exponential the specular weight positive). The
+//! isotropic fit's optimum, its sheen all but off, is one of the mixture's starts, so the
+//! mixture's fitted objective is never worse than the baseline's. The error reported is
+//! [`rms_log_scaled`]: the RMS log error with the best overall scale removed. Where the fitted
+//! sheen's weight is near 0 its roughness is whatever the start left: it changes nothing.
 //!
 //! What these lobes cannot carry of the woven model:
 //! - **the masking's dependence on the light**: a yarn's lit-and-visible part couples the
@@ -24,8 +28,7 @@
 //! - **the interreflection term**, `ρ ħ/π` with `ħ` the part of the yarn lit and seen: a
 //!   Lambertian lobe is constant where it varies with both directions;
 //! - **non-reciprocity**: with `normalization = "paper"` woven's `f(s, v) ≠ f(v, s)`, and every
-//!   lobe here is reciprocal (the sheen's albedo scaling nearly so), so the fit takes the
-//!   symmetric part of what it is given.
+//!   lobe here is reciprocal, so the fit takes the symmetric part of what it is given.
 
 use crate::error::FitError;
 use crate::reference::{pairs_over, rms_log_scaled};

@@ -420,8 +420,9 @@ LAYOUTS = {
     "macro, shaped floats": {"table": "charmeuse", "weft_fraction": 0.3, "gap": 0.2},
     "twill, tilted, irregular": {"pattern": "twill-2/1", "u_max_deg": 25.0,
                                  "irregularity": [0.3, 0.5], "irregularity_length": 4.0},
+    # Its warp even (σ 0): a family the irregularity leaves as it is, uncapped.
     "plain, shaped floats, irregular": {"table": "charmeuse", "pattern": "plain",
-                                        "irregularity": [0.4, 0.2]},
+                                        "irregularity": [0.4, 0.0]},
 }
 
 

@@ -26,13 +26,8 @@ fn a_woven_yarn_projects_onto_the_fabric_lobes_better_than_onto_one_ggx() {
         mixture.lobes.describe(),
         iso.rms_log
     );
-    // Measured on the exact model (examples/projection.rs): 0.121 against 0.348.
-    assert!(
-        mixture.rms_log <= iso.rms_log,
-        "{} {}",
-        mixture.rms_log,
-        iso.rms_log
-    );
+    // Measured here 0.114 against 0.345; on the exact model (examples/projection.rs) 0.121
+    // against 0.348.
     assert!(
         mixture.rms_log < 0.5 * iso.rms_log,
         "{} {}",

@@ -77,9 +77,9 @@ def _bsdf_class(mi):
             warp) at ``si``, each kept in its range (the library's ``scaled``: ρ0 ≤ the dye
             rule's cap, ρ ≤ 1)."""
             irregular = self.layout.irregular
-            if irregular is None:
+            if irregular is None or not irregular.varies(family):
                 return albedos
-            m = irregular.factors(si)[family]
+            m = irregular.factor(si, family)
             return dr.minimum(albedos[0] * m, self.dye_rule[0]), dr.minimum(albedos[1] * m, 1.0)
 
         def _albedos(self, warp, si, active):

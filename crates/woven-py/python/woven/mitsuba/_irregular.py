@@ -66,13 +66,17 @@ class JitIrregularity:
         z = ((1.0 - s) * z0 + s * z1) / dr.sqrt((1.0 - s) ** 2 + s * s)
         return dr.exp(sigma * z - 0.5 * sigma * sigma)
 
-    def factors(self, si):
-        """(weft, warp) factors per lane (Float); 1 where the uv is not finite. The weft runs
-        along x: its yarns are the rows, its length x."""
+    def varies(self, family):
+        """Whether the yarns of ``family`` (0 the weft, 1 the warp) vary at all (σ > 0): where
+        they do not, the library leaves their albedos as they are, uncapped."""
+        return self.spread[family] > 0
+
+    def factor(self, si, family):
+        """The dye factor of ``family`` (0 the weft, 1 the warp) per lane (Float); 1 where the
+        uv is not finite. The weft runs along x: its yarns are the rows, its length x."""
         dr, mi = self.dr, self.mi
         x, y = mi.Float64(si.uv.x) * self.nu, mi.Float64(si.uv.y) * self.nv
         finite = dr.isfinite(x) & dr.isfinite(y)
         x, y = dr.select(finite, x, 0.0), dr.select(finite, y, 0.0)
-        weft = self._factor(dr.floor(y), 0, x)
-        warp = self._factor(dr.floor(x), 1, y)
-        return (mi.Float(dr.select(finite, weft, 1.0)), mi.Float(dr.select(finite, warp, 1.0)))
+        index, along = (dr.floor(y), x) if family == 0 else (dr.floor(x), y)
+        return mi.Float(dr.select(finite, self._factor(index, family, along), 1.0))
