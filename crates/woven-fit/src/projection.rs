@@ -31,7 +31,7 @@
 //!   lobe here is reciprocal, so the fit takes the symmetric part of what it is given.
 
 use crate::error::FitError;
-use crate::reference::{pairs_over, rms_log_scaled};
+use crate::reference::{pairs_over, rms_log_scaled, LOG_EPS};
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{storage::Owned, DMatrix, DVector, Dyn};
 use std::f64::consts::FRAC_1_PI;
@@ -45,9 +45,6 @@ pub const PROJECTION_ETA: f64 = 1.5;
 pub const PROJECTION_THETA_I_DEG: [f64; 6] = [10.0, 25.0, 40.0, 55.0, 70.0, 80.0];
 /// The viewer's polar angles of [`projection_pairs`], degrees.
 pub const PROJECTION_THETA_R_DEG: [f64; 6] = [5.0, 20.0, 35.0, 50.0, 65.0, 80.0];
-
-/// The floor added before taking logs, sr⁻¹ (a reference's zeros are fitted as small values).
-const LOG_EPS: f64 = 1e-6;
 
 /// The direction pairs a projection is fitted at: the reference pairs
 /// ([`hemisphere_pairs`](crate::reference::hemisphere_pairs)) with light and viewer down to 80°

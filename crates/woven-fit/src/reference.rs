@@ -199,8 +199,9 @@ pub fn fit_dyes(model: &Model, data: &Dataset) -> Dye {
 /// [`fit_dyes`]'s objective.
 const EQUAL_DYE_PULL: f64 = 1e-7;
 
-/// The floor added to values before taking logs (sr⁻¹).
-const LOG_EPS: f64 = 1e-6;
+/// The floor added to values before taking logs (sr⁻¹): a reference's zeros are fitted as small
+/// values (here and in [`projection`](crate::projection)).
+pub(crate) const LOG_EPS: f64 = 1e-6;
 
 /// Minimizes `cost(x)` (its value and residuals) over the first `n` of two variables in
 /// `[0, 0.999]`, by coordinate descent: each variable in turn on a grid of 25 values, then by

@@ -39,12 +39,19 @@ impl WovenSurface {
         }
     }
 
+    /// The irregularity that varies this surface's yarns, one by one along their length: an
+    /// active one on a pattern (only there are yarns laid out one by one), else `None`.
+    pub fn varying_dyes(&self) -> Option<&super::Irregularity> {
+        (self.dyes.irregularity.is_active() && matches!(self.layout, Layout::Pattern { .. }))
+            .then_some(&self.dyes.irregularity)
+    }
+
     /// The weft's and the warp's dye factors at `at` ([`Irregularity::factor`](super::Irregularity::factor) of the yarns
     /// through the point); 1 and 1 without irregularity.
     pub fn dye_factors(&self, at: &SurfacePoint) -> [f64; 2] {
-        if !self.dyes.irregularity.is_active() || !matches!(self.layout, Layout::Pattern { .. }) {
+        let Some(irregularity) = self.varying_dyes() else {
             return [1.0, 1.0];
-        }
+        };
         let x = at.uv[0] * self.yarns_per_unit[0];
         let y = at.uv[1] * self.yarns_per_unit[1];
         if !(x.is_finite() && y.is_finite()) {
@@ -52,8 +59,8 @@ impl WovenSurface {
         }
         // The weft runs along x: its yarns are the rows, its length x; the warp the other way.
         [
-            self.dyes.irregularity.factor(y.floor() as i64, false, x),
-            self.dyes.irregularity.factor(x.floor() as i64, true, y),
+            irregularity.factor(y.floor() as i64, false, x),
+            irregularity.factor(x.floor() as i64, true, y),
         ]
     }
 }

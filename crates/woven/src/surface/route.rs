@@ -172,9 +172,7 @@ impl WovenSurface {
                 .collect(),
             albedos: [self.dyes.weft, self.dyes.warp],
             dye_rule: self.dye_rule(),
-            irregularity: (self.dyes.irregularity.is_active()
-                && matches!(self.layout, super::Layout::Pattern { .. }))
-            .then_some(self.dyes.irregularity),
+            irregularity: self.varying_dyes().copied(),
             cells: self.pattern().map_or_else(Vec::new, |p| p.to_matrix()),
             floats: self.floats().to_vec(),
         }

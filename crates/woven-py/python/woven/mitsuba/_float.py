@@ -89,18 +89,19 @@ class JitFloat:
         return 0.5 * (lo + hi)
 
     def _start(self, m):
-        """The first facing point from +x at slope ``m > 0`` (0 where the whole float faces)."""
+        """(t*, full): the first facing point from +x at slope ``m > 0``, and whether the whole
+        float faces (t* = 0)."""
         a = self.dr.atan(m)
-        return self.dr.select(a >= self.u, 0.0, self._facing_from(a))
+        full = a >= self.u
+        return self.dr.select(full, 0.0, self._facing_from(a)), full
 
     def _lit_plus(self, m):
         """``lit_from_plus_x``: the lit interval from +x at slope ``m > 0``."""
         dr = self.dr
-        t_star = self._start(m)
+        t_star, full = self._start(m)
         g = self.height(t_star) - m * t_star
         # H(t) = h(t) − m t − (g − m) decreases on [t*, 1]: the root of −H.
         t_end = self._root(lambda t: m * t + g - m - self.height(t), t_star)
-        full = dr.atan(m) >= self.u
         return t_star, dr.select(full, 1.0, t_end)
 
     def lit(self, d):
@@ -123,7 +124,7 @@ class JitFloat:
         minus = v.x < 0
         e = dr.select(minus, 1.0 - entry, entry)
         m = dr.select(along, v.z / dr.select(along, dr.abs(v.x), 1.0), 1.0)
-        lo = self._start(m)
+        lo, _ = self._start(m)
 
         def foot(t):
             return t - self.height(t) / m
