@@ -43,11 +43,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             let reference = Reference::sample(|wi, wo| bsdf.eval(turn(wi), turn(wo)).luminance());
             let mixture = project(&reference, LobeSet::Fabric)?;
-            let iso = project(&reference, LobeSet::IsotropicGgx)?;
             println!(
                 "| {name} | {family} | {:.3} | {:.3} | {} |",
                 mixture.rms_log,
-                iso.rms_log,
+                mixture.baseline.as_ref().map_or(f64::NAN, |b| b.rms_log),
                 mixture.lobes.describe()
             );
         }

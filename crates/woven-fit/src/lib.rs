@@ -59,6 +59,7 @@ pub mod projection;
 pub mod reference;
 pub mod report;
 pub mod request;
+pub mod standard;
 
 pub use error::FitError;
 pub use fit::{fit, FitOptions, ProgressFn, Residual, MAX_ITERATIONS, MAX_STARTS};

@@ -134,13 +134,26 @@ impl BuiltLobes {
     /// `f(wi, wo)` (module docs), sr⁻¹ without the cosine; 0 below the horizon.
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> f64 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return 0.0;
-        }
+        let [lambert, ggx, sheen] = self.unit_lobes(wi, wo);
         let l = &self.lobes;
-        let base = l.diffuse * FRAC_1_PI + l.specular * self.ggx.eval(wi, wo);
-        let over = 1.0 - l.sheen * self.sheen.base_attenuation(wi.z, wo.z);
-        l.sheen * self.sheen.eval(wi, wo) + over * base
+        l.sheen * sheen + l.diffuse * lambert + l.specular * ggx
+    }
+
+    /// Each lobe at unit weight, as `f` adds them: the Lambertian and the GGX lobes under the
+    /// sheen's albedo scaling, and the sheen; 0 below the horizon. `f` is
+    /// `ρ · [0] + w_spec · [1] + w_sheen · [2]`: linear in the weights, so each colour channel's
+    /// weights follow from the same lobes by least squares.
+    #[inline]
+    pub fn unit_lobes(&self, wi: Vec3, wo: Vec3) -> [f64; 3] {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return [0.0; 3];
+        }
+        let over = 1.0 - self.lobes.sheen * self.sheen.base_attenuation(wi.z, wo.z);
+        [
+            over * FRAC_1_PI,
+            over * self.ggx.eval(wi, wo),
+            self.sheen.eval(wi, wo),
+        ]
     }
 }
 
@@ -225,6 +238,9 @@ pub struct Projection {
     pub lobes: StandardLobes,
     /// The RMS log error of the luminance against the reference, best overall scale removed.
     pub rms_log: f64,
+    /// For [`LobeSet::Fabric`], the isotropic baseline fitted on the way (one of its starts);
+    /// `None` for the baseline itself.
+    pub baseline: Option<Box<Projection>>,
 }
 
 /// The reference's luminance at each pair: what a projection is fitted to.
@@ -274,6 +290,7 @@ pub fn project(reference: &Reference, set: LobeSet) -> Result<Projection, FitErr
         "check_reference refuses an all-zero reference"
     );
     let mut starts = vec![];
+    let mut baseline = None;
     let base = StandardLobes {
         diffuse: 0.3,
         specular: 1.0,
@@ -296,6 +313,7 @@ pub fn project(reference: &Reference, set: LobeSet) -> Result<Projection, FitErr
                 sheen: 1e-6,
                 ..iso.lobes
             });
+            baseline = Some(Box::new(iso));
             for (along, across) in [(0.05, 0.3), (0.3, 0.05), (0.1, 0.1), (0.4, 0.6)] {
                 for sheen_roughness in [0.3, 0.8] {
                     starts.push(StandardLobes {
@@ -336,6 +354,7 @@ pub fn project(reference: &Reference, set: LobeSet) -> Result<Projection, FitErr
         set,
         lobes,
         rms_log: rms_log_scaled(&predicted, &reference.values),
+        baseline,
     })
 }
 

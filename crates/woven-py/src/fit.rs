@@ -12,7 +12,7 @@ use woven_fit::{FitError, FitOptions, ModelKind, Residual};
 
 /// A fitter error as the Python exception that fits it: files that cannot be read are OSError,
 /// everything else ValueError, with the library's message.
-fn fit_err(err: FitError) -> PyErr {
+pub(crate) fn fit_err(err: FitError) -> PyErr {
     match &err {
         FitError::Material(woven::Error::Io { .. }) => PyOSError::new_err(crate::message(&err)),
         _ => PyValueError::new_err(crate::message(&err)),

@@ -19,6 +19,7 @@ mod material;
 mod render;
 mod scene;
 mod signals;
+mod standard;
 mod surface;
 mod table;
 
@@ -69,6 +70,7 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material::presets, m)?)?;
     m.add_function(wrap_pyfunction!(bsdf::open_material, m)?)?;
     m.add_function(wrap_pyfunction!(scene::portable_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(standard::standard_surface, m)?)?;
     m.add_function(wrap_pyfunction!(scene::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
     m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;

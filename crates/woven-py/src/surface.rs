@@ -52,7 +52,7 @@ use woven::table::TableOptions;
 /// and stop for Ctrl-C (KeyboardInterrupt).
 #[pyclass(module = "woven", frozen)]
 pub struct Surface {
-    inner: Arc<WovenSurface>,
+    pub(crate) inner: Arc<WovenSurface>,
     material: Option<woven::material::Material>,
     /// `footprint_filter`: off, calls' footprints are ignored (as `woven render` with the
     /// integrator's filter off).

@@ -84,7 +84,7 @@ use std::sync::Arc;
 // lobe's BRDF, density and draws in its frame), `point` (the BSDF at a point), `tables` (the
 // tables a surface renders from: its yarn's, the crowned table, the tilted floats' and the
 // relief's ratio), `ratio` (that ratio's table), `irregular`
-// (uneven dyeing along the yarns). This file: the surface itself, how it is built, what it
+// (uneven dyeing along the yarns), `texel` (the layout as another renderer's textures carry it). This file: the surface itself, how it is built, what it
 // reports.
 mod dyes;
 mod fibers;
@@ -97,6 +97,7 @@ mod ratio;
 mod route;
 mod spec;
 mod tables;
+mod texel;
 
 use dyes::Dyes;
 use fibers::Fibers;
@@ -115,6 +116,7 @@ pub use route::{
 };
 pub use spec::{Detail, SurfaceSpec, DEFAULT_YARNS_PER_UNIT, MAX_GAP, MAX_U_MAX_DEG};
 use tables::SurfaceTables;
+pub use texel::Texel;
 
 /// Gauss–Legendre nodes over a whole float's lit and seen part (what a whole float's table,
 /// [`Table::tilted`](crate::table::Table::tilted), tabulates).

@@ -1,0 +1,207 @@
+//! A woven surface as the standard lobes renderers carry (Blender's Cycles, OpenPBR, glTF):
+//! each yarn family's BRDF projected onto a sheen over Lambert + anisotropic GGX along the yarn
+//! ([`projection`](crate::projection)), its colours fitted per channel, and the surface's layout
+//! baked into textures by the library ([`textures`]): which family is on top, the facet's
+//! normal (the float's tilt), each family's dye factor. What Blender (`woven.blender`), the
+//! OpenPBR and the glTF writers build is read from here, and each renderer's own
+//! parametrisation of the GGX lobe ([`StandardFamily::cycles`], [`StandardFamily::gltf`]) has
+//! its one home here.
+//!
+//! **What a family's lobes fit.** The family's yarn, flat, at yarn level: the surface's yarn
+//! table dyed with that family's albedos, the yarn along `x` (the warp's own frame is the weft's
+//! turned 90°). The float's tilt and the gaps are the layout's, carried as textures (a normal map
+//! and the families' shares), not averaged into the lobes. The fibre level (`detail = "fibers"`
+//! or `"auto"` close up) has no standard counterpart: the yarn's average stands for it.
+//!
+//! **Colour.** The lobes' shapes (the roughnesses) are fitted to the luminance
+//! ([`project`](crate::projection::project)); then each channel's Lambertian albedo and GGX weight
+//! are the non-negative least-squares fit to that channel's BRDF with the shapes fixed, each pair
+//! weighted by `cos θi cos θo` (so that the reflected radiance under even light is what matches).
+//! The sheen stays grey at its fitted weight.
+
+pub mod textures;
+
+use crate::error::FitError;
+use crate::projection::{project, BuiltLobes, LobeSet, Reference, StandardLobes};
+use woven::color::Rgb;
+use woven::surface::WovenSurface;
+use woven::Vec3;
+
+/// The smallest ratio of the two GGX roughnesses Cycles' anisotropy reaches (`aspect² =
+/// 1 − 0.9 a` at `a = 1`).
+pub const CYCLES_MIN_ROUGHNESS_RATIO: f64 = 0.1;
+
+/// One yarn family on the standard lobes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StandardFamily {
+    /// The lobes fitted to the family's luminance (their shapes; weights of the luminance).
+    pub lobes: StandardLobes,
+    /// The Lambertian albedo per channel.
+    pub diffuse: [f64; 3],
+    /// The GGX lobe's weight per channel (1: a dielectric of index
+    /// [`PROJECTION_ETA`](crate::projection::PROJECTION_ETA)).
+    pub specular: [f64; 3],
+    /// The sheen's weight per channel (grey: the fitted weight).
+    pub sheen: [f64; 3],
+    /// The mixture's RMS log error against the family's luminance, best overall scale removed.
+    pub rms_log: f64,
+    /// The best single isotropic GGX + Lambert's, the same way.
+    pub isotropic_rms_log: f64,
+}
+
+/// A woven surface on the standard lobes: its two families and what lays them out.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StandardSurface {
+    /// The weft (along `u`).
+    pub weft: StandardFamily,
+    /// The warp (along `v`).
+    pub warp: StandardFamily,
+    /// Pattern cells per unit of uv, `[n_u, n_v]`.
+    pub yarns_per_unit: [f64; 2],
+}
+
+/// Cycles' GGX lobe (its Metallic BSDF: GGX, physical-conductor Fresnel of index 1.5 and
+/// extinction 0, which is the dielectric's) for one family: Cycles stretches `α = r²` to
+/// `α_x = α / a′` along the tangent and `α_y = α a′` across it, `a′ = √(1 − 0.9 a)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CyclesSpecular {
+    /// `Roughness` `r`.
+    pub roughness: f64,
+    /// `Anisotropy` `a`, in `[0, 1]`.
+    pub anisotropy: f64,
+    /// `Rotation` of the tangent from the yarn, in turns: 0 (along the yarn) or 0.25 (across).
+    pub rotation: f64,
+    /// The roughnesses Cycles renders, `[along the yarn, across it]`: the fitted ones, unless
+    /// their ratio is below [`CYCLES_MIN_ROUGHNESS_RATIO`] (then the ratio is that, about the
+    /// same geometric mean).
+    pub alpha: [f64; 2],
+}
+
+/// glTF's `KHR_materials_anisotropy` for one family: `α_b = roughness²` across the tangent
+/// and `α_t = α_b + (1 − α_b) strength²` along it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GltfSpecular {
+    /// `roughnessFactor`.
+    pub roughness: f64,
+    /// `anisotropyStrength`, in `[0, 1]`.
+    pub anisotropy_strength: f64,
+    /// Whether the tangent (the rougher direction) runs along the yarn, else across it.
+    pub along_yarn: bool,
+}
+
+impl StandardFamily {
+    /// The GGX lobe as Cycles' node parameters ([`CyclesSpecular`]).
+    pub fn cycles(&self) -> CyclesSpecular {
+        let [along, across] = self.lobes.alpha;
+        let (t, b, rotation) = if along >= across {
+            (along, across, 0.0)
+        } else {
+            (across, along, 0.25)
+        };
+        let ratio = (b / t).max(CYCLES_MIN_ROUGHNESS_RATIO);
+        let mean = (t * b).sqrt();
+        let (t, b) = (mean / ratio.sqrt(), mean * ratio.sqrt());
+        CyclesSpecular {
+            roughness: mean.sqrt().min(1.0),
+            anisotropy: ((1.0 - ratio) / 0.9).clamp(0.0, 1.0),
+            rotation,
+            alpha: if rotation == 0.0 { [t, b] } else { [b, t] },
+        }
+    }
+
+    /// The GGX lobe as glTF's parameters ([`GltfSpecular`]).
+    pub fn gltf(&self) -> GltfSpecular {
+        let [along, across] = self.lobes.alpha;
+        let (t, b) = (along.max(across), along.min(across));
+        GltfSpecular {
+            roughness: b.sqrt(),
+            anisotropy_strength: ((t - b) / (1.0 - b)).max(0.0).sqrt().min(1.0),
+            along_yarn: along >= across,
+        }
+    }
+}
+
+/// `surface`'s two families on the standard lobes (module docs).
+///
+/// # Errors
+/// [`FitError`] when a family's BRDF is 0 everywhere (nothing to fit).
+pub fn project_surface(surface: &WovenSurface) -> Result<StandardSurface, FitError> {
+    let weft = project_family(surface, false)?;
+    // Families dyed alike are one projection.
+    let warp = if surface.albedos(true) == surface.albedos(false) {
+        weft.clone()
+    } else {
+        project_family(surface, true)?
+    };
+    Ok(StandardSurface {
+        weft,
+        warp,
+        yarns_per_unit: surface.yarns_per_unit(),
+    })
+}
+
+/// One family: the shapes from its luminance, then its colours.
+fn project_family(surface: &WovenSurface, warp: bool) -> Result<StandardFamily, FitError> {
+    let (table, albedos) = (surface.table(), surface.albedos(warp));
+    let rgb = |wi: Vec3, wo: Vec3| table.eval_dyed(wi, wo, albedos);
+    let reference = Reference::sample(|wi, wo| Rgb(rgb(wi, wo)).luminance());
+    let fabric = project(&reference, LobeSet::Fabric)?;
+    let built = fabric.lobes.build()?;
+    let values: Vec<[f64; 3]> = reference.pairs.iter().map(|&(i, o)| rgb(i, o)).collect();
+    let (mut diffuse, mut specular) = ([0.0; 3], [0.0; 3]);
+    for c in 0..3 {
+        let [d, s] = channel_weights(&built, &reference.pairs, |k| values[k][c]);
+        (diffuse[c], specular[c]) = (d, s);
+    }
+    Ok(StandardFamily {
+        lobes: fabric.lobes,
+        diffuse,
+        specular,
+        sheen: [fabric.lobes.sheen; 3],
+        rms_log: fabric.rms_log,
+        isotropic_rms_log: fabric.baseline.as_ref().map_or(f64::NAN, |b| b.rms_log),
+    })
+}
+
+/// One channel's Lambertian albedo (at most 1) and GGX weight, both ≥ 0: the least-squares fit
+/// of `value(k)` less the grey sheen at `pairs[k]`, weighted by `cos θi cos θo`.
+fn channel_weights(
+    lobes: &BuiltLobes,
+    pairs: &[(Vec3, Vec3)],
+    value: impl Fn(usize) -> f64,
+) -> [f64; 2] {
+    // The normal equations of the weighted fit: [a b; b c] x = [p; q].
+    let (mut a, mut b, mut c, mut p, mut q) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (k, &(wi, wo)) in pairs.iter().enumerate() {
+        let [lambert, ggx, sheen] = lobes.unit_lobes(wi, wo);
+        let w = wi.z * wo.z;
+        let y = value(k) - lobes.lobes().sheen * sheen;
+        (a, b, c) = (
+            a + w * lambert * lambert,
+            b + w * lambert * ggx,
+            c + w * ggx * ggx,
+        );
+        (p, q) = (p + w * lambert * y, q + w * ggx * y);
+    }
+    let alone = |num: f64, den: f64| if den > 0.0 { (num / den).max(0.0) } else { 0.0 };
+    let det = a * c - b * b;
+    let both = (det > 0.0).then(|| [(p * c - q * b) / det, (q * a - p * b) / det]);
+    let [d, s] = match both {
+        Some([d, s]) if d >= 0.0 && s >= 0.0 && d <= 1.0 => [d, s],
+        _ => {
+            // The best fit on the boundary: the albedo at 0 or at 1, or the GGX off.
+            let candidates = [
+                [0.0, alone(q, c)],
+                [1.0, alone(q - b, c)],
+                [alone(p, a).min(1.0), 0.0],
+            ];
+            let cost =
+                |[d, s]: [f64; 2]| a * d * d + 2.0 * b * d * s + c * s * s - 2.0 * (p * d + q * s);
+            candidates
+                .into_iter()
+                .min_by(|x, y| cost(*x).total_cmp(&cost(*y)))
+                .unwrap_or([0.0, 0.0])
+        }
+    };
+    [d, s]
+}

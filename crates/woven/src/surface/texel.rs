@@ -1,0 +1,158 @@
+//! What a surface lays at one point of its uv, as a renderer without woven's BSDF carries it in
+//! textures ([`Texel`]): which yarn family is on top (or a hole), the normal of the facet there
+//! (its float's tilt, the relief's lean) and each family's dye factor. Blender, OpenPBR and glTF
+//! read a woven material as these textures over its families' standard lobes
+//! (`woven_fit::standard`): the layout is the library's, never rewritten in their languages.
+
+use super::{Tilt, WovenSurface};
+use crate::relief::Lean;
+use crate::Vec3;
+
+/// One point of a surface's layout at yarn level, seen along the normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Texel {
+    /// The weft's share of the point (1 where it is on top; the weft fraction γ on a surface
+    /// without a pattern).
+    pub weft: f64,
+    /// The warp's share; `1 − weft − warp` is the hole between gapped yarns.
+    pub warp: f64,
+    /// The normal of the yarn's facet there, in the cloth's frame (`z` the macro normal, `x`
+    /// along `u`): its float's tilt, or on a relief its lean.
+    pub normal: Vec3,
+    /// The weft's and the warp's dye factors there ([`WovenSurface::dye_factors`]).
+    pub factors: [f64; 2],
+}
+
+impl WovenSurface {
+    /// The surface at `uv` as textures carry it ([`Texel`]): the pattern cell's yarn at yarn
+    /// level (fibres averaged: no footprint), its facet's normal where a viewer above meets it.
+    pub fn texel(&self, uv: [f64; 2]) -> Texel {
+        let at = super::SurfacePoint {
+            uv,
+            footprint: [[0.0; 2]; 2],
+        };
+        let mut mix = super::LobeMix::default();
+        if let Some(entry) = self.split_into(&at, &mut mix) {
+            mix = self.with_relief(mix, &entry, Vec3::new(0.0, 0.0, 1.0));
+        }
+        let (mut shares, mut top, mut heaviest) = ([0.0; 2], Vec3::new(0.0, 0.0, 1.0), 0.0);
+        for lobe in mix.lobes() {
+            shares[usize::from(lobe.warp)] += lobe.weight;
+            if lobe.weight > heaviest {
+                heaviest = lobe.weight;
+                top = self.facet_normal(lobe.warp, lobe.tilt);
+            }
+        }
+        Texel {
+            weft: shares[0],
+            warp: shares[1],
+            normal: top,
+            factors: self.dye_factors(&at),
+        }
+    }
+
+    /// The normal of a lobe's facet in the cloth's frame: its lean's normal, turned back from
+    /// the warp's frame for the warp.
+    fn facet_normal(&self, warp: bool, tilt: Tilt) -> Vec3 {
+        let lean = match tilt {
+            Tilt::Flat | Tilt::Float => Lean::FLAT,
+            Tilt::Entering(t) => Lean::tilted(self.float.tilt(t).sin_cos()),
+            Tilt::Relief { lean, .. } => lean,
+        };
+        let n = lean.from_frame(Vec3::new(0.0, 0.0, 1.0));
+        if warp {
+            Vec3::new(-n.y, n.x, n.z)
+        } else {
+            n
+        }
+    }
+
+    /// The cells of one repeat of the surface's layout, `[along u, along v]`: the pattern's
+    /// columns and rows; `[1, 1]` without a pattern (the same everywhere).
+    pub fn repeat_cells(&self) -> [usize; 2] {
+        self.pattern().map_or([1, 1], |p| [p.cols(), p.rows()])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::{Material, Weave};
+    use crate::surface::{SurfacePoint, SurfaceSpec};
+    use crate::table::{Table, TableOptions};
+    use std::sync::Arc;
+
+    fn surface(pattern: &str, u_max_deg: f64, gap: f64) -> WovenSurface {
+        let mut material = Material::preset("polyester-sateen").unwrap();
+        material.weave = Some(Weave::named(pattern).unwrap());
+        let spec = SurfaceSpec {
+            yarns_per_unit: [10.0, 10.0],
+            u_max: u_max_deg.to_radians(),
+            gap,
+            ..SurfaceSpec::new(material)
+        };
+        let yarn = spec.material.yarn_family();
+        let options = TableOptions {
+            n_theta: 3,
+            n_phi: 2,
+            n_h: 5,
+            colour: true,
+            ..TableOptions::default()
+        };
+        let table = Table::build(&yarn.build(550.0).unwrap(), &yarn, &options, &|_, _| {}).unwrap();
+        WovenSurface::new(&spec, Arc::new(table)).unwrap()
+    }
+
+    #[test]
+    fn a_texel_is_the_family_the_surface_shades_and_its_facet_tilts_along_its_yarn() {
+        let s = surface("satin-5", 20.0, 0.1);
+        let (mut weft, mut warp, mut holes) = (0, 0, 0);
+        for i in 0..50 {
+            for j in 0..50 {
+                let uv = [(i as f64 + 0.5) / 100.0, (j as f64 + 0.5) / 100.0];
+                let t = s.texel(uv);
+                let mix = s.lobes(&SurfacePoint {
+                    uv,
+                    footprint: [[0.0; 2]; 2],
+                });
+                let on_top: f64 = mix
+                    .lobes()
+                    .iter()
+                    .filter(|l| !l.warp)
+                    .map(|l| l.weight)
+                    .sum();
+                assert!((t.weft - on_top).abs() < 1e-12, "{uv:?}");
+                assert!((t.normal.length() - 1.0).abs() < 1e-12);
+                // A facet tilts about the axis across its yarn: the weft's normal leans along x,
+                // the warp's along y, never more than u_max.
+                assert!(t.normal.z >= 20f64.to_radians().cos() - 1e-12);
+                match (t.weft > 0.5, t.warp > 0.5) {
+                    (true, false) => (weft += 1, assert_eq!(t.normal.y, 0.0)).1,
+                    (false, true) => (warp += 1, assert!(t.normal.x.abs() < 1e-15)).1,
+                    _ => holes += 1,
+                }
+            }
+        }
+        // The cells average to the macro BRDF's shares: each family on top over 1 − gap of its
+        // cells, and below in the other's gaps; gaps of 0.1 leave 1 % holes.
+        let (n, g, gap) = (f64::from(weft + warp + holes), s.weft_fraction(), 0.1);
+        let share = (1.0 - gap) * g + gap * (1.0 - gap) * (1.0 - g);
+        assert!(
+            (f64::from(weft) / n - share).abs() < 0.02,
+            "{weft} of {n}, γ {g}"
+        );
+        assert!(holes > 0 && f64::from(holes) / n < 0.03, "{holes}");
+        assert_eq!(s.repeat_cells(), [5, 5]);
+    }
+
+    #[test]
+    fn a_flat_tight_weave_lays_flat_normals_and_unit_factors() {
+        let s = surface("plain", 0.0, 0.0);
+        for k in 0..40 {
+            let t = s.texel([k as f64 * 0.0123, k as f64 * 0.0371]);
+            assert_eq!(t.weft + t.warp, 1.0);
+            assert_eq!(t.normal, Vec3::new(0.0, 0.0, 1.0));
+            assert_eq!(t.factors, [1.0, 1.0]);
+        }
+    }
+}
