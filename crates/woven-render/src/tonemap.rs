@@ -96,14 +96,8 @@ impl Display {
     }
 }
 
-/// The sRGB transfer function of a linear value in `[0, 1]`.
-pub fn srgb_encode(x: f64) -> f64 {
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
+/// The sRGB transfer function of a linear value in `[0, 1]` (the library's one home of it).
+pub use woven::color::srgb_encode;
 
 /// The filmic curve of one channel: linear in, display-encoded out, both in `[0, 1]`.
 pub fn filmic_curve(x: f64) -> f64 {

@@ -46,6 +46,25 @@ impl Rgb {
     }
 }
 
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value in `[0, 1]`: what an 8-bit
+/// sRGB image stores (the renderer's PNGs, glTF's colour textures).
+///
+/// ```
+/// use woven::color::srgb_encode;
+/// // Middle grey (18 %) is stored near 46 % of full scale.
+/// assert!((srgb_encode(0.18) - 0.4613).abs() < 1e-4);
+/// assert_eq!(srgb_encode(0.0), 0.0);
+/// assert!((srgb_encode(1.0) - 1.0).abs() < 1e-12);
+/// ```
+pub fn srgb_encode(x: f64) -> f64 {
+    // The linear toe below 0.0031308 keeps the curve's slope finite at 0.
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 impl Add for Rgb {
     type Output = Rgb;
     #[inline]
