@@ -19,6 +19,8 @@
 //! weighted by `cos θi cos θo` (so that the reflected radiance under even light is what matches).
 //! The sheen stays grey at its fitted weight.
 
+pub mod gltf;
+pub mod openpbr;
 pub mod textures;
 
 use crate::error::FitError;
@@ -107,6 +109,11 @@ impl StandardFamily {
             rotation,
             alpha: if rotation == 0.0 { [t, b] } else { [b, t] },
         }
+    }
+
+    /// The GGX lobe as OpenPBR's parameters ([`OpenPbrSpecular`](openpbr::OpenPbrSpecular)).
+    pub fn openpbr(&self) -> openpbr::OpenPbrSpecular {
+        openpbr::OpenPbrSpecular::of_alpha(self.lobes.alpha)
     }
 
     /// The GGX lobe as glTF's parameters ([`GltfSpecular`]).

@@ -2,6 +2,7 @@
 //! `cargo test --release`, per STYLE.md).
 
 mod data;
+mod exports;
 mod fit;
 mod fit_real;
 mod grounded;
