@@ -1,5 +1,7 @@
 //! Tables built by the commands (`woven tabulate`, and `woven export` for yarns too slow to
-//! evaluate exactly): a size check that names the flags, a progress bar, the build time.
+//! evaluate exactly): a size check that names the flags, a progress bar, the build time; and the
+//! grid and cache of woven surfaces' tables (`woven render`, `woven export --format
+//! openpbr|gltf`).
 
 use crate::numbers::group_digits;
 use crate::progress::Progress;
@@ -8,6 +10,7 @@ use std::time::{Duration, Instant};
 use woven::material::Material;
 use woven::table::{grid_of, value_count, Symmetry, Table, TableOptions, MAX_VALUES};
 use woven::Model;
+use woven_render::woven_material::{TableCache, TableGrid};
 
 /// Refuses a grid whose file could not be read back, naming the flags.
 fn check_size(symmetry: Symmetry, options: &TableOptions) -> Result<()> {
@@ -51,6 +54,35 @@ pub fn build_table(material: &Material, model: &Model, options: &TableOptions) -
         table,
         elapsed: start.elapsed(),
     })
+}
+
+/// The woven-surface tables `--draft-tables` builds (`woven render`, `woven export --format
+/// openpbr|gltf`): a coarse grid, seconds instead of tens of seconds per material, for previews
+/// (highlights lose detail).
+pub fn draft_grid() -> TableGrid {
+    TableGrid::Custom(TableOptions {
+        n_theta: 16,
+        n_phi: 7,
+        n_h: 31,
+        n_h_isotropic: 61,
+        azimuth_nodes: 60,
+        ..TableOptions::default()
+    })
+}
+
+/// The tables woven surfaces render from: none kept with `no_cache`, else the user's cache folder
+/// (`$XDG_CACHE_HOME/woven` or `~/.cache/woven`), or none with a note where it cannot be had.
+pub fn user_cache(no_cache: bool) -> TableCache {
+    if no_cache {
+        return TableCache::default();
+    }
+    match woven::table::cache::Cache::user() {
+        Ok(disk) => TableCache::with_disk(disk).with_notes(|m| eprintln!("note: {m}")),
+        Err(e) => {
+            eprintln!("note: tables are not cached ({e})");
+            TableCache::default()
+        }
+    }
 }
 
 #[cfg(test)]

@@ -3,12 +3,12 @@
 
 use crate::args::parse_finite;
 use crate::progress::Progress;
+use crate::tables;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use woven::table::TableOptions;
 use woven_render::output::{self, Format};
 use woven_render::render::{render_with_progress, RenderOptions};
 use woven_render::rng::SamplerKind;
@@ -16,7 +16,7 @@ use woven_render::scene::{
     FilmOverrides, Scene, SceneDescription, EXAMPLE_SCENE, MAX_FILM_SIDE, MAX_SPP, SHOWCASE_SCENE,
 };
 use woven_render::tonemap::ToneMap;
-use woven_render::woven_material::{TableCache, TableGrid};
+use woven_render::woven_material::TableGrid;
 
 /// The folder images go to when `-o` is not given, relative to the current directory.
 pub const OUT_DIR: &str = "woven-out";
@@ -177,28 +177,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
     };
     let grid = if args.draft_tables {
-        TableGrid::Custom(TableOptions {
-            n_theta: 16,
-            n_phi: 7,
-            n_h: 31,
-            n_h_isotropic: 61,
-            azimuth_nodes: 60,
-            ..TableOptions::default()
-        })
+        tables::draft_grid()
     } else {
         TableGrid::Default
     };
-    let cache = if args.no_cache {
-        TableCache::default()
-    } else {
-        match woven::table::cache::Cache::user() {
-            Ok(disk) => TableCache::with_disk(disk).with_notes(|m| eprintln!("note: {m}")),
-            Err(e) => {
-                eprintln!("note: tables are not cached ({e})");
-                TableCache::default()
-            }
-        }
-    };
+    let cache = tables::user_cache(args.no_cache);
     let scene = Scene::build_with(&desc, &grid, cache, &on_table, &progress)?;
     if let Some(b) = table_bar.lock().unwrap_or_else(|e| e.into_inner()).take() {
         b.finish();

@@ -2,6 +2,7 @@
 //! `cargo test --release`, per STYLE.md).
 
 mod cli;
+mod export_standard;
 mod fit;
 mod fit_microcylinder;
 mod serve;

@@ -1,5 +1,8 @@
 //! `woven export`: a material's BRDF in a renderer's file format (the MERL BRDF layout, or RGL's
-//! `.bsdf` tensor file).
+//! `.bsdf` tensor file), or a woven surface on the standard lobes other renderers carry (a
+//! MaterialX document of OpenPBR Surface, a glTF swatch: [`standard`]).
+
+pub mod standard;
 
 use crate::args::{self, material_help, parse_finite, MaterialSource, DEFAULT_WAVELENGTH_NM};
 use crate::io;
@@ -21,7 +24,27 @@ use woven::table::{Symmetry, Table, TableOptions};
 
 /// The long help of `woven export`.
 const LONG_ABOUT: &str = "Write a material's BRDF in a file format renderers read (--format \
-merl, the default, or rgl).
+merl, the default, or rgl), or a woven surface on the standard lobes other renderers carry \
+(--format openpbr or gltf).
+
+openpbr, gltf: each yarn family of the woven surface (--material with the surface keys a \
+scene's woven material takes: --pattern, --yarns-per-unit, --weft-color, --warp-color, \
+--u-max-deg, --gap, --irregularity) projected onto a sheen over Lambert + anisotropic GGX along \
+the yarn, fitted to the family's flat yarn at yarn level, its colours per channel; the layout \
+(which family is on top, holes, the float's tilt as a normal map, dye factors) baked into \
+textures of one tile (--texels-per-cell along each cell's side). The yarn's table comes from the \
+cache `woven render` shares, or is built there (tens of seconds; --draft-tables: a coarse grid, \
+seconds); the projection takes seconds per family. openpbr writes a MaterialX 1.39 document \
+(NAME.mtlx) of OpenPBR Surface 1.1: one open_pbr_surface per family mixed by the layout texture, \
+and its 16-bit textures beside it (NAME-layout.png, NAME-normal.png, NAME-factors.png), on a uv \
+in metres at --yarns-per-unit cells per metre. gltf writes a glTF 2.0 swatch (NAME.gltf, \
+NAME.bin, NAME-gltf-*.png): a square of --swatch-m metres whose one material carries the \
+families texel by texel (base colour, roughness, KHR_materials_anisotropy, a normal map, \
+KHR_materials_sheen, KHR_materials_specular, KHR_materials_ior), the weave at --yarns-per-unit \
+cells per metre. Both print each family's RMS log error beside the best single isotropic GGX + \
+Lambert's. What the standard lobes cannot carry (the masking's dependence on the light, \
+interreflection, the paper normalization's non-reciprocity, the fibre level) is in \
+docs/export.md. Files are written whole or not at all, the textures before the document.
 
 rgl: RGL's `.bsdf` format (Dupuy & Jakob 2018), which Mitsuba 3's `measured` plugin \
 ({\"type\": \"measured\", \"filename\": \"cloth.bsdf\"}) and pbrt-v4's `measured` material \
@@ -58,20 +81,22 @@ written atomically.";
 /// Arguments of `woven export`.
 #[derive(Args, Debug)]
 #[command(
-    about = "Export an isotropic material's BRDF as a MERL binary file",
+    about = "Export a material for other renderers: MERL, RGL .bsdf, OpenPBR (MaterialX) or glTF",
     long_about = LONG_ABOUT,
     after_help = "Examples:
   woven export --material my-flat-fiber.toml -o fiber.binary
   woven export --material silk -o silk.binary
   woven tabulate --material silk -o silk.wtab --n-h-isotropic 241
-  woven export --table silk.wtab -o silk.binary"
+  woven export --table silk.wtab -o silk.binary
+  woven export --format openpbr -m silk-shot -o silk-shot.mtlx
+  woven export --format gltf -m satin-charmeuse --yarns-per-unit 400 -o charmeuse.gltf"
 )]
 pub struct ExportArgs {
     #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
           help = material_help(), required_unless_present = "table")]
     pub material: Option<MaterialSource>,
 
-    /// The file format (for now only `merl`, the default).
+    /// The file format.
     #[arg(long, value_enum, default_value_t = ExportFormat::Merl)]
     pub format: ExportFormat,
 
@@ -109,6 +134,59 @@ pub struct ExportArgs {
     /// rgl: nodes along each side of each incident direction's sample grid.
     #[arg(long, value_name = "N", default_value_t = RglOptions::default().n_grid)]
     pub n_grid: usize,
+
+    /// openpbr, gltf: the weave laid on the surface in place of the material's own: a weave's
+    /// name ("plain", "twill-2/1", "satin-5", …) or a WIF draft (FILE.wif).
+    #[arg(long, value_name = "NAME|FILE.wif")]
+    pub pattern: Option<String>,
+
+    /// openpbr, gltf: pattern cells per metre of uv, one number for both directions or `N_U,N_V`
+    /// [default: 40].
+    #[arg(long, value_name = "N|N_U,N_V", allow_hyphen_values = true)]
+    pub yarns_per_unit: Option<String>,
+
+    /// openpbr, gltf: the weft's dyed fibre albedo per channel, linear RGB in [0, 1] [default:
+    /// the material's].
+    #[arg(long, value_name = "R,G,B")]
+    pub weft_color: Option<String>,
+
+    /// openpbr, gltf: the warp's dyed fibre albedo per channel, as --weft-color.
+    #[arg(long, value_name = "R,G,B")]
+    pub warp_color: Option<String>,
+
+    /// openpbr, gltf: the yarns' tilt at the ends of each float, degrees [default: the
+    /// material's].
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub u_max_deg: Option<f64>,
+
+    /// openpbr, gltf: the fraction of each cell between yarns (holes where both leave one)
+    /// [default: 0].
+    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub gap: Option<f64>,
+
+    /// openpbr, gltf: the spread of the log of each yarn's dye along its length, one number or
+    /// `WEFT,WARP` [default: 0].
+    #[arg(long, value_name = "SIGMA|WEFT,WARP", allow_hyphen_values = true)]
+    pub irregularity: Option<String>,
+
+    /// openpbr, gltf: texels along each pattern cell's side in the textures, in [1, 64].
+    #[arg(long, value_name = "N", default_value_t = 16)]
+    pub texels_per_cell: usize,
+
+    /// gltf: the swatch's side in metres.
+    #[arg(long, value_name = "M", default_value_t = woven_fit::standard::gltf::DEFAULT_SWATCH_M,
+          allow_hyphen_values = true, value_parser = parse_finite)]
+    pub swatch_m: f64,
+
+    /// openpbr, gltf: tabulate the yarn on a coarse grid (seconds instead of tens of seconds;
+    /// highlights lose detail), as `woven render --draft-tables`.
+    #[arg(long)]
+    pub draft_tables: bool,
+
+    /// openpbr, gltf: build the yarn's table anew and keep none (default: kept in the user's
+    /// cache folder, as `woven render` keeps them).
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 /// `--format` values.
@@ -119,6 +197,11 @@ pub enum ExportFormat {
     /// RGL's `.bsdf` tensor file (anisotropic, RGB or spectral): Mitsuba 3's `measured`
     /// plugin, pbrt-v4's `measured` material.
     Rgl,
+    /// A MaterialX 1.39 document of OpenPBR Surface 1.1 and its textures (a woven surface on
+    /// the standard lobes).
+    Openpbr,
+    /// A glTF 2.0 swatch: .gltf, .bin and textures (a woven surface on the standard lobes).
+    Gltf,
 }
 
 /// Where the exported values come from.
@@ -143,9 +226,29 @@ impl Source {
 
 /// Runs `woven export`.
 pub fn run(args: &ExportArgs) -> Result<()> {
+    if matches!(args.format, ExportFormat::Merl | ExportFormat::Rgl) {
+        let surface_flags = [
+            ("--pattern", args.pattern.is_some()),
+            ("--yarns-per-unit", args.yarns_per_unit.is_some()),
+            ("--weft-color", args.weft_color.is_some()),
+            ("--warp-color", args.warp_color.is_some()),
+            ("--u-max-deg", args.u_max_deg.is_some()),
+            ("--gap", args.gap.is_some()),
+            ("--irregularity", args.irregularity.is_some()),
+            ("--draft-tables", args.draft_tables),
+            ("--no-cache", args.no_cache),
+        ];
+        if let Some((flag, _)) = surface_flags.iter().find(|f| f.1) {
+            bail!(
+                "{flag} is for --format openpbr and gltf (a woven surface); merl and rgl export \
+                 the material's cloth-level BRDF"
+            );
+        }
+    }
     match args.format {
         ExportFormat::Merl => export_merl(args),
         ExportFormat::Rgl => export_rgl(args),
+        ExportFormat::Openpbr | ExportFormat::Gltf => standard::run(args),
     }
 }
 
