@@ -40,6 +40,8 @@ fn export_openpbr_and_gltf_write_a_woven_surface_and_refuse_bad_flags_by_name() 
         .args(surface)
         .args(["--weft-color", "0.8,0.2,0.1", "-o"])
         .arg(&mtlx)
+        .arg("--also-output")
+        .arg(out.join("dyed.gltf"))
         .assert()
         .success()
         .stderr(predicate::str::contains(
@@ -58,6 +60,8 @@ fn export_openpbr_and_gltf_write_a_woven_surface_and_refuse_bad_flags_by_name() 
             "{stdout}"
         );
     }
+    // The glTF of the same projection beside it.
+    assert!(stdout.contains("dyed.gltf (glTF 2.0"), "{stdout}");
     let text = std::fs::read_to_string(&mtlx).unwrap();
     assert!(text.contains("<materialx version=\"1.39\""));
     assert_eq!(text.matches("<open_pbr_surface ").count(), 3);
@@ -86,8 +90,8 @@ fn export_openpbr_and_gltf_write_a_woven_surface_and_refuse_bad_flags_by_name() 
     }
     assert!(out.join("sateen.bin").is_file());
     let written = std::fs::read_dir(&out).unwrap().count();
-    // The .mtlx and its three textures; the .gltf, its .bin and six textures.
-    assert_eq!(written, 4 + 8);
+    // The .mtlx and its three textures; each .gltf, its .bin and six textures.
+    assert_eq!(written, 4 + 2 * 8);
 
     // Refusals, each naming the flag, leaving nothing new.
     let refused = out.join("refused.mtlx");
@@ -108,6 +112,16 @@ fn export_openpbr_and_gltf_write_a_woven_surface_and_refuse_bad_flags_by_name() 
         ("gltf", vec!["--swatch-m", "0"], "--swatch-m"),
         ("openpbr", vec!["--wavelength-nm", "600"], "--wavelength-nm"),
         ("merl", vec!["--pattern", "plain"], "--pattern"),
+        (
+            "openpbr",
+            vec!["--also-output", "x.png"],
+            ".mtlx (openpbr) or .gltf",
+        ),
+        (
+            "openpbr",
+            vec!["--also-output", "x.mtlx"],
+            "the other format",
+        ),
     ] {
         woven(&cache)
             .args([

@@ -41,8 +41,8 @@ in metres at --yarns-per-unit cells per metre. gltf writes a glTF 2.0 swatch (NA
 NAME.bin, NAME-gltf-*.png): a square of --swatch-m metres whose one material carries the \
 families texel by texel (base colour, roughness, KHR_materials_anisotropy, a normal map, \
 KHR_materials_sheen, KHR_materials_specular, KHR_materials_ior), the weave at --yarns-per-unit \
-cells per metre. Both print each family's RMS log error beside the best single isotropic GGX + \
-Lambert's. What the standard lobes cannot carry (the masking's dependence on the light, \
+cells per metre. --also-output FILE writes the other of the two from the same projection. Both \
+print each family's RMS log error beside the best single isotropic GGX + Lambert's. What the standard lobes cannot carry (the masking's dependence on the light, \
 interreflection, the paper normalization's non-reciprocity, the fibre level) is in \
 docs/export.md. Files are written whole or not at all, the textures before the document.
 
@@ -173,6 +173,11 @@ pub struct ExportArgs {
     #[arg(long, value_name = "N", default_value_t = 16)]
     pub texels_per_cell: usize,
 
+    /// openpbr, gltf: also write the other of the two formats, from the same projection, to this
+    /// file (.mtlx: openpbr; .gltf: gltf).
+    #[arg(long, value_name = "FILE")]
+    pub also_output: Option<PathBuf>,
+
     /// gltf: the swatch's side in metres.
     #[arg(long, value_name = "M", default_value_t = woven_fit::standard::gltf::DEFAULT_SWATCH_M,
           allow_hyphen_values = true, value_parser = parse_finite)]
@@ -235,6 +240,7 @@ pub fn run(args: &ExportArgs) -> Result<()> {
             ("--u-max-deg", args.u_max_deg.is_some()),
             ("--gap", args.gap.is_some()),
             ("--irregularity", args.irregularity.is_some()),
+            ("--also-output", args.also_output.is_some()),
             ("--draft-tables", args.draft_tables),
             ("--no-cache", args.no_cache),
         ];

@@ -9,6 +9,7 @@ use crate::numbers::seconds;
 use crate::progress::Progress;
 use crate::tables;
 use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 use woven::catalog::AnyMaterial;
 use woven::keys::{KeyValue, Keys};
@@ -32,7 +33,9 @@ const SURFACE_FLAGS: [(&str, &str); 7] = [
 
 /// Runs `--format openpbr` or `--format gltf`.
 pub fn run(args: &ExportArgs) -> Result<()> {
-    io::check_output_dirs(std::slice::from_ref(&args.output))?;
+    let outputs = outputs(args)?;
+    let paths: Vec<PathBuf> = outputs.iter().map(|o| o.1.clone()).collect();
+    io::check_output_dirs(&paths)?;
     refuse_other_formats_flags(args)?;
     let Some(source) = &args.material else {
         bail!("--format {} needs --material", format_name(args.format));
@@ -63,11 +66,63 @@ pub fn run(args: &ExportArgs) -> Result<()> {
     let standard = project_surface(surface)
         .with_context(|| format!("cannot project `{name}` onto the standard lobes"))?;
     let projection_time = start.elapsed();
+    for (format, path) in &outputs {
+        println!("{}.", write(*format, &standard, &images, path, &options)?);
+    }
+    println!(
+        "`{name}` on the standard lobes: one tile of {}×{} pattern cells at {}×{} cells per unit \
+         of uv; the projection took {}.",
+        images.cells[0],
+        images.cells[1],
+        standard.yarns_per_unit[0],
+        standard.yarns_per_unit[1],
+        seconds(projection_time),
+    );
+    print_errors(&standard);
+    Ok(())
+}
+
+/// The files to write and their formats: `--output` in `--format`, and `--also-output` in the
+/// other standard-lobe format, which its extension names.
+fn outputs(args: &ExportArgs) -> Result<Vec<(ExportFormat, PathBuf)>> {
+    let mut out = vec![(args.format, args.output.clone())];
+    if let Some(also) = &args.also_output {
+        let ext = also
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let format = match ext.as_deref() {
+            Some("mtlx") => ExportFormat::Openpbr,
+            Some("gltf") => ExportFormat::Gltf,
+            _ => bail!(
+                "--also-output `{}`: the extension chooses the format: .mtlx (openpbr) or .gltf",
+                also.display()
+            ),
+        };
+        if format == args.format {
+            bail!(
+                "--also-output `{}` is in --format {} too: give it a file of the other format",
+                also.display(),
+                format_name(format)
+            );
+        }
+        out.push((format, also.clone()));
+    }
+    Ok(out)
+}
+
+/// Writes `standard` laid out by `images` as `format` to `path`; what was written, in words.
+fn write(
+    format: ExportFormat,
+    standard: &StandardSurface,
+    images: &LayoutImages,
+    path: &Path,
+    options: &GltfOptions,
+) -> Result<String> {
     let [w, h] = images.size();
-    let written = match args.format {
+    let cannot = || format!("cannot write `{}`", path.display());
+    Ok(match format {
         ExportFormat::Openpbr => {
-            let files = openpbr::write(&standard, &images, &args.output)
-                .with_context(|| format!("cannot write `{}`", args.output.display()))?;
+            let files = openpbr::write(standard, images, path).with_context(cannot)?;
             format!(
                 "Wrote {} (MaterialX 1.39, OpenPBR Surface 1.1) and its textures {}, {} and {} \
                  ({w}×{h} texels, 16-bit)",
@@ -78,8 +133,7 @@ pub fn run(args: &ExportArgs) -> Result<()> {
             )
         }
         ExportFormat::Gltf => {
-            let files = gltf::write(&standard, &images, &args.output, &options)
-                .with_context(|| format!("cannot write `{}`", args.output.display()))?;
+            let files = gltf::write(standard, images, path, options).with_context(cannot)?;
             let names: Vec<String> = files
                 .textures
                 .iter()
@@ -97,20 +151,9 @@ pub fn run(args: &ExportArgs) -> Result<()> {
         }
         ExportFormat::Merl | ExportFormat::Rgl => bail!(
             "--format {}: not a standard-lobe format",
-            format_name(args.format)
+            format_name(format)
         ),
-    };
-    println!(
-        "{written}: `{name}` on the standard lobes, one tile of {}×{} pattern cells at {}×{} cells \
-         per unit of uv; the projection took {}.",
-        images.cells[0],
-        images.cells[1],
-        standard.yarns_per_unit[0],
-        standard.yarns_per_unit[1],
-        seconds(projection_time),
-    );
-    print_errors(&standard);
-    Ok(())
+    })
 }
 
 /// The name of `format` as `--format` takes it.
