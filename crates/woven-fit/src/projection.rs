@@ -164,6 +164,10 @@ pub enum LobeSet {
     Fabric,
     /// One isotropic GGX + Lambert (no sheen): three parameters, the baseline.
     IsotropicGgx,
+    /// Lambert + the anisotropic GGX along the yarn, no sheen: four parameters. What the
+    /// renderers' materials are fitted with ([`standard`](crate::standard)): their sheens
+    /// (Cycles' and OpenPBR's are Zeltner et al.'s) are not this Charlie lobe.
+    Anisotropic,
 }
 
 impl LobeSet {
@@ -172,6 +176,7 @@ impl LobeSet {
         match self {
             LobeSet::Fabric => "fabric",
             LobeSet::IsotropicGgx => "isotropic-ggx",
+            LobeSet::Anisotropic => "anisotropic",
         }
     }
 
@@ -179,6 +184,7 @@ impl LobeSet {
         match self {
             LobeSet::Fabric => 6,
             LobeSet::IsotropicGgx => 3,
+            LobeSet::Anisotropic => 4,
         }
     }
 
@@ -201,6 +207,13 @@ impl LobeSet {
                 sheen: 0.0,
                 sheen_roughness: 1.0,
             },
+            LobeSet::Anisotropic => StandardLobes {
+                diffuse,
+                specular,
+                alpha: [alpha(u[2]), alpha(u[3])],
+                sheen: 0.0,
+                sheen_roughness: 1.0,
+            },
         }
     }
 
@@ -208,8 +221,10 @@ impl LobeSet {
     fn coordinates(self, l: &StandardLobes) -> Vec<f64> {
         let a = |x: f64| logit((x - MIN_GGX_ALPHA) / (1.0 - MIN_GGX_ALPHA));
         let mut u = vec![logit(l.diffuse), l.specular.max(1e-12).ln(), a(l.alpha[0])];
-        if self == LobeSet::Fabric {
+        if self != LobeSet::IsotropicGgx {
             u.push(a(l.alpha[1]));
+        }
+        if self == LobeSet::Fabric {
             u.push(logit(l.sheen));
             u.push(logit(
                 (l.sheen_roughness - MIN_SHEEN_ROUGHNESS) / (1.0 - MIN_SHEEN_ROUGHNESS),
@@ -217,6 +232,18 @@ impl LobeSet {
         }
         u
     }
+}
+
+/// What a projection's residuals compare.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Objective {
+    /// `ln(p + ε) − ln(m + ε)` at every pair: the shape everywhere, dim pairs as much as the
+    /// highlight (the error the projection's table reports).
+    Log,
+    /// `(p − m) √(cos θi cos θo)`, over the reference's RMS so weighted: the reflected radiance
+    /// under even light, where the highlights weigh as much as they add to a render's mean. What
+    /// a renderer's material is fitted with ([`standard`](crate::standard)).
+    Radiance,
 }
 
 fn logistic(x: f64) -> f64 {
@@ -270,6 +297,19 @@ impl Reference {
 /// [`FitError::Data`] when `reference` has no pairs, its lengths differ, or a value is not a
 /// finite number ≥ 0, or every value is 0.
 pub fn project(reference: &Reference, set: LobeSet) -> Result<Projection, FitError> {
+    project_with(reference, set, Objective::Log)
+}
+
+/// [`project`] with residuals of `objective`; the error reported is still the RMS log error
+/// ([`rms_log_scaled`]), so the two objectives' fits compare on one scale.
+///
+/// # Errors
+/// As [`project`].
+pub fn project_with(
+    reference: &Reference,
+    set: LobeSet,
+    objective: Objective,
+) -> Result<Projection, FitError> {
     check_reference(reference)?;
     // A pair the reference gives 0 (a masked one) is left out, as rms_log_scaled leaves it:
     // no lobe here reaches 0, and its log residual would outweigh the rest.
@@ -307,15 +347,21 @@ pub fn project(reference: &Reference, set: LobeSet) -> Result<Projection, FitErr
                 });
             }
         }
-        LobeSet::Fabric => {
-            let iso = project(reference, LobeSet::IsotropicGgx)?;
+        LobeSet::Fabric | LobeSet::Anisotropic => {
+            let iso = project_with(reference, LobeSet::IsotropicGgx, objective)?;
             starts.push(StandardLobes {
-                sheen: 1e-6,
+                sheen: if set == LobeSet::Fabric { 1e-6 } else { 0.0 },
                 ..iso.lobes
             });
             baseline = Some(Box::new(iso));
+            // The sheen's roughness is a coordinate of the Fabric set alone.
+            let sheens: &[f64] = if set == LobeSet::Fabric {
+                &[0.3, 0.8]
+            } else {
+                &[0.3]
+            };
             for (along, across) in [(0.05, 0.3), (0.3, 0.05), (0.1, 0.1), (0.4, 0.6)] {
-                for sheen_roughness in [0.3, 0.8] {
+                for &sheen_roughness in sheens {
                     starts.push(StandardLobes {
                         alpha: [along, across],
                         sheen_roughness,
@@ -327,7 +373,7 @@ pub fn project(reference: &Reference, set: LobeSet) -> Result<Projection, FitErr
     }
     let mut best: Option<(f64, Vec<f64>)> = None;
     for start in &starts {
-        let problem = Problem::new(reference, &logs, set, set.coordinates(start));
+        let problem = Problem::new(reference, &logs, set, objective, set.coordinates(start));
         let (problem, _) = LevenbergMarquardt::new()
             .with_ftol(1e-10)
             .with_xtol(1e-10)
@@ -384,23 +430,48 @@ fn check_reference(reference: &Reference) -> Result<(), FitError> {
     Ok(())
 }
 
-/// The least-squares problem of one start: residuals `ln(p + ε) − ln(m + ε)`, the Jacobian by
+/// The least-squares problem of one start: residuals of its [`Objective`], the Jacobian by
 /// forward differences; the best point seen is kept.
 struct Problem<'a> {
     reference: &'a Reference,
     logs: &'a [f64],
     set: LobeSet,
+    objective: Objective,
+    /// [`Objective::Radiance`]'s weight of each pair, `√(cos θi cos θo)` over the weighted
+    /// reference's RMS.
+    weights: Vec<f64>,
     u: DVector<f64>,
     res: Option<DVector<f64>>,
     best: Option<(f64, Vec<f64>)>,
 }
 
 impl<'a> Problem<'a> {
-    fn new(reference: &'a Reference, logs: &'a [f64], set: LobeSet, u: Vec<f64>) -> Self {
+    fn new(
+        reference: &'a Reference,
+        logs: &'a [f64],
+        set: LobeSet,
+        objective: Objective,
+        u: Vec<f64>,
+    ) -> Self {
+        let mut weights: Vec<f64> = reference
+            .pairs
+            .iter()
+            .map(|(wi, wo)| (wi.z * wo.z).sqrt())
+            .collect();
+        let rms = (weights
+            .iter()
+            .zip(&reference.values)
+            .map(|(w, m)| (w * m).powi(2))
+            .sum::<f64>()
+            / weights.len() as f64)
+            .sqrt();
+        weights.iter_mut().for_each(|w| *w /= rms);
         let mut p = Problem {
             reference,
             logs,
             set,
+            objective,
+            weights,
             u: DVector::from_vec(vec![0.0; set.len()]),
             res: None,
             best: None,
@@ -415,8 +486,14 @@ impl<'a> Problem<'a> {
             .reference
             .pairs
             .iter()
-            .zip(self.logs)
-            .map(|(&(wi, wo), m)| (built.eval(wi, wo) + LOG_EPS).ln() - m)
+            .enumerate()
+            .map(|(k, &(wi, wo))| {
+                let p = built.eval(wi, wo);
+                match self.objective {
+                    Objective::Log => (p + LOG_EPS).ln() - self.logs[k],
+                    Objective::Radiance => (p - self.reference.values[k]) * self.weights[k],
+                }
+            })
             .collect();
         r.iter()
             .all(|x| x.is_finite())

@@ -70,7 +70,9 @@ fn _woven(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material::presets, m)?)?;
     m.add_function(wrap_pyfunction!(bsdf::open_material, m)?)?;
     m.add_function(wrap_pyfunction!(scene::portable_scene, m)?)?;
+    m.add("STANDARD_VERSION", woven_fit::standard::STANDARD_VERSION)?;
     m.add_function(wrap_pyfunction!(standard::standard_surface, m)?)?;
+    m.add_function(wrap_pyfunction!(standard::standard_eval, m)?)?;
     m.add_function(wrap_pyfunction!(scene::write_image, m)?)?;
     m.add_function(wrap_pyfunction!(material::gonio, m)?)?;
     m.add_function(wrap_pyfunction!(material::from_spherical, m)?)?;

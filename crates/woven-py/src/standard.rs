@@ -84,3 +84,59 @@ fn family<'py>(py: Python<'py>, f: &StandardFamily) -> PyResult<Bound<'py, PyDic
     d.set_item("gltf", gltf)?;
     Ok(d)
 }
+
+/// A family's standard lobes (a `"weft"` or `"warp"` dict of `woven.standard_surface`) per
+/// channel at directions `wi`, `wo` ((N, 3) or (3,), unit, the yarn along `x`): sr⁻¹ without the
+/// cosine, (N, 3). What a renderer given those parameters renders: the goniometer's yardstick.
+/// Raises ValueError naming a missing key or a parameter out of range.
+#[pyfunction]
+pub fn standard_eval<'py>(
+    py: Python<'py>,
+    family: &Bound<'py, PyDict>,
+    wi: &Bound<'py, PyAny>,
+    wo: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    use numpy::PyArrayMethods;
+    let get = |key: &str| -> PyResult<Bound<'py, PyAny>> {
+        family.get_item(key)?.ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(format!(
+                "`family` has no key `{key}`: expected a family dict of woven.standard_surface"
+            ))
+        })
+    };
+    let alpha: [f64; 2] = get("alpha")?.extract()?;
+    let f = StandardFamily {
+        lobes: woven_fit::projection::StandardLobes {
+            diffuse: 0.0,
+            specular: 1.0,
+            alpha,
+            sheen: 0.0,
+            sheen_roughness: get("sheen_roughness")?.extract()?,
+        },
+        diffuse: get("diffuse")?.extract()?,
+        specular: get("specular")?.extract()?,
+        sheen: get("sheen")?.extract()?,
+        rms_log: f64::NAN,
+        isotropic_rms_log: f64::NAN,
+    };
+    f.eval(
+        woven::Vec3::new(0.0, 0.0, 1.0),
+        woven::Vec3::new(0.0, 0.0, 1.0),
+    )
+    .map_err(crate::fit::fit_err)?;
+    let (wi, wo) = (
+        crate::arrays::Dirs::extract(wi, "wi")?,
+        crate::arrays::Dirs::extract(wo, "wo")?,
+    );
+    let n = wi.n.max(wo.n);
+    if wi.n != wo.n && wi.n != 1 && wo.n != 1 {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "`wi` has {} rows and `wo` {}: expected as many, or one",
+            wi.n, wo.n
+        )));
+    }
+    let out = crate::arrays::map_batch(py, n, |k| {
+        f.eval(wi.get(k), wo.get(k)).unwrap_or([f64::NAN; 3])
+    })?;
+    numpy::PyArray1::from_vec(py, out).reshape([n, 3])
+}

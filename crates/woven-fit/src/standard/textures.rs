@@ -149,10 +149,11 @@ impl LayoutImages {
 /// A 16-bit RGB PNG written atomically.
 fn write_png16(path: &Path, [w, h]: [usize; 2], pixels: &[[u16; 3]]) -> Result<(), FitError> {
     use image::ImageEncoder;
+    // The encoder takes 16-bit samples in the machine's byte order (it writes PNG's big-endian).
     let mut bytes = Vec::with_capacity(pixels.len() * 6);
     for p in pixels {
         for c in p {
-            bytes.extend_from_slice(&c.to_be_bytes());
+            bytes.extend_from_slice(&c.to_ne_bytes());
         }
     }
     let mut png = Vec::new();

@@ -67,6 +67,31 @@ impl WovenSurface {
         }
     }
 
+    /// One family's BRDF as the cloth shows it from a pattern cell's distance and beyond, per
+    /// channel, in the family's own frame (its yarn along `x`): the whole float where floats
+    /// tilt (its lit and seen facets averaged, [`Tilt::Float`]), else the flat yarn; in the
+    /// family's dye; on a relief, scaled by the relief's ratio as the macro BRDF's lobes are.
+    /// What a renderer without woven's BSDF fits its lobes to: the float's tilt and the masking
+    /// between floats are in it, which a normal map over standard lobes cannot carry.
+    pub fn family_brdf(&self, warp: bool, wi: Vec3, wo: Vec3) -> crate::color::Rgb {
+        // The lobe turns the warp's directions into its own frame: hand it the cloth's.
+        let back = |d: Vec3| if warp { Vec3::new(-d.y, d.x, d.z) } else { d };
+        let (wi, wo) = (back(wi), back(wo));
+        let lobe = super::Lobe {
+            warp,
+            tilt: if self.u_max > 0.0 {
+                Tilt::Float
+            } else {
+                Tilt::Flat
+            },
+            weight: 1.0,
+            resolved: self.relief.is_some(),
+            point: None,
+        };
+        let ratio = lobe.resolved.then(|| self.relief_ratio(warp, wi, wo));
+        self.lobe_eval(&lobe, self.albedos(warp), wi, wo, ratio)
+    }
+
     /// The cells of one repeat of the surface's layout, `[along u, along v]`: the pattern's
     /// columns and rows; `[1, 1]` without a pattern (the same everywhere).
     pub fn repeat_cells(&self) -> [usize; 2] {
