@@ -381,5 +381,20 @@ def portable_scene(
 ) -> Dict[str, Any]:
     """A ``woven render`` scene (or ``"showcase"``) as plain data for another renderer."""
 
+STANDARD_VERSION: int
+"""The version of what ``standard_surface`` gives (a cache of it is keyed by it)."""
+
+def standard_surface(
+    surface: Surface,
+    folder: Optional[PathLike] = None,
+    stem: str = "woven",
+    texels_per_cell: int = 16,
+) -> Dict[str, Any]:
+    """A woven surface on the standard lobes (Lambert + anisotropic GGX along each yarn
+    family), and its layout as 16-bit PNG textures of one tile (written into ``folder``)."""
+
+def standard_eval(family: Dict[str, Any], wi: ArrayLike, wo: ArrayLike) -> FloatArray:
+    """A family's standard lobes per channel at ``wi``, ``wo`` (the yarn along x), (N, 3)."""
+
 def write_image(pixels: ArrayLike, path: PathLike, scene: Optional[str] = None) -> None:
     """Writes linear RGB (height, width, 3) as ``woven render`` writes its images."""
