@@ -160,3 +160,28 @@ def test_the_command_refuses_bad_arguments(tmp_path):
     assert r.returncode == 2 and "[1, 64]" in r.stderr
     r = _run(str(scene), "-o", str(out), "--width", "10")
     assert r.returncode == 2 and "together" in r.stderr
+
+
+def test_the_add_on_adds_a_material_to_the_active_object(tmp_path):
+    """Registered as an add-on, Object → "Add woven material" gives the active mesh a woven
+    material; a preset that does not exist is reported, not raised."""
+    import woven.blender
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    mesh = bpy.data.meshes.new("m")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0)], [], [(0, 1, 2)])
+    obj = bpy.data.objects.new("o", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    bpy.context.view_layer.objects.active = obj
+    woven.blender.register()
+    try:
+        result = bpy.ops.woven.add_material("EXEC_DEFAULT", source="linen-plain",
+                                             pattern="twill-2/1", yarns_per_unit=1000.0)
+        assert result == {"FINISHED"}
+        assert len(obj.data.materials) == 1
+        nodes = {n.bl_idname for n in obj.data.materials[0].node_tree.nodes}
+        assert {"ShaderNodeBsdfMetallic", "ShaderNodeBsdfDiffuse", "ShaderNodeTexImage"} <= nodes
+        with pytest.raises(RuntimeError, match="no-such-preset"):
+            bpy.ops.woven.add_material("EXEC_DEFAULT", source="no-such-preset")
+    finally:
+        woven.blender.unregister()

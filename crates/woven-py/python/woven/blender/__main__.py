@@ -8,6 +8,7 @@ its own (``woven.write_image``): the linear image (EXR), or sRGB through the sce
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 import tempfile
 import time
@@ -48,7 +49,7 @@ def main(argv=None):
     if args.scene != "showcase" and not Path(args.scene).is_file():
         ap.error(f"{args.scene}: no such scene file (or give 'showcase')")
     try:
-        import bpy  # noqa: F401
+        importlib.import_module("bpy")
     except ImportError as e:
         print(f"error: woven.blender needs Blender's Python module (pip install bpy==5.0.1 on "
               f"CPython 3.11): {e}", file=sys.stderr)

@@ -1,6 +1,6 @@
-"""The add-on's operator: Object → "Add woven material" on the active object."""
+"""The add-on's operator: Object → "Add woven material" on the active object. (No postponed
+annotations here: Blender reads the properties from the class's evaluated annotations.)"""
 
-from __future__ import annotations
 
 import bpy
 

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 import woven
+from woven._inset import paste
 
 from . import _material
 
@@ -318,10 +319,8 @@ def render(scene_path, folder, samples=None, size=None, seed=None, texels_per_ce
                         Path(folder) / "main.exr")
     inset = portable["inset"]
     if inset is not None:
-        (x0, y0), (w, h) = inset["inner"]
+        _, (w, h) = inset["inner"]
         tell(f"rendering the inset, {w}x{h}, {spp} spp")
         close = render_view(bpy, scene, inset["camera"], (w, h), spp, Path(folder) / "inset.exr")
-        (ox, oy), (ow, oh) = inset["outer"]
-        image[oy:oy + oh, ox:ox + ow] = 1.0
-        image[y0:y0 + h, x0:x0 + w] = close
+        paste(image, inset, close)
     return image

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 import woven
+from woven._inset import paste
 
 # Mitsuba's envmap looks up a local direction d at u = atan2(d.x, -d.z) / 2π, v = acos(d.y) / π;
 # woven's map has row 0 at +z and column x at φ = atan2(w.y, w.x). With the columns mirrored,
@@ -194,13 +195,11 @@ def render(scene, mi, folder, spp=None, size=None, seed=None, progress=None):
     image = _render_view(portable, mi, folder, spp, seed, lambda *a: tell("main", *a))
     inset = portable["inset"]
     if inset is not None:
-        (x0, y0), (w, h) = inset["inner"]
+        _, (w, h) = inset["inner"]
         close = _render_view(
             portable, mi, folder, spp, seed, lambda *a: tell("inset", *a), inset["camera"], (w, h)
         )
-        (ox, oy), (ow, oh) = inset["outer"]
-        image[oy:oy + oh, ox:ox + ow] = 1.0
-        image[y0:y0 + h, x0:x0 + w] = close
+        paste(image, inset, close)
     return image
 
 
