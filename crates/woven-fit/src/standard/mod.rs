@@ -241,3 +241,92 @@ fn channel_weights(
     };
     [d, s]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::projection::projection_pairs;
+
+    fn lobes(alpha: [f64; 2]) -> StandardLobes {
+        StandardLobes {
+            diffuse: 0.3,
+            specular: 1.0,
+            alpha,
+            sheen: 0.0,
+            sheen_roughness: 1.0,
+        }
+    }
+
+    #[test]
+    fn each_channel_s_weights_are_recovered_from_its_own_brdf() {
+        let built = lobes([0.08, 0.4]).build().unwrap();
+        let pairs = projection_pairs();
+        let (diffuse, specular) = ([0.5, 0.1, 0.0], [0.7, 1.6, 0.9]);
+        for c in 0..3 {
+            let value = |k: usize| {
+                let [lambert, ggx, _] = built.unit_lobes(pairs[k].0, pairs[k].1);
+                diffuse[c] * lambert + specular[c] * ggx
+            };
+            let [d, s] = channel_weights(&built, &pairs, value);
+            assert!(
+                (d - diffuse[c]).abs() < 1e-9 && (s - specular[c]).abs() < 1e-9,
+                "{c}"
+            );
+        }
+        // A channel whose best fit would need a negative albedo takes 0 and refits the GGX.
+        let [d, s] = channel_weights(&built, &pairs, |k| {
+            let [lambert, ggx, _] = built.unit_lobes(pairs[k].0, pairs[k].1);
+            0.8 * ggx - 0.05 * lambert
+        });
+        assert_eq!(d, 0.0);
+        assert!(s > 0.7 && s < 0.8, "{s}");
+    }
+
+    #[test]
+    fn a_radiance_projection_recovers_the_anisotropic_lobes_it_was_made_of() {
+        let truth = lobes([0.12, 0.45]).build().unwrap();
+        let reference = Reference::sample(|wi, wo| truth.eval(wi, wo));
+        let p = project_with(&reference, LobeSet::Anisotropic, Objective::Radiance).unwrap();
+        assert!(p.rms_log < 1e-3, "{}", p.rms_log);
+        for (got, want) in p.lobes.alpha.iter().zip([0.12, 0.45]) {
+            assert!((got - want).abs() < 2e-3, "{:?}", p.lobes);
+        }
+        assert_eq!(p.lobes.sheen, 0.0);
+        assert!(p.baseline.unwrap().rms_log > 10.0 * p.rms_log);
+    }
+
+    #[test]
+    fn the_renderers_parameters_give_back_the_fitted_roughnesses() {
+        let family = |alpha: [f64; 2]| StandardFamily {
+            lobes: lobes(alpha),
+            diffuse: [0.2; 3],
+            specular: [1.0; 3],
+            sheen: [0.0; 3],
+            rms_log: 0.0,
+            isotropic_rms_log: 0.0,
+        };
+        // Cycles: α_x = r² / √(1 − 0.9 a) along its tangent, α_y = r² √(1 − 0.9 a).
+        for alpha in [[0.3, 0.1], [0.05, 0.4], [0.2, 0.2]] {
+            let c = family(alpha).cycles();
+            let aspect = (1.0 - 0.9 * c.anisotropy).sqrt();
+            let (x, y) = (c.roughness.powi(2) / aspect, c.roughness.powi(2) * aspect);
+            let along_yarn = if c.rotation == 0.0 { [x, y] } else { [y, x] };
+            for k in 0..2 {
+                assert!((along_yarn[k] - alpha[k]).abs() < 1e-12, "{alpha:?} {c:?}");
+                assert!((c.alpha[k] - alpha[k]).abs() < 1e-12);
+            }
+            // glTF: α_b = r², α_t = α_b + (1 − α_b) s² along the rougher direction.
+            let g = family(alpha).gltf();
+            let b = g.roughness.powi(2);
+            let t = b + (1.0 - b) * g.anisotropy_strength.powi(2);
+            let (hi, lo) = (alpha[0].max(alpha[1]), alpha[0].min(alpha[1]));
+            assert!((t - hi).abs() < 1e-12 && (b - lo).abs() < 1e-12);
+            assert_eq!(g.along_yarn, alpha[0] >= alpha[1]);
+        }
+        // Beyond Cycles' reach (a ratio under 0.1) it keeps the geometric mean at ratio 0.1.
+        let c = family([0.5, 0.01]).cycles();
+        assert!((c.alpha[1] / c.alpha[0] - CYCLES_MIN_ROUGHNESS_RATIO).abs() < 1e-12);
+        assert!((c.alpha[0] * c.alpha[1] - 0.005).abs() < 1e-12);
+        assert_eq!(c.anisotropy, 1.0);
+    }
+}

@@ -180,4 +180,48 @@ mod tests {
             assert_eq!(t.factors, [1.0, 1.0]);
         }
     }
+
+    #[test]
+    fn a_family_s_brdf_is_the_cloth_of_that_family_alone_in_its_own_frame() {
+        use crate::bsdf::Bsdf;
+        // γ = 1 is the weft alone, γ = 0 the warp alone (the macro BRDF, whole tilted floats).
+        let alone = |gamma: f64| {
+            let mut material = Material::preset("polyester-sateen").unwrap();
+            material.weave = Some(Weave::WeftFraction(gamma));
+            let spec = SurfaceSpec {
+                u_max: 15f64.to_radians(),
+                ..SurfaceSpec::new(material)
+            };
+            let yarn = spec.material.yarn_family();
+            let options = TableOptions {
+                n_theta: 3,
+                n_phi: 2,
+                n_h: 5,
+                colour: true,
+                ..TableOptions::default()
+            };
+            let table =
+                Table::build(&yarn.build(550.0).unwrap(), &yarn, &options, &|_, _| {}).unwrap();
+            WovenSurface::new(&spec, Arc::new(table)).unwrap()
+        };
+        let (weft, warp) = (alone(1.0), alone(0.0));
+        let at = SurfacePoint::default();
+        // The warp's own frame: the cloth's y is its x.
+        let own = |d: Vec3| Vec3::new(d.y, -d.x, d.z);
+        let mut seen = 0.0;
+        for k in 0..30 {
+            let wi = Vec3::from_spherical(0.05 * f64::from(k), 0.7 * f64::from(k));
+            let wo = Vec3::from_spherical(1.3 - 0.04 * f64::from(k), 2.0 + 0.5 * f64::from(k));
+            let a = weft.at(&at).eval(wi, wo).0;
+            let b = weft.family_brdf(false, wi, wo).0;
+            let c = warp.at(&at).eval(wi, wo).0;
+            let d = warp.family_brdf(true, own(wi), own(wo)).0;
+            for ch in 0..3 {
+                assert!((a[ch] - b[ch]).abs() <= 1e-12 * a[ch].abs().max(1.0), "{k}");
+                assert!((c[ch] - d[ch]).abs() <= 1e-12 * c[ch].abs().max(1.0), "{k}");
+            }
+            seen += a[1] + c[1];
+        }
+        assert!(seen > 0.0);
+    }
 }
