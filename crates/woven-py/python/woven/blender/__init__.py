@@ -43,9 +43,9 @@ __all__ = ["material", "register", "unregister"]
 
 
 def material(source, name=None, folder=None, texels_per_cell=16, **keys):
-    """A Blender material of the woven material ``source`` (a preset name, a material file or
-    a WIF draft, as ``woven.Surface`` takes it) with the surface keys ``keys`` (those of
-    ``woven.SURFACE_KEYS``): its families' standard lobes laid out by its textures, which are
+    """A Blender material of the woven material ``source`` (a preset name or a material file, as
+    ``woven.Surface`` takes it) with the surface keys ``keys`` (those of ``woven.SURFACE_KEYS``;
+    a WIF draft is ``pattern={"wif": "draft.wif"}``): its families' standard lobes laid out by its textures, which are
     written into ``folder`` (a new temporary folder by default; Blender reads them from
     there). Raises ValueError naming a key out of range."""
     import bpy
@@ -57,10 +57,22 @@ def material(source, name=None, folder=None, texels_per_cell=16, **keys):
     name = name or str(source)
     surface = woven.Surface(str(source), progress=False, **keys)
     stem = "".join(c if c.isalnum() or c in "-_" else "_" for c in name)[:64]
-    path = Path(str(source))
-    identity = (path.read_text() if path.is_file() else str(source)) + repr(sorted(keys.items()))
+    identity = _contents(source) + repr(sorted(keys.items()))
+    pattern = keys.get("pattern")
+    if isinstance(pattern, dict) and "wif" in pattern:
+        identity += _contents(pattern["wif"])
     std = _material.standard(surface, identity, folder, stem, texels_per_cell)
     return _material.material(bpy, name, std)
+
+
+def _contents(source):
+    """A material's or draft's text where ``source`` names a file, else its name: what keys the
+    projection's cache (a file edited is a new material)."""
+    path = Path(str(source))
+    try:
+        return path.read_text(errors="replace") if path.is_file() else str(source)
+    except OSError:
+        return str(source)
 
 
 def register():

@@ -14,9 +14,10 @@ class WOVEN_OT_add_material(bpy.types.Operator):
 
     source: bpy.props.StringProperty(
         name="Material", default="polyester-sateen",
-        description="A woven preset name, a material file (.toml) or a WIF draft")
+        description="A woven preset name or a material file (.toml)")
     pattern: bpy.props.StringProperty(
-        name="Pattern", default="", description="A weave pattern replacing the material's")
+        name="Pattern", default="",
+        description="A weave pattern replacing the material's: a name, or a WIF draft (.wif)")
     yarns_per_unit: bpy.props.FloatProperty(
         name="Yarns per metre", default=4000.0, min=1.0,
         description="Pattern cells per unit of the object's uv (threads per metre)")
@@ -34,7 +35,9 @@ class WOVEN_OT_add_material(bpy.types.Operator):
 
         keys = {"yarns_per_unit": self.yarns_per_unit, "weft_color": tuple(self.weft_color),
                 "warp_color": tuple(self.warp_color)}
-        if self.pattern:
+        if self.pattern.lower().endswith(".wif"):
+            keys["pattern"] = {"wif": bpy.path.abspath(self.pattern)}
+        elif self.pattern:
             keys["pattern"] = self.pattern
         try:
             mat = material(self.source, **keys)
