@@ -9,10 +9,13 @@
 //! | `baseColorTexture` (sRGB) | `w ρ_weft f_weft + p ρ_warp f_warp`: the shares `w`, `p`, the Lambertian albedos `ρ`, the dye factors `f` | exact (Lambert mixes linearly); at most 1; black in a hole |
 //! | `metallicRoughnessTexture` | G: the dominant family's `roughnessFactor` ([`StandardFamily::gltf`]); B: metallic 0 | |
 //! | `KHR_materials_anisotropy` `anisotropyTexture` | RG: the rougher axis in tangent space, `(1, 0)` along `u`, `(0, 1)` along `v`; B: the strength | the dominant family's |
-//! | `normalTexture` | the facet's normal (`STEM-normal.png` in 8 bits) | |
 //! | `KHR_materials_specular` | A (`specularTexture`): the mixed GGX weight's largest channel, at most 1; RGB (`specularColorTexture`, sRGB, × `specularColorFactor`): each channel over it | exact at normal incidence; see below |
-//! | `KHR_materials_sheen` | RGB (`sheenColorTexture`, sRGB): the shares' mix of the sheens; A (`sheenRoughnessTexture`): the dominant family's | |
+//! | `KHR_materials_sheen` | RGB (`sheenColorTexture`, sRGB): the shares' mix of the sheens; A (`sheenRoughnessTexture`): the dominant family's | 0 while the projection fits no sheen |
 //! | `KHR_materials_ior` | 1.5 ([`PROJECTION_ETA`]) | |
+//!
+//! No `normalTexture`: each family's lobes are fitted to its whole float, tilted, its facets'
+//! masking in them (the [`standard`](super) module docs), and a normal map of the float's tilt
+//! would count it twice.
 //!
 //! The dominant family is the one with the larger share; where the yarns meet inside a texel
 //! (and everywhere on a surface without a pattern, where the shares are `γ` and `1 − γ`) the
@@ -29,7 +32,7 @@
 //!
 //! **The swatch.** A square of side [`GltfOptions::swatch_m`] metres in the `xy` plane, facing
 //! `+z`, its `u` along `+x` and `v` along `+y`, with normals and tangents (`(1, 0, 0, 1)`: the
-//! normal map's and the anisotropy's `y` is `+v`). Its texture coordinates put the weave at the
+//! anisotropy's `y`, the bitangent, is `+v`). Its texture coordinates put the weave at the
 //! surface's own thread count on a uv in metres: `(u n_u / cells_u, −v n_v / cells_v)`, the
 //! sampler repeating the tile (glTF's images start at their top row, `v` at its largest). To see
 //! the weave from a viewer's distance, export with fewer `yarns_per_unit` (the weave enlarged).
@@ -182,8 +185,6 @@ pub struct GltfTextures {
     pub base_color: Vec<[u8; 3]>,
     /// G roughness, B metallic (0); R unused (255).
     pub metallic_roughness: Vec<[u8; 3]>,
-    /// The tangent-space normal, `(n + 1) / 2`.
-    pub normal: Vec<[u8; 3]>,
     /// RG the anisotropy's direction, `(d + 1) / 2`; B its strength.
     pub anisotropy: Vec<[u8; 3]>,
     /// RGB the sheen's colour (sRGB), A its roughness.
@@ -230,11 +231,6 @@ impl GltfTextures {
                 .iter()
                 .map(|t| [255, unit8(t.roughness), 0])
                 .collect(),
-            normal: images
-                .normal
-                .iter()
-                .map(|n| n.map(|x| unit8(from16(x))))
-                .collect(),
             anisotropy: texels
                 .iter()
                 .map(|t| {
@@ -268,22 +264,21 @@ pub struct GltfFiles {
     pub gltf: PathBuf,
     /// Its binary buffer (the swatch's geometry).
     pub bin: PathBuf,
-    /// Its textures: base colour, metallic-roughness, normal, anisotropy, sheen, specular.
+    /// Its textures: base colour, metallic-roughness, anisotropy, sheen, specular.
     pub textures: Vec<PathBuf>,
 }
 
 /// The textures' file names after the stem, in [`GltfFiles::textures`]' order.
-const TEXTURE_NAMES: [&str; 6] = [
+const TEXTURE_NAMES: [&str; 5] = [
     "gltf-basecolor",
     "gltf-metalrough",
-    "gltf-normal",
     "gltf-anisotropy",
     "gltf-sheen",
     "gltf-specular",
 ];
 
 /// Writes the swatch of `surface` laid out by `images` as `path` (`STEM.gltf`), its geometry
-/// `STEM.bin` and its six textures `STEM-gltf-*.png` beside it, each file whole or not at all;
+/// `STEM.bin` and its five textures `STEM-gltf-*.png` beside it, each file whole or not at all;
 /// the document names them relative to itself (module docs).
 ///
 /// # Errors
@@ -306,10 +301,9 @@ pub fn write(
     let size = textures.size;
     write_png8(&paths[0], size, &flat(&textures.base_color), 3)?;
     write_png8(&paths[1], size, &flat(&textures.metallic_roughness), 3)?;
-    write_png8(&paths[2], size, &flat(&textures.normal), 3)?;
-    write_png8(&paths[3], size, &flat(&textures.anisotropy), 3)?;
-    write_png8(&paths[4], size, &flat(&textures.sheen), 4)?;
-    write_png8(&paths[5], size, &flat(&textures.specular), 4)?;
+    write_png8(&paths[2], size, &flat(&textures.anisotropy), 3)?;
+    write_png8(&paths[3], size, &flat(&textures.sheen), 4)?;
+    write_png8(&paths[4], size, &flat(&textures.specular), 4)?;
     let bin_name = format!("{stem}.bin");
     let bin_path = folder.join(&bin_name);
     let geometry = swatch(surface, images, options);
@@ -463,25 +457,24 @@ fn document(
                 "roughnessFactor": 1.0,
                 "metallicRoughnessTexture": texture(1)
             },
-            "normalTexture": texture(2),
             "extensions": {
                 "KHR_materials_anisotropy": {
                     "anisotropyStrength": 1.0,
                     "anisotropyRotation": 0.0,
-                    "anisotropyTexture": texture(3)
+                    "anisotropyTexture": texture(2)
                 },
                 "KHR_materials_ior": { "ior": PROJECTION_ETA },
                 "KHR_materials_sheen": {
                     "sheenColorFactor": [1.0, 1.0, 1.0],
-                    "sheenColorTexture": texture(4),
+                    "sheenColorTexture": texture(3),
                     "sheenRoughnessFactor": 1.0,
-                    "sheenRoughnessTexture": texture(4)
+                    "sheenRoughnessTexture": texture(3)
                 },
                 "KHR_materials_specular": {
                     "specularFactor": 1.0,
-                    "specularTexture": texture(5),
+                    "specularTexture": texture(4),
                     "specularColorFactor": [c, c, c],
-                    "specularColorTexture": texture(5)
+                    "specularColorTexture": texture(4)
                 }
             }
         }]

@@ -9,9 +9,16 @@
 //! | `specular_ior` | [`PROJECTION_ETA`] (1.5) | |
 //! | `specular_roughness`, `specular_roughness_anisotropy` | the GGX roughnesses by OpenPBR's own mapping ([`OpenPbrSpecular`]) | exact: no clamp |
 //! | `geometry_tangent` | the rougher axis: the weft's along `u` (`tangent`) or across it, the warp's along `v` (`bitangent`) or across it | |
-//! | `geometry_normal` | `STEM-normal.png` through `normalmap` | tangent space, `x` along `u` |
-//! | `fuzz_weight`, `fuzz_color`, `fuzz_roughness` | the sheen's weight, colour and roughness | Zeltner's sheen, not woven's Charlie lobe |
+//! | `geometry_normal` | not set: the geometry's | the lobes hold the float's tilt (below) |
+//! | `fuzz_weight`, `fuzz_color`, `fuzz_roughness` | the sheen's weight, colour and roughness | 0 while the projection fits no sheen; Zeltner's sheen, not the projection's Charlie lobe |
 //! | `geometry_thin_walled` | `true`: cloth is a sheet | |
+//!
+//! **No normal map.** Each family's lobes are fitted to the family as the cloth shows it, its
+//! whole float tilted and its facets' masking in them (the [`standard`](super) module docs, with
+//! the measurement that chose it). Laying the float's tilt on again as a normal map would count
+//! it twice, so the document reads `STEM-layout.png` and `STEM-factors.png` only;
+//! `STEM-normal.png`, written beside them with the layout, is for tools that want the facets'
+//! normals.
 //!
 //! **The mix.** OpenPBR's `mix` of two `surfaceshader`s is the weighted sum of their BSDFs, as
 //! woven's layout mixes its families' BRDFs: `mix(weft, warp, w / (w + p))`, then `mix(that,
@@ -117,10 +124,10 @@ pub struct OpenPbrFiles {
     pub textures: LayoutFiles,
 }
 
-/// Writes `surface` laid out by `images` as the MaterialX document `path` (`STEM.mtlx`) and its
-/// three textures beside it (`STEM-layout.png`, `STEM-normal.png`, `STEM-factors.png`,
-/// [`LayoutImages::write`]), each file whole or not at all; the document names them relative to
-/// itself.
+/// Writes `surface` laid out by `images` as the MaterialX document `path` (`STEM.mtlx`) and the
+/// layout's three textures beside it (`STEM-layout.png`, `STEM-normal.png`, `STEM-factors.png`,
+/// [`LayoutImages::write`]), each file whole or not at all; the document names the layout and
+/// the factors relative to itself (module docs: no normal map).
 ///
 /// # Errors
 /// [`FitError::InvalidParameter`] naming `path` when it has no file name;
@@ -164,7 +171,7 @@ pub(crate) fn folder_and_stem(path: &Path) -> Result<(PathBuf, String), FitError
 }
 
 /// The MaterialX document of `surface` laid out by `images`, whose textures are
-/// `STEM-layout.png`, `STEM-normal.png` and `STEM-factors.png` beside it (module docs).
+/// `STEM-layout.png` and `STEM-factors.png` beside it (module docs).
 pub fn document(surface: &StandardSurface, images: &LayoutImages, stem: &str) -> String {
     let mut x = Xml::default();
     x.line(r#"<?xml version="1.0"?>"#);
@@ -215,11 +222,7 @@ fn texture_nodes(x: &mut Xml, surface: &StandardSurface, images: &LayoutImages, 
             ),
         ],
     );
-    for (name, file) in [
-        ("layout_image", "layout"),
-        ("normal_image", "normal"),
-        ("factors_image", "factors"),
-    ] {
+    for (name, file) in [("layout_image", "layout"), ("factors_image", "factors")] {
         x.node(
             "image",
             name,
@@ -257,13 +260,7 @@ fn texture_nodes(x: &mut Xml, surface: &StandardSurface, images: &LayoutImages, 
             ],
         );
     }
-    x.node(
-        "normalmap",
-        "woven_normal",
-        "vector3",
-        &[Node("in", "vector3", "normal_image")],
-    );
-    // World space, as `geometry_tangent`'s default (`Tworld`) and `normalmap`'s frame.
+    // World space, as `geometry_tangent`'s default (`Tworld`).
     let world = || [Value("space", "string", "world".into())];
     x.node("tangent", "u_tangent", "vector3", &world());
     x.node("bitangent", "v_tangent", "vector3", &world());
@@ -324,7 +321,6 @@ fn family_surface(x: &mut Xml, name: &str, family: &StandardFamily) {
             Value("fuzz_color", "color3", rgb(sheen_tint)),
             Value("fuzz_roughness", "float", num(family.lobes.sheen_roughness)),
             Value("geometry_thin_walled", "boolean", "true".into()),
-            Node("geometry_normal", "vector3", "woven_normal"),
             Node(
                 "geometry_tangent",
                 "vector3",

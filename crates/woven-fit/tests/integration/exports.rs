@@ -161,8 +161,12 @@ fn the_openpbr_document_parses_links_only_its_nodes_and_names_textures_beside_it
             }
         }
     }
-    assert_eq!(files_named.len(), 3, "{files_named:?}");
+    // The layout and the factors; the normal map is written beside them but not read: the lobes
+    // hold the float's tilt.
+    assert_eq!(files_named.len(), 2, "{files_named:?}");
     assert!(files_named.contains("satin & co-layout.png"));
+    assert!(files_named.contains("satin & co-factors.png"));
+    assert!(dir.path().join("satin & co-normal.png").is_file());
     assert!(text.contains("satin &amp; co-layout.png"));
 
     // The two families and the hole, each an OpenPBR surface of OpenPBR's own inputs.
@@ -178,6 +182,7 @@ fn the_openpbr_document_parses_links_only_its_nodes_and_names_textures_beside_it
             assert!(OPENPBR_INPUTS.contains(&input.as_str()), "{name}.{input}");
         }
         assert_eq!(n.inputs["geometry_thin_walled"].1, "true");
+        assert!(!n.inputs.contains_key("geometry_normal"), "{name}");
     }
     let hole = &nodes["hole_surface"];
     assert_eq!(number(hole, "base_weight"), 0.0);
@@ -267,7 +272,8 @@ fn the_gltf_swatch_parses_declares_its_extensions_and_references_its_files() {
     let bin = std::fs::read(dir.path().join(uri(&doc["buffers"][0]["uri"]))).unwrap();
     assert_eq!(doc["buffers"][0]["byteLength"], bin.len());
     let images_json = doc["images"].as_array().unwrap();
-    assert_eq!(images_json.len(), 6);
+    assert_eq!(images_json.len(), 5);
+    assert!(material.get("normalTexture").is_none());
     for image in images_json {
         let file = dir.path().join(uri(&image["uri"]));
         let png = image::open(&file).unwrap();
@@ -279,7 +285,7 @@ fn the_gltf_swatch_parses_declares_its_extensions_and_references_its_files() {
         );
     }
     for texture in doc["textures"].as_array().unwrap() {
-        assert!(texture["source"].as_u64().unwrap() < 6);
+        assert!(texture["source"].as_u64().unwrap() < 5);
     }
 
     // The swatch: 2 cm across; its texture coordinates repeat the tile at the thread count.
@@ -300,7 +306,7 @@ fn the_gltf_swatch_parses_declares_its_extensions_and_references_its_files() {
     assert!((width - 0.02).abs() < 1e-7, "{width}");
     // 2 cm at 2000 cells per metre is 40 cells: 8 tiles of 5.
     assert!((uv[2] - uv[0] - 8.0).abs() < 1e-5, "{uv:?}");
-    // Tangents along +x with w = +1: the normal map's and the anisotropy's y is +v (+y).
+    // Tangents along +x with w = +1: the anisotropy's y, the bitangent, is +v (+y).
     assert_eq!(floats(2)[..4], [1.0, 0.0, 0.0, 1.0]);
     assert_eq!(floats(1)[..3], [0.0, 0.0, 1.0]);
 }

@@ -29,22 +29,24 @@ merl, the default, or rgl), or a woven surface on the standard lobes other rende
 
 openpbr, gltf: each yarn family of the woven surface (--material with the surface keys a \
 scene's woven material takes: --pattern, --yarns-per-unit, --weft-color, --warp-color, \
---u-max-deg, --gap, --irregularity) projected onto a sheen over Lambert + anisotropic GGX along \
-the yarn, fitted to the family's flat yarn at yarn level, its colours per channel; the layout \
-(which family is on top, holes, the float's tilt as a normal map, dye factors) baked into \
-textures of one tile (--texels-per-cell along each cell's side). The yarn's table comes from the \
-cache `woven render` shares, or is built there (tens of seconds; --draft-tables: a coarse grid, \
-seconds); the projection takes seconds per family. openpbr writes a MaterialX 1.39 document \
-(NAME.mtlx) of OpenPBR Surface 1.1: one open_pbr_surface per family mixed by the layout texture, \
-and its 16-bit textures beside it (NAME-layout.png, NAME-normal.png, NAME-factors.png), on a uv \
-in metres at --yarns-per-unit cells per metre. gltf writes a glTF 2.0 swatch (NAME.gltf, \
-NAME.bin, NAME-gltf-*.png): a square of --swatch-m metres whose one material carries the \
-families texel by texel (base colour, roughness, KHR_materials_anisotropy, a normal map, \
-KHR_materials_sheen, KHR_materials_specular, KHR_materials_ior), the weave at --yarns-per-unit \
-cells per metre. --also-output FILE writes the other of the two from the same projection. Both \
-print each family's RMS log error beside the best single isotropic GGX + Lambert's. What the standard lobes cannot carry (the masking's dependence on the light, \
-interreflection, the paper normalization's non-reciprocity, the fibre level) is in \
-docs/export.md. Files are written whole or not at all, the textures before the document.
+--u-max-deg, --gap, --irregularity) projected onto the standard lobes (Lambert + anisotropic GGX \
+along the yarn, fitted to the family's whole float as the cloth shows it, its colours per \
+channel; woven_fit::standard); the layout (which family is on top, holes, dye factors) baked \
+into textures of one tile (--texels-per-cell along each cell's side). The yarn's table comes \
+from the cache `woven render` shares, or is built there (tens of seconds; --draft-tables: a \
+coarse grid, seconds); the projection takes seconds per family. openpbr writes a MaterialX 1.39 \
+document (NAME.mtlx) of OpenPBR Surface 1.1: one open_pbr_surface per family mixed by the \
+layout texture, and the layout's 16-bit textures beside it (NAME-layout.png, NAME-factors.png, \
+and NAME-normal.png, which the document does not read), on a uv in metres at --yarns-per-unit \
+cells per metre. gltf writes a glTF 2.0 swatch (NAME.gltf, NAME.bin, NAME-gltf-*.png): a square \
+of --swatch-m metres whose one material carries the families texel by texel (base colour, \
+roughness, KHR_materials_anisotropy, KHR_materials_sheen, KHR_materials_specular, \
+KHR_materials_ior), the weave at --yarns-per-unit cells per metre. --also-output FILE writes \
+the other of the two from the same projection. Both print each family's RMS log error beside \
+the best single isotropic GGX + Lambert's. What the standard lobes cannot carry (the masking's \
+dependence on the light, interreflection, the paper normalization's non-reciprocity, the fibre \
+level) is in docs/export.md. Files are written whole or not at all, the textures before the \
+document.
 
 rgl: RGL's `.bsdf` format (Dupuy & Jakob 2018), which Mitsuba 3's `measured` plugin \
 ({\"type\": \"measured\", \"filename\": \"cloth.bsdf\"}) and pbrt-v4's `measured` material \
