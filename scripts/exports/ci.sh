@@ -70,7 +70,7 @@ if [ ! -f "$NODE_PREFIX/node_modules/gltf-validator/package.json" ] \
    || ! grep -q "\"version\": \"$GLTF_VALIDATOR_VERSION\"" "$NODE_PREFIX/node_modules/gltf-validator/package.json"; then
   echo "installing gltf-validator@$GLTF_VALIDATOR_VERSION into $NODE_PREFIX"
   mkdir -p "$NODE_PREFIX"
-  npm install --prefix "$NODE_PREFIX" --no-audit --no-fund --no-save --silent "gltf-validator@$GLTF_VALIDATOR_VERSION" \
+  npm install --prefix "$NODE_PREFIX" --no-audit --no-fund --silent "gltf-validator@$GLTF_VALIDATOR_VERSION" \
     || skip "npm could not install gltf-validator@$GLTF_VALIDATOR_VERSION (no npm registry: set npm's registry, or install it into $NODE_PREFIX by hand)"
 fi
 echo "tools ready in $((SECONDS - start)) s (MaterialX $("$VENV/bin/python" -c 'import MaterialX as mx; print(mx.getVersionString())'), node $(node --version), gltf-validator $GLTF_VALIDATOR_VERSION)"
