@@ -142,8 +142,10 @@ impl GltfTexel {
         let along_u = warp != g.along_yarn;
         let spec = mixed(&|f| f.specular);
         let top = spec.iter().copied().fold(0.0, f64::max);
+        // glTF's `specular` scales f0 and f90 alike, up to 1; what passes 1 goes to f0 alone.
         let s = top.min(1.0);
         GltfTexel {
+            // A reflectance: a dye factor above 1 may not lift a channel past 1.
             base_color: [0, 1, 2].map(|c| {
                 (w * surface.weft.diffuse[c] * factors[0]
                     + p * surface.warp.diffuse[c] * factors[1])
@@ -152,6 +154,7 @@ impl GltfTexel {
             roughness: g.roughness,
             anisotropy_direction: if along_u { [1.0, 0.0] } else { [0.0, 1.0] },
             anisotropy_strength: g.anisotropy_strength,
+            // glTF's sheen colour is a weight in [0, 1].
             sheen_color: mixed(&|f| f.sheen).map(|c| c.clamp(0.0, 1.0)),
             sheen_roughness: family.lobes.sheen_roughness,
             specular: s,
@@ -223,6 +226,7 @@ impl GltfTextures {
             .iter()
             .flat_map(|t| t.specular_color)
             .fold(1.0, f64::max);
+        // sRGB's curve is defined on [0, 1], as an 8-bit texture holds.
         let srgb = |c: [f64; 3]| c.map(|x| unit8(srgb_encode(x.clamp(0.0, 1.0))));
         GltfTextures {
             size: images.size(),

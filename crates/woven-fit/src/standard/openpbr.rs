@@ -108,6 +108,7 @@ pub fn specular_weight(family: &StandardFamily) -> (f64, [f64; 3]) {
     if top > 0.0 {
         (
             top.min(MAX_SPECULAR_WEIGHT),
+            // Each channel over the largest is in [0, 1]; the clamp only guards rounding.
             family.specular.map(|s| (s / top).clamp(0.0, 1.0)),
         )
     } else {
@@ -317,6 +318,7 @@ fn family_surface(x: &mut Xml, name: &str, family: &StandardFamily) {
                 num(spec.anisotropy),
             ),
             Value("specular_ior", "float", num(PROJECTION_ETA)),
+            // OpenPBR's fuzz_weight is a presence in [0, 1], as the projection's sheen weight.
             Value("fuzz_weight", "float", num(sheen_top.min(1.0))),
             Value("fuzz_color", "color3", rgb(sheen_tint)),
             Value("fuzz_roughness", "float", num(family.lobes.sheen_roughness)),
