@@ -18,8 +18,8 @@ use woven_fit::standard::{project_surface, StandardFamily};
 /// and `cycles` and `gltf`: the GGX lobe in each renderer's own parameters),
 /// `yarns_per_unit`, `cells` (pattern cells the tile spans, `[u, v]`), `texels_per_cell`,
 /// `factor_range` (a dye factor's texture value times it), and with `folder`, `files`: the
-/// paths of `STEM-layout.png` (weft share R, warp share G), `STEM-normal.png` (the facet's
-/// normal, tangent space, `(n + 1) / 2`) and `STEM-factors.png` (weft R, warp G dye factors
+/// paths of `STEM-layout.png` (weft share R, warp share G) and `STEM-factors.png` (weft R,
+/// warp G dye factors
 /// over `factor_range`), each written whole. Raises ValueError naming `texels_per_cell` outside
 /// [1, 64], OSError when a file cannot be written.
 #[pyfunction]
@@ -52,7 +52,6 @@ pub fn standard_surface<'py>(
             .map_err(crate::fit::fit_err)?;
         let f = PyDict::new(py);
         f.set_item("layout", files.layout)?;
-        f.set_item("normal", files.normal)?;
         f.set_item("factors", files.factors)?;
         d.set_item("files", f)?;
     }

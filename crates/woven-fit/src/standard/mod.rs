@@ -2,8 +2,8 @@
 //! each yarn family's BRDF projected onto Lambert + anisotropic GGX along the yarn
 //! ([`projection`](crate::projection)'s [`LobeSet::Anisotropic`], fitted to the reflected
 //! radiance, [`Objective::Radiance`]), its colours fitted per channel, and the surface's layout
-//! baked into textures by the library ([`textures`]): which family is on top, the facet's
-//! normal (the float's tilt), each family's dye factor. What Blender (`woven.blender`), the
+//! baked into textures by the library ([`textures`]): which family is on top (or a hole) and
+//! each yarn's dye factor. What Blender (`woven.blender`), the
 //! OpenPBR and the glTF writers build is read from here, and each renderer's own
 //! parametrisation of the GGX lobe ([`StandardFamily::cycles`], [`StandardFamily::gltf`]) has
 //! its one home here.
@@ -44,7 +44,7 @@ use woven::Vec3;
 
 /// The version of what [`project_surface`] and the baked textures give for a surface: a cache
 /// of them (`woven.blender`'s) is keyed by it, so a change of the fit or the layout here bumps it.
-pub const STANDARD_VERSION: u32 = 3;
+pub const STANDARD_VERSION: u32 = 4;
 
 /// The smallest ratio of the two GGX roughnesses Cycles' anisotropy reaches (`aspect² =
 /// 1 − 0.9 a` at `a = 1`).

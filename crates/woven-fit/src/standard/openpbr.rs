@@ -16,9 +16,7 @@
 //! **No normal map.** Each family's lobes are fitted to the family as the cloth shows it, its
 //! whole float tilted and its facets' masking in them (the [`standard`](super) module docs, with
 //! the measurement that chose it). Laying the float's tilt on again as a normal map would count
-//! it twice, so the document reads `STEM-layout.png` and `STEM-factors.png` only;
-//! `STEM-normal.png`, written beside them with the layout, is for tools that want the facets'
-//! normals.
+//! it twice, so the layout is `STEM-layout.png` and `STEM-factors.png`.
 //!
 //! **The mix.** OpenPBR's `mix` of two `surfaceshader`s is the weighted sum of their BSDFs, as
 //! woven's layout mixes its families' BRDFs: `mix(weft, warp, w / (w + p))`, then `mix(that,
@@ -126,9 +124,9 @@ pub struct OpenPbrFiles {
 }
 
 /// Writes `surface` laid out by `images` as the MaterialX document `path` (`STEM.mtlx`) and the
-/// layout's three textures beside it (`STEM-layout.png`, `STEM-normal.png`, `STEM-factors.png`,
-/// [`LayoutImages::write`]), each file whole or not at all; the document names the layout and
-/// the factors relative to itself (module docs: no normal map).
+/// layout's two textures beside it (`STEM-layout.png`, `STEM-factors.png`,
+/// [`LayoutImages::write`]), each file whole or not at all; the document names them relative to
+/// itself (module docs: no normal map).
 ///
 /// # Errors
 /// [`FitError::InvalidParameter`] naming `path` when it has no file name;

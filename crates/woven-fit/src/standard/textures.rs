@@ -1,10 +1,8 @@
 //! A woven surface's layout as textures ([`LayoutImages`]), baked from the library's own
 //! reading of each point ([`WovenSurface::texel`]), for renderers that lay the standard lobes of
-//! each family out on the uv (Blender, OpenPBR, glTF). Three 16-bit RGB images of one tile:
+//! each family out on the uv (Blender, OpenPBR, glTF). Two 16-bit RGB images of one tile:
 //! - **layout**: the weft's share (R) and the warp's (G) of each texel; where both are 0, a hole
 //!   between gapped yarns;
-//! - **normal**: the facet's normal in the cloth's tangent frame (`x` along `u`, `y` along `v`,
-//!   `z` the normal), encoded `(n + 1) / 2` (OpenGL's convention, as Blender and glTF read it);
 //! - **factors**: the weft's dye factor (R) and the warp's (G), each divided by
 //!   [`FACTOR_RANGE`].
 //!
@@ -36,8 +34,6 @@ pub struct LayoutImages {
     pub texels_per_cell: usize,
     /// The weft's and the warp's share, row-major from the top row.
     pub layout: Vec<[u16; 3]>,
-    /// The encoded normal, likewise.
-    pub normal: Vec<[u16; 3]>,
     /// The encoded dye factors, likewise.
     pub factors: Vec<[u16; 3]>,
 }
@@ -47,8 +43,6 @@ pub struct LayoutImages {
 pub struct LayoutFiles {
     /// The layout image.
     pub layout: PathBuf,
-    /// The normal map.
-    pub normal: PathBuf,
     /// The dye factors.
     pub factors: PathBuf,
 }
@@ -102,10 +96,6 @@ impl LayoutImages {
                 .iter()
                 .map(|t| [unit16(t.weft), unit16(t.warp), 0])
                 .collect(),
-            normal: texels
-                .iter()
-                .map(|t| [t.normal.x, t.normal.y, t.normal.z].map(|c| unit16(0.5 * (c + 1.0))))
-                .collect(),
             factors: texels
                 .iter()
                 .map(|t| {
@@ -124,20 +114,18 @@ impl LayoutImages {
         self.cells.map(|c| c * self.texels_per_cell)
     }
 
-    /// Writes the three images as 16-bit PNGs `STEM-layout.png`, `STEM-normal.png` and
-    /// `STEM-factors.png` in `folder`, each whole or not at all.
+    /// Writes the two images as 16-bit PNGs `STEM-layout.png` and `STEM-factors.png` in
+    /// `folder`, each whole or not at all.
     ///
     /// # Errors
     /// [`FitError::Material`] holding the I/O error that names a file that cannot be written.
     pub fn write(&self, folder: &Path, stem: &str) -> Result<LayoutFiles, FitError> {
         let files = LayoutFiles {
             layout: folder.join(format!("{stem}-layout.png")),
-            normal: folder.join(format!("{stem}-normal.png")),
             factors: folder.join(format!("{stem}-factors.png")),
         };
         for (path, pixels) in [
             (&files.layout, &self.layout),
-            (&files.normal, &self.normal),
             (&files.factors, &self.factors),
         ] {
             write_png16(path, self.size(), pixels)?;

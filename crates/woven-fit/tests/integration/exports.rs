@@ -161,12 +161,10 @@ fn the_openpbr_document_parses_links_only_its_nodes_and_names_textures_beside_it
             }
         }
     }
-    // The layout and the factors; the normal map is written beside them but not read: the lobes
-    // hold the float's tilt.
+    // The layout and the factors (no normal map: the lobes hold the float's tilt).
     assert_eq!(files_named.len(), 2, "{files_named:?}");
     assert!(files_named.contains("satin & co-layout.png"));
     assert!(files_named.contains("satin & co-factors.png"));
-    assert!(dir.path().join("satin & co-normal.png").is_file());
     assert!(text.contains("satin &amp; co-layout.png"));
 
     // The two families and the hole, each an OpenPBR surface of OpenPBR's own inputs.

@@ -1,11 +1,12 @@
 //! What a surface lays at one point of its uv, as a renderer without woven's BSDF carries it in
-//! textures ([`Texel`]): which yarn family is on top (or a hole), the normal of the facet there
-//! (its float's tilt, the relief's lean) and each family's dye factor. Blender, OpenPBR and glTF
-//! read a woven material as these textures over its families' standard lobes
-//! (`woven_fit::standard`): the layout is the library's, never rewritten in their languages.
+//! textures ([`Texel`]): which yarn family is on top (or a hole) and each family's dye factor;
+//! and each family's BRDF as the cloth shows it ([`WovenSurface::family_brdf`]), what those
+//! renderers' lobes are fitted to. Blender, OpenPBR and glTF read a woven material as these
+//! textures over its families' standard lobes (`woven_fit::standard`): the layout is the
+//! library's, never rewritten in their languages. The float's tilt is in the families' BRDFs,
+//! with the masking between facets that a normal map could not carry.
 
 use super::{Tilt, WovenSurface};
-use crate::relief::Lean;
 use crate::Vec3;
 
 /// One point of a surface's layout at yarn level, seen along the normal.
@@ -16,16 +17,13 @@ pub struct Texel {
     pub weft: f64,
     /// The warp's share; `1 − weft − warp` is the hole between gapped yarns.
     pub warp: f64,
-    /// The normal of the yarn's facet there, in the cloth's frame (`z` the macro normal, `x`
-    /// along `u`): its float's tilt, or on a relief its lean.
-    pub normal: Vec3,
     /// The weft's and the warp's dye factors there ([`WovenSurface::dye_factors`]).
     pub factors: [f64; 2],
 }
 
 impl WovenSurface {
     /// The surface at `uv` as textures carry it ([`Texel`]): the pattern cell's yarn at yarn
-    /// level (fibres averaged: no footprint), its facet's normal where a viewer above meets it.
+    /// level (fibres averaged: no footprint), on a relief the yarn a viewer above meets.
     pub fn texel(&self, uv: [f64; 2]) -> Texel {
         let at = super::SurfacePoint {
             uv,
@@ -35,35 +33,14 @@ impl WovenSurface {
         if let Some(entry) = self.split_into(&at, &mut mix) {
             mix = self.with_relief(mix, &entry, Vec3::new(0.0, 0.0, 1.0));
         }
-        let (mut shares, mut top, mut heaviest) = ([0.0; 2], Vec3::new(0.0, 0.0, 1.0), 0.0);
+        let mut shares = [0.0; 2];
         for lobe in mix.lobes() {
             shares[usize::from(lobe.warp)] += lobe.weight;
-            if lobe.weight > heaviest {
-                heaviest = lobe.weight;
-                top = self.facet_normal(lobe.warp, lobe.tilt);
-            }
         }
         Texel {
             weft: shares[0],
             warp: shares[1],
-            normal: top,
             factors: self.dye_factors(&at),
-        }
-    }
-
-    /// The normal of a lobe's facet in the cloth's frame: its lean's normal, turned back from
-    /// the warp's frame for the warp.
-    fn facet_normal(&self, warp: bool, tilt: Tilt) -> Vec3 {
-        let lean = match tilt {
-            Tilt::Flat | Tilt::Float => Lean::FLAT,
-            Tilt::Entering(t) => Lean::tilted(self.float.tilt(t).sin_cos()),
-            Tilt::Relief { lean, .. } => lean,
-        };
-        let n = lean.from_frame(Vec3::new(0.0, 0.0, 1.0));
-        if warp {
-            Vec3::new(-n.y, n.x, n.z)
-        } else {
-            n
         }
     }
 
@@ -129,7 +106,7 @@ mod tests {
     }
 
     #[test]
-    fn a_texel_is_the_family_the_surface_shades_and_its_facet_tilts_along_its_yarn() {
+    fn a_texel_is_the_family_the_surface_shades_and_its_cells_average_to_the_macro_shares() {
         let s = surface("satin-5", 20.0, 0.1);
         let (mut weft, mut warp, mut holes) = (0, 0, 0);
         for i in 0..50 {
@@ -147,14 +124,12 @@ mod tests {
                     .map(|l| l.weight)
                     .sum();
                 assert!((t.weft - on_top).abs() < 1e-12, "{uv:?}");
-                assert!((t.normal.length() - 1.0).abs() < 1e-12);
-                // A facet tilts about the axis across its yarn: the weft's normal leans along x,
-                // the warp's along y, never more than u_max.
-                assert!(t.normal.z >= 20f64.to_radians().cos() - 1e-12);
-                match (t.weft > 0.5, t.warp > 0.5) {
-                    (true, false) => (weft += 1, assert_eq!(t.normal.y, 0.0)).1,
-                    (false, true) => (warp += 1, assert!(t.normal.x.abs() < 1e-15)).1,
-                    _ => holes += 1,
+                // At yarn level a point is one family's, or a hole.
+                match (t.weft, t.warp) {
+                    (1.0, 0.0) => weft += 1,
+                    (0.0, 1.0) => warp += 1,
+                    (0.0, 0.0) => holes += 1,
+                    other => panic!("{uv:?}: shares {other:?}"),
                 }
             }
         }
@@ -171,12 +146,11 @@ mod tests {
     }
 
     #[test]
-    fn a_flat_tight_weave_lays_flat_normals_and_unit_factors() {
+    fn a_tight_weave_has_no_holes_and_even_dyes_unit_factors() {
         let s = surface("plain", 0.0, 0.0);
         for k in 0..40 {
             let t = s.texel([k as f64 * 0.0123, k as f64 * 0.0371]);
             assert_eq!(t.weft + t.warp, 1.0);
-            assert_eq!(t.normal, Vec3::new(0.0, 0.0, 1.0));
             assert_eq!(t.factors, [1.0, 1.0]);
         }
     }

@@ -124,11 +124,10 @@ fn write(
         ExportFormat::Openpbr => {
             let files = openpbr::write(standard, images, path).with_context(cannot)?;
             format!(
-                "Wrote {} (MaterialX 1.39, OpenPBR Surface 1.1) and its textures {}, {} and {} \
+                "Wrote {} (MaterialX 1.39, OpenPBR Surface 1.1) and its textures {} and {} \
                  ({w}×{h} texels, 16-bit)",
                 files.document.display(),
                 files.textures.layout.display(),
-                files.textures.normal.display(),
                 files.textures.factors.display()
             )
         }

@@ -3,15 +3,17 @@ by Cycles (``python -m woven.blender SCENE.toml -o OUT.exr``).
 
 Cycles cannot host a BSDF of its own making: its closures are a fixed list. So a woven material
 reaches Cycles as its projection onto the lobes Cycles has (``woven.standard_surface``, from the
-library): for each yarn family a Lambertian lobe, an anisotropic GGX along the yarn and a sheen,
-fitted to the family's yarn; and its layout on the uv, baked by the library into textures —
-which family is on top (and the holes between gapped yarns), the facet's normal (the float's
-tilt, the relief's lean) and each yarn's dye factor (``irregularity``). Nothing of the layout is
-rewritten here: the rules are the library's, read as images.
+library): for each yarn family a Lambertian lobe and an anisotropic GGX along the yarn, fitted
+to the family as the cloth shows it; and its layout on the uv, baked by the library into
+textures — which family is on top (and the holes between gapped yarns) and each yarn's dye
+factor (``irregularity``). Nothing of the layout is
+rewritten here: the rules are the library's, read as images. The float's tilt is in each
+family's lobes (fitted to its whole float, with the masking between its facets, which a normal
+map could not carry: docs/blender.md).
 
 What the standard lobes cannot carry, and so this material does not: the masking's dependence on
 the light (a yarn's lit-and-seen part), the interreflection term's shape, the paper
-normalisation's non-reciprocity, and the fibre level (``detail = "fibers"``, or ``"auto"``
+normalisation's non-reciprocity, woven's sheen, and the fibre level (``detail = "fibers"``, or ``"auto"``
 close up): the yarn's average stands for the fibres. docs/blender.md measures what that costs.
 
     import bpy, woven, woven.blender

@@ -1,15 +1,16 @@
 """A woven surface as a Cycles node tree: each yarn family's standard lobes
-(``woven.standard_surface``: Lambert + anisotropic GGX along the yarn + sheen, colours per
-channel) laid out on the uv by the textures the library bakes (which family is on top, the
-facet's normal, each yarn's dye factor). Nodes only, so the material renders on the CPU and on
+(``woven.standard_surface``: Lambert + anisotropic GGX along the yarn, colours per channel)
+laid out on the uv by the textures the library bakes (which family is on top, each yarn's dye
+factor). Nodes only, so the material renders on the CPU and on
 GPUs alike (Cycles' OSL runs on the CPU only).
 
 Each family's GGX lobe is Cycles' Metallic BSDF with a physical-conductor Fresnel of extinction
 0, which is the dielectric's Fresnel exactly. Its weight is per channel: one closure per channel,
 whose index of refraction is 1.5 in that channel and 1 (no reflection at all) in the others,
 mixed in by its weight (added again for the part of a weight above 1). The diffuse lobe is
-Lambert (Diffuse BSDF, roughness 0), the sheen Cycles' "Microfiber" sheen (Zeltner et al. 2022;
-woven's is a Charlie sheen, and its fitted weight is under 1 % in every preset tried).
+Lambert (Diffuse BSDF, roughness 0). A sheen, where a projection fits one, would be Cycles'
+"Microfiber" (Zeltner et al. 2022); the projection fits none (``woven_fit::standard``: woven's
+sheen is a Charlie lobe, whose grazing peak Zeltner's does not share).
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ def standard(surface, identity, folder, stem, texels_per_cell=16):
         f"{woven.__version__}\n{woven.STANDARD_VERSION}\n{texels_per_cell}\n{identity}".encode()).hexdigest()[:32]
     root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     cached = Path(root) / "woven" / "standard" / key
-    names = ("layout", "normal", "factors")
+    names = ("layout", "factors")
     try:
         std = json.loads((cached / "standard.json").read_text())
         for n in names:
