@@ -506,23 +506,12 @@ fn write_png8(
     bytes: &[u8],
     channels: usize,
 ) -> Result<(), FitError> {
-    use image::ImageEncoder;
     let colour = if channels == 4 {
         image::ColorType::Rgba8
     } else {
         image::ColorType::Rgb8
     };
-    let mut png = Vec::new();
-    let size = |x: usize| u32::try_from(x).unwrap_or(u32::MAX);
-    image::codecs::png::PngEncoder::new(&mut png)
-        .write_image(bytes, size(w), size(h), colour)
-        .map_err(|e| woven::Error::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::other(e.to_string()),
-        })?;
-    Ok(woven::fsutil::atomic_write(path, |out| {
-        out.write_all(&png)
-    })?)
+    super::textures::write_png(path, [w, h], bytes, colour)
 }
 
 #[cfg(test)]

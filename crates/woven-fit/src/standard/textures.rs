@@ -136,7 +136,6 @@ impl LayoutImages {
 
 /// A 16-bit RGB PNG written atomically.
 fn write_png16(path: &Path, [w, h]: [usize; 2], pixels: &[[u16; 3]]) -> Result<(), FitError> {
-    use image::ImageEncoder;
     // The encoder takes 16-bit samples in the machine's byte order (it writes PNG's big-endian).
     let mut bytes = Vec::with_capacity(pixels.len() * 6);
     for p in pixels {
@@ -144,10 +143,23 @@ fn write_png16(path: &Path, [w, h]: [usize; 2], pixels: &[[u16; 3]]) -> Result<(
             bytes.extend_from_slice(&c.to_ne_bytes());
         }
     }
+    write_png(path, [w, h], &bytes, image::ColorType::Rgb16)
+}
+
+/// A PNG of `colour` samples `bytes` (row-major from the top row, 16-bit samples in the
+/// machine's byte order), encoded whole and written atomically: the one encoder of the
+/// standard-lobe writers' textures (these layouts, glTF's 8-bit textures).
+pub(super) fn write_png(
+    path: &Path,
+    [w, h]: [usize; 2],
+    bytes: &[u8],
+    colour: image::ColorType,
+) -> Result<(), FitError> {
+    use image::ImageEncoder;
     let mut png = Vec::new();
     let size = |x: usize| u32::try_from(x).unwrap_or(u32::MAX);
     image::codecs::png::PngEncoder::new(&mut png)
-        .write_image(&bytes, size(w), size(h), image::ColorType::Rgb16)
+        .write_image(bytes, size(w), size(h), colour)
         .map_err(|e| woven::Error::Io {
             path: path.to_path_buf(),
             source: std::io::Error::other(e.to_string()),

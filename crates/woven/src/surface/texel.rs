@@ -85,8 +85,13 @@ mod tests {
     use std::sync::Arc;
 
     fn surface(pattern: &str, u_max_deg: f64, gap: f64) -> WovenSurface {
+        woven_with(Weave::named(pattern).unwrap(), u_max_deg, gap)
+    }
+
+    /// polyester-sateen woven as `weave` on a small table, 10 cells a unit.
+    fn woven_with(weave: Weave, u_max_deg: f64, gap: f64) -> WovenSurface {
         let mut material = Material::preset("polyester-sateen").unwrap();
-        material.weave = Some(Weave::named(pattern).unwrap());
+        material.weave = Some(weave);
         let spec = SurfaceSpec {
             yarns_per_unit: [10.0, 10.0],
             u_max: u_max_deg.to_radians(),
@@ -159,25 +164,7 @@ mod tests {
     fn a_family_s_brdf_is_the_cloth_of_that_family_alone_in_its_own_frame() {
         use crate::bsdf::Bsdf;
         // γ = 1 is the weft alone, γ = 0 the warp alone (the macro BRDF, whole tilted floats).
-        let alone = |gamma: f64| {
-            let mut material = Material::preset("polyester-sateen").unwrap();
-            material.weave = Some(Weave::WeftFraction(gamma));
-            let spec = SurfaceSpec {
-                u_max: 15f64.to_radians(),
-                ..SurfaceSpec::new(material)
-            };
-            let yarn = spec.material.yarn_family();
-            let options = TableOptions {
-                n_theta: 3,
-                n_phi: 2,
-                n_h: 5,
-                colour: true,
-                ..TableOptions::default()
-            };
-            let table =
-                Table::build(&yarn.build(550.0).unwrap(), &yarn, &options, &|_, _| {}).unwrap();
-            WovenSurface::new(&spec, Arc::new(table)).unwrap()
-        };
+        let alone = |gamma: f64| woven_with(Weave::WeftFraction(gamma), 15.0, 0.0);
         let (weft, warp) = (alone(1.0), alone(0.0));
         let at = SurfacePoint::default();
         // The warp's own frame: the cloth's y is its x.
