@@ -63,6 +63,8 @@
 //!   renderer's naming (`wi` toward the light, `wo` toward the viewer) with a transport mode.
 //! - [`surface`]: a woven surface — the weave pattern on a surface's uv, dyes, yarn tilt, gaps,
 //!   the footprint filter — as the renderer, the Python package and the Mitsuba plugin share it.
+//! - [`gaps`]: the light that passes between the yarns: the cloth's open area along a
+//!   direction, from the yarns' cross-section.
 //! - [`color`]: linear RGB.
 //! - [`baseline`]: the baselines a cloth renderer reaches for beside the woven model — the
 //!   Charlie sheen over a Lambertian base, and Mitsuba's rough plastic.
@@ -94,6 +96,7 @@ pub mod fiber;
 #[cfg(feature = "serde")]
 pub mod figures;
 pub mod fsutil;
+pub mod gaps;
 pub mod gonio;
 pub mod keys;
 pub mod material;

@@ -251,6 +251,24 @@ pub const SURFACE_KEYS: &[SurfaceKey] = &[
         },
     },
     SurfaceKey {
+        name: "transmission",
+        default: Text::Words("false"),
+        valid: Text::Words("true or false"),
+        meaning: Text::Words(
+            "let light pass between the yarns: the share of the gaps left open along a \
+             direction (the yarns' cross-section closes them as it tilts; docs/model.md, \
+             \"The open area\") goes straight through, and the cloth is two-sided. false: the \
+             paper's opaque cloth",
+        ),
+        update: |s, v, _| {
+            let KeyValue::Bool(on) = v else {
+                return Err(key("transmission").refuse(v));
+            };
+            s.spec.transmission = *on;
+            Ok(())
+        },
+    },
+    SurfaceKey {
         name: "irregularity",
         default: Text::Made(|| Irregularity::default().spread[0].to_string()),
         valid: Text::Made(|| format!("{}: one number or (weft, warp)", spread_valid())),
@@ -593,6 +611,7 @@ impl SurfaceSpec {
             .with("gap", Float(self.gap))
             .with("detail", Text(self.detail.name().into()))
             .with("relief", KeyValue::Bool(self.relief))
+            .with("transmission", KeyValue::Bool(self.transmission))
             .with("irregularity", pair(self.irregularity.spread))
             .with("irregularity_length", Float(self.irregularity.length));
         for (name, colour) in [

@@ -92,6 +92,7 @@ pub mod irregular;
 mod keys;
 mod layout;
 mod lobe;
+mod pass;
 mod point;
 mod ratio;
 mod route;
@@ -159,6 +160,8 @@ pub struct WovenSurface {
     /// The weave's relief, where [`SurfaceSpec::relief`] is on (on a pattern): the geometry of
     /// every level.
     relief: Option<Relief>,
+    /// The yarns' cross-section where light passes between them ([`SurfaceSpec::transmission`]).
+    open: Option<crate::gaps::YarnSection>,
     dyes: Dyes,
     tables: SurfaceTables,
 }
@@ -237,6 +240,11 @@ impl WovenSurface {
             gap: spec.gap,
             detail: spec.detail,
             relief: spec.relief_geometry(),
+            open: if spec.transmission {
+                Some(crate::gaps::YarnSection::new(spec.gap)?)
+            } else {
+                None
+            },
             fibers,
             dyes: Dyes::new(own, [spec.weft_color, spec.warp_color], spec.irregularity),
             tables: SurfaceTables::new(yarn),
@@ -288,6 +296,7 @@ impl WovenSurface {
             detail: Detail::Yarns,
             fibers: None,
             relief: None,
+            open: None,
             dyes: Dyes::new(own, [color; 2], Irregularity::default()),
             tables: SurfaceTables::new(table),
         })

@@ -64,8 +64,7 @@ impl Detail {
 /// The largest yarn tilt [`SurfaceSpec::u_max`], degrees.
 pub const MAX_U_MAX_DEG: f64 = 80.0;
 
-/// The largest [`SurfaceSpec::gap`]: yarns keep at least 5 % of their cells.
-pub const MAX_GAP: f64 = 0.95;
+pub use crate::gaps::MAX_GAP;
 
 /// Pattern cells per unit of `u` and of `v` where a surface is not told
 /// ([`SurfaceSpec::yarns_per_unit`]): the default of every front end (scene files,
@@ -103,6 +102,10 @@ pub struct SurfaceSpec {
     /// default): the paper's BRDF at every level, which `woven eval`, the tables and every fit
     /// are.
     pub relief: bool,
+    /// Whether light passes between the yarns ([`gaps`](crate::gaps): the open area the gaps
+    /// leave along a direction, a delta lobe straight through): an option beyond the paper,
+    /// whose cloth is opaque. Off (the default): nothing passes, as in the paper.
+    pub transmission: bool,
 }
 
 impl SurfaceSpec {
@@ -122,6 +125,7 @@ impl SurfaceSpec {
             detail: Detail::Auto,
             irregularity: Irregularity::default(),
             relief: false,
+            transmission: false,
         }
     }
 

@@ -8,6 +8,7 @@ mod dye_and_tilt;
 mod energy;
 mod export;
 mod fiber;
+mod gaps;
 mod golden;
 mod grounded;
 mod levels;
