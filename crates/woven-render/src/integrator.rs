@@ -15,7 +15,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
 use crate::light::{Emitter, EmitterHit};
-use crate::material::{BsdfScratch, MaterialSample, ShadingPoint};
+use crate::material::{BsdfScratch, MaterialSample, ShadingPoint, SurfaceMaterial};
 use crate::rng::Sampler;
 use crate::scene::{Scene, Strategy};
 use woven::bsdf::Transport;
@@ -35,6 +35,66 @@ fn spawn(hit: &Hit, d: Vec3) -> Ray {
         o: hit.p + hit.ng * (scale * side),
         d,
     }
+}
+
+/// The most surfaces a path or a shadow ray passes straight through before it is ended (a
+/// bound on the work of a ray among many layers of sheer cloth).
+const MAX_PASSES: u32 = 64;
+
+/// The share of the light along `wo` that `material` passes straight through at `at`, where it
+/// passes any: `None` where it passes nothing there.
+#[inline]
+fn passing(material: &dyn SurfaceMaterial, at: &ShadingPoint, wo: Vec3) -> Option<f64> {
+    if !material.transmits() {
+        return None;
+    }
+    let pass = material.pass_through(at, wo);
+    (pass > 0.0).then_some(pass.min(1.0))
+}
+
+/// The share of light that reaches `ray.o + t_max ray.d` from `ray.o`: 1 where nothing stands
+/// between, 0 where an opaque surface does, and the product of what each surface met passes
+/// straight through ([`SurfaceMaterial::pass_through`], at yarn level: no footprint) where the
+/// scene has surfaces that let light through.
+fn transmittance(scene: &Scene, mut ray: Ray, t_max: f64) -> f64 {
+    if !scene.transmits {
+        return if scene.accel.occluded(&ray, 0.0, t_max) {
+            0.0
+        } else {
+            1.0
+        };
+    }
+    let end = ray.o + ray.d * t_max;
+    let mut passed = 1.0;
+    for _ in 0..MAX_PASSES {
+        let left = if t_max.is_finite() {
+            (end - ray.o).dot(ray.d)
+        } else {
+            f64::INFINITY
+        };
+        let Some(hit) = scene.accel.intersect(&ray, 0.0, left) else {
+            return passed;
+        };
+        let Some(material) = scene.prim_info[hit.prim]
+            .material
+            .map(|mi| &scene.materials[mi])
+        else {
+            return 0.0;
+        };
+        if !material.transmits() {
+            return 0.0;
+        }
+        let at = ShadingPoint {
+            uv: hit.uv(),
+            footprint: [[0.0; 2]; 2],
+        };
+        passed *= material.pass_through(&at, Frame::from_hit(&hit).to_local(ray.d));
+        if passed <= 0.0 {
+            return 0.0;
+        }
+        ray = spawn(&hit, ray.d);
+    }
+    0.0
 }
 
 /// What a camera ray first meets, for the denoiser ([`crate::denoise`]): one sample's
@@ -141,6 +201,9 @@ fn trace<'a>(
     let mut footprint = settings.footprint_filter.then(|| camera.footprint());
 
     let mut clear = aim == Aim::Clear;
+    // Surfaces passed straight through so far, and (while the camera ray goes on) the distance
+    // it has gone: footprints are measured along the whole camera ray.
+    let (mut passes, mut travelled, camera_ray) = (0u32, 0.0, ray);
     loop {
         let hit = if std::mem::take(&mut clear) {
             None
@@ -150,7 +213,8 @@ fn trace<'a>(
         // Emission found along the ray, weighted against light sampling.
         let emitted = |le: Rgb, light_pdf: f64| -> Rgb {
             if depth == 0 {
-                if settings.hide_emitters {
+                // Hidden where the camera sees it directly, not through a surface it passed.
+                if settings.hide_emitters && passes == 0 {
                     Rgb::BLACK
                 } else {
                     le
@@ -174,12 +238,19 @@ fn trace<'a>(
             }
             break;
         };
-        // One-sided surfaces: the back side is black and ends the path.
-        let cos_front = -ray.d.dot(hit.ng);
+        let info = scene.prim_info[hit.prim];
+        let material = info.material.map(|mi| scene.materials[mi].as_ref());
+        let mut hit = hit;
+        // One-sided surfaces: the back side is black and ends the path. A surface that lets
+        // light through is two-sided: met from behind, it is shaded turned over.
+        let mut cos_front = -ray.d.dot(hit.ng);
+        if cos_front < 0.0 && material.is_some_and(|m| m.transmits()) {
+            (hit.ng, hit.ns, cos_front) = (-hit.ng, -hit.ns, -cos_front);
+        }
         if cos_front <= 0.0 {
             break;
         }
-        if depth == 0 {
+        if depth == 0 && passes == 0 {
             if let Some(f) = first {
                 *f = FirstHit {
                     normal: hit.ns,
@@ -189,7 +260,6 @@ fn trace<'a>(
                 };
             }
         }
-        let info = scene.prim_info[hit.prim];
         if let Some(li) = info.light {
             let light = &scene.lights[li];
             let met = EmitterHit {
@@ -199,27 +269,46 @@ fn trace<'a>(
             };
             l += beta * emitted(light.le(&met), pick(li) * light.pdf_li(&met));
         }
-        let Some(mi) = info.material else {
+        let Some(material) = material else {
             break;
         };
-        if depth + 1 >= max_depth {
-            break;
-        }
         let frame = Frame::from_hit(&hit);
         let wo = frame.to_local(-ray.d);
         if wo.z <= 0.0 {
             // Seen below the shading normal's horizon: nothing reflects toward the viewer.
             break;
         }
-        let material = scene.materials[mi].as_ref();
         let at = ShadingPoint {
             uv: if material.uses_uv() {
                 hit.uv()
             } else {
                 [0.0; 2]
             },
-            footprint: footprint.map_or([[0.0; 2]; 2], |f| f.uv(&ray, &hit)),
+            // Measured from the camera, through the surfaces the ray passed.
+            footprint: footprint.map_or([[0.0; 2]; 2], |f| {
+                let mut from_camera = hit;
+                from_camera.t += travelled;
+                f.uv(&camera_ray, &from_camera)
+            }),
         };
+        // Light straight through (a delta lobe): followed with its share's probability, the
+        // throughput unchanged (its weight over its probability is 1); the rest of the vertex
+        // (light sampling and the next draw) carries what is not passed.
+        if let Some(pass) = passing(material, &at, wo) {
+            if sampler.uniform() < pass {
+                passes += 1;
+                if passes > MAX_PASSES {
+                    break;
+                }
+                travelled += hit.t;
+                ray = spawn(&hit, ray.d);
+                continue;
+            }
+            beta *= 1.0 / (1.0 - pass);
+        }
+        if depth + 1 >= max_depth {
+            break;
+        }
         // The material's BSDF here, built once for every question below.
         let bsdf = material.bsdf(&at, &mut scratch.bsdf);
 
@@ -239,14 +328,15 @@ fn trace<'a>(
                         } else {
                             f64::INFINITY
                         };
-                        if !scene.accel.occluded(&shadow, 0.0, t_max) {
+                        let passed = transmittance(scene, shadow, t_max);
+                        if passed > 0.0 {
                             let light_pdf = pick(k) * ls.pdf;
                             let w = if ls.delta || settings.strategy == Strategy::Light {
                                 1.0
                             } else {
                                 power(light_pdf, bsdf.pdf(wi, wo, Transport::Radiance))
                             };
-                            l += beta * f * ls.radiance * (wi.z * w / light_pdf);
+                            l += beta * f * ls.radiance * (passed * wi.z * w / light_pdf);
                         }
                     }
                 }

@@ -74,6 +74,19 @@ pub trait SurfaceMaterial: Send + Sync {
         false
     }
 
+    /// Whether light may pass straight through the material ([`pass_through`](Self::pass_through)
+    /// is not always 0). Such a surface is two-sided: met from behind, it is shaded turned over.
+    fn transmits(&self) -> bool {
+        false
+    }
+
+    /// The share of the light along `d` (the local frame, either side) that passes straight
+    /// through at `at`, in `[0, 1]`: a delta lobe, which the path tracer follows by continuing
+    /// the ray and shadow rays carry.
+    fn pass_through(&self, _at: &ShadingPoint, _d: Vec3) -> f64 {
+        0.0
+    }
+
     /// `f(wi, wo)` at `at`: [`bsdf`](Self::bsdf)'s, built for this one question (for tests and
     /// tools; a renderer asks the BSDF it built once per vertex).
     fn eval(&self, wi: Vec3, wo: Vec3, at: &ShadingPoint) -> Rgb {

@@ -101,4 +101,13 @@ impl SurfaceMaterial for WovenMaterial {
     fn uses_footprint(&self) -> bool {
         self.surface.uses_footprint()
     }
+
+    fn transmits(&self) -> bool {
+        self.surface.transmits()
+    }
+
+    #[inline]
+    fn pass_through(&self, at: &ShadingPoint, d: woven::Vec3) -> f64 {
+        self.surface.pass_through(at, d)
+    }
 }

@@ -77,6 +77,7 @@ impl Scene {
             light_choice: Distribution1D::new(&desc.light_weights),
             accel: Accel::new(geometry.prims, geometry.meshes),
             prim_info: geometry.prim_info,
+            transmits: materials.iter().any(|m| m.transmits()),
             materials,
         })
     }

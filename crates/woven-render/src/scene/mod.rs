@@ -368,6 +368,9 @@ pub struct Scene {
     pub prim_info: Vec<PrimInfo>,
     /// The built materials.
     pub materials: Vec<Box<dyn SurfaceMaterial>>,
+    /// Whether a material lets light through ([`SurfaceMaterial::transmits`]): shadow rays then
+    /// carry the light the surfaces they meet pass, else they stop at the first.
+    pub transmits: bool,
 }
 
 /// A built inset ([`InsetSpec`]).

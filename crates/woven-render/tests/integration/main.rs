@@ -14,6 +14,7 @@ mod robustness;
 mod sampling;
 mod scene_file;
 mod strategies;
+mod transmission;
 mod woven_surfaces;
 mod yarn_options;
 

@@ -147,6 +147,7 @@ fn pattern_cells_average_to_the_macro_brdf() {
             gap: 0.0,
             irregularity: Default::default(),
             relief: false,
+            transmission: false,
         };
         WovenMaterial::build(&spec, &grid, cache, &|| {}, &|_, _| {}).unwrap()
     };
@@ -195,6 +196,7 @@ fn woven_sample_eval_and_pdf_agree_in_both_yarn_families() {
         gap: 0.0,
         irregularity: Default::default(),
         relief: false,
+        transmission: false,
     };
     let mut spec = spec;
     spec.material.weave = Some(Weave::Pattern {
@@ -340,6 +342,7 @@ fn dyed_weft_and_warp_are_the_dyed_materials() {
         gap: 0.0,
         irregularity: Default::default(),
         relief: false,
+        transmission: false,
     };
     let m = build_tiny(&spec);
     let own = woven::table::Albedos::of(&plain);
@@ -398,6 +401,7 @@ fn tables_are_kept_on_disk_between_runs() {
         gap: 0.0,
         irregularity: Default::default(),
         relief: false,
+        transmission: false,
     };
     let builds = std::sync::atomic::AtomicUsize::new(0);
     for _ in 0..2 {

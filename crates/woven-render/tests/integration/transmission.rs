@@ -1,0 +1,188 @@
+//! Light straight through a gapped cloth (`transmission = true`): what passes is the open area
+//! the yarns leave along the light's way (`woven::gaps::open_area`), in shadow rays and in
+//! paths alike.
+
+use crate::render_text;
+use std::f64::consts::PI;
+use woven::gaps::open_area;
+use woven::Vec3;
+use woven_render::camera::Camera;
+
+const GAP: f64 = 0.35;
+
+/// A plain-weave linen cloth of gap [`GAP`] as a 6 m square at height `z`, in cells of 0.1 mm
+/// (a rectangle's uv spans its edges), resolved as `detail` says.
+fn cloth(z: f64, transmission: bool, detail: &str) -> String {
+    format!(
+        r#"
+        [[shape]]
+        type = "rectangle"
+        corner = [-3, -3, {z}]
+        edge_u = [6, 0, 0]
+        edge_v = [0, 6, 0]
+        material = "cloth"
+        [material.cloth]
+        type = "woven"
+        material = "linen-plain"
+        pattern = "plain"
+        yarns_per_unit = 60000
+        gap = {GAP}
+        transmission = {transmission}
+        detail = "{detail}"
+        "#
+    )
+}
+
+/// A diffuse floor lit by a point light through a gapped cloth above it, seen by a camera
+/// between the two: each pixel is the floor's analytic radiance times the open area along the
+/// way to the light. With transmission off the cloth is opaque and the floor black.
+#[test]
+fn light_through_a_gapped_cloth_reaches_the_floor_by_its_open_area() {
+    let (w, h) = (12, 8);
+    let (origin, light, intensity, rho) = (
+        Vec3::new(0.0, -0.3, 0.45),
+        Vec3::new(0.3, 0.2, 1.6),
+        4.0,
+        0.5,
+    );
+    let scene = |transmission: bool| {
+        format!(
+            r#"
+            [camera]
+            origin = [{}, {}, {}]
+            target = [0, 0.1, 0]
+            up = [0, 0, 1]
+            fov_deg = 50
+            [film]
+            width = {w}
+            height = {h}
+            spp = 256
+            seed = 5
+            [integrator]
+            max_depth = 2
+            [[light]]
+            type = "point"
+            position = [{}, {}, {}]
+            intensity = [{intensity}, {intensity}, {intensity}]
+            [[shape]]
+            type = "rectangle"
+            corner = [-2, -2, 0]
+            edge_u = [4, 0, 0]
+            edge_v = [0, 4, 0]
+            material = "floor"
+            [material.floor]
+            type = "diffuse"
+            reflectance = [{rho}, {rho}, {rho}]
+            {}
+            "#,
+            origin.x,
+            origin.y,
+            origin.z,
+            light.x,
+            light.y,
+            light.z,
+            cloth(0.5, transmission, "auto")
+        )
+    };
+    let image = render_text(&scene(true));
+    let camera = Camera::new(
+        origin,
+        Vec3::new(0.0, 0.1, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        50.0,
+        w,
+        h,
+    );
+    let n = 16;
+    let (mut got_sum, mut want_sum, mut checked) = (0.0, 0.0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let mut want = 0.0;
+            for a in 0..n {
+                for b in 0..n {
+                    let ray = camera.ray(
+                        x as f64 + (a as f64 + 0.5) / n as f64,
+                        y as f64 + (b as f64 + 0.5) / n as f64,
+                    );
+                    let p = ray.o + ray.d * (-ray.o.z / ray.d.z);
+                    let d = light - p;
+                    let r2 = d.dot(d);
+                    let to_light = d * (1.0 / r2.sqrt());
+                    let open = open_area(GAP, to_light).unwrap();
+                    want += rho / PI * intensity * to_light.z / r2 * open / (n * n) as f64;
+                }
+            }
+            let got = image.at(x, y).0[1];
+            let se = image.std_error[y * w + x].0[1];
+            assert!(
+                (got - want).abs() <= 5.0 * se + 1e-3 * want,
+                "pixel ({x}, {y}): rendered {got} vs {want} (standard error {se})"
+            );
+            (got_sum, want_sum, checked) = (got_sum + got, want_sum + want, checked + 1);
+        }
+    }
+    assert!(want_sum > 0.0 && checked == w * h);
+    // Over the whole image the stochastic passes average out closely.
+    assert!(
+        (got_sum / want_sum - 1.0).abs() < 0.02,
+        "{got_sum} {want_sum}"
+    );
+    let opaque = render_text(&scene(false));
+    assert!(opaque.pixels.iter().all(|p| p.0 == [0.0; 3]));
+}
+
+/// A camera looking down through a gapped cloth at nothing but an even sky (emitters only,
+/// `max_depth = 1`): each pixel is the open area along its rays, from far away (the cloth
+/// level) and cell by cell (the yarn level, where the holes pass it; each pixel spans cells).
+#[test]
+fn the_sky_shows_through_a_gapped_cloth_by_its_open_area() {
+    for (height, fov, detail) in [(8.0, 30.0, "auto"), (0.02, 60.0, "yarns")] {
+        let (w, h) = (10, 10);
+        let origin = Vec3::new(0.0, -0.4 * height, height);
+        let text = format!(
+            r#"
+            [camera]
+            origin = [{}, {}, {}]
+            target = [0, 0, 0]
+            up = [0, 1, 0]
+            fov_deg = {fov}
+            [film]
+            width = {w}
+            height = {h}
+            spp = 256
+            seed = 2
+            [integrator]
+            max_depth = 1
+            [[light]]
+            type = "environment"
+            radiance = [1, 1, 1]
+            {}
+            "#,
+            origin.x,
+            origin.y,
+            origin.z,
+            cloth(0.0, true, detail)
+        );
+        let image = render_text(&text);
+        let camera = Camera::new(
+            origin,
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            fov,
+            w,
+            h,
+        );
+        let (mut got, mut want) = (0.0, 0.0);
+        for y in 0..h {
+            for x in 0..w {
+                let ray = camera.ray(x as f64 + 0.5, y as f64 + 0.5);
+                want += open_area(GAP, -ray.d).unwrap();
+                got += image.at(x, y).0[0];
+            }
+        }
+        assert!(
+            (got / want - 1.0).abs() < 0.03,
+            "camera at {height}: rendered {got} vs open area {want}"
+        );
+    }
+}
