@@ -96,20 +96,23 @@ impl Points {
         rows(&all)
     }
 
-    /// The surface's BSDF at point `i`, dyed anew where dyes were given.
-    fn bsdf<'s>(&self, surface: &'s WovenSurface, i: usize) -> PointBsdf<'s> {
+    /// Point `i`: its uv and footprint (none: all zero).
+    fn point(&self, i: usize) -> SurfacePoint {
         let (u, v) = self.uv.get2(i);
         let footprint = self.footprint.as_ref().map_or([[0.0; 2]; 2], |f| {
             let r = f.get4(i);
             [[r[0], r[1]], [r[2], r[3]]]
         });
+        SurfacePoint {
+            uv: [u, v],
+            footprint,
+        }
+    }
+
+    /// The surface's BSDF at point `i`, dyed anew where dyes were given.
+    fn bsdf<'s>(&self, surface: &'s WovenSurface, i: usize) -> PointBsdf<'s> {
         let (weft, warp) = self.dyes.at(i);
-        surface
-            .at(&SurfacePoint {
-                uv: [u, v],
-                footprint,
-            })
-            .dyed(weft, warp)
+        surface.at(&self.point(i)).dyed(weft, warp)
     }
 }
 
@@ -580,6 +583,33 @@ impl Surface {
     #[getter]
     fn uses_footprint(&self) -> bool {
         self.inner.uses_footprint()
+    }
+
+    /// Whether light passes between the yarns (``transmission`` on, and the yarns leave gaps).
+    #[getter]
+    fn transmits(&self) -> bool {
+        self.inner.transmits()
+    }
+
+    /// The share (N,) of the light along ``d`` (the surface's frame, either side; (N, 3) or
+    /// (3,)) that passes straight through at ``uv`` ((N, 2) or (2,)) seen with ``footprint``
+    /// ((N, 4) or (4,); none: the yarn level): the open area ``O(d)`` at the cloth level, and at
+    /// the yarn level ``O(d) / gap²`` in a hole between gapped yarns and 0 on a yarn; 0
+    /// everywhere without ``transmission``.
+    #[pyo3(signature = (uv, d, footprint = None))]
+    fn pass_through<'py>(
+        &self,
+        py: Python<'py>,
+        uv: &Bound<'py, PyAny>,
+        d: &Bound<'py, PyAny>,
+        footprint: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let points = Points::extract(uv, self.footprint(footprint), None, None)?;
+        let d = Dirs::extract(d, "d")?;
+        let n = points.rows(&[("d", d.n)])?;
+        let s = &*self.inner;
+        let out = map_batch::<1, _>(py, n, |i| [s.pass_through(&points.point(i), d.get(i))])?;
+        Ok(PyArray1::from_vec(py, out).into_any())
     }
 
     fn __repr__(&self) -> String {

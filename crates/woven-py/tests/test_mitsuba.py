@@ -898,6 +898,10 @@ def test_microcylinder_fabric_renders_in_scalar_rgb_as_the_library():
         # The woven cloth's keys do not apply to a fabric, and say so.
         with pytest.raises(Exception, match="pattern"):
             mi.load_dict({"type": "woven", "material": name, "pattern": "plain"})
+        # Light through the gaps is the library's renderer's alone so far, and says so.
+        with pytest.raises(Exception, match="transmission"):
+            mi.load_dict({"type": "woven", "material": "linen-plain", "pattern": "plain",
+                          "gap": 0.3, "transmission": True})
     finally:
         if previous is not None:
             mi.set_variant(previous)

@@ -278,3 +278,26 @@ def test_the_library_decides_which_surfaces_jit_variants_trace(yarn):
         u = s.layout()["u_max"]
         assert len(knots) == 6 and knots[0] == (0.0, u) and knots[-1] == (1.0, -u), knots
         assert abs(knots[1][0] - flank) < 1e-12 and abs(knots[3][0] - knots[2][0] - crest) < 1e-12
+
+
+def test_light_passes_through_the_holes_by_the_open_area(yarn):
+    # A gapped plain weave with transmission: along the normal a hole passes everything and a
+    # yarn nothing, so a cell's mean is gap²; tilted, the mean is the cloth level's value (a
+    # footprint of many cells), which falls as the yarns close the gaps.
+    gap = 0.3
+    kw = dict(table=yarn, pattern="plain", yarns_per_unit=(10, 10), gap=gap)
+    s = woven.Surface(**kw, transmission=True)
+    assert s.transmits
+    n = 200
+    g = (np.arange(n) + 0.5) / (10 * n)
+    uv = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+    normal = s.pass_through(uv, [0.0, 0.0, 1.0])
+    assert set(np.unique(normal)) <= {0.0, 1.0}
+    assert abs(normal.mean() - gap**2) < 1e-3
+    d = np.array([np.sin(0.6) * np.cos(0.4), np.sin(0.6) * np.sin(0.4), np.cos(0.6)])
+    far = s.pass_through([0.01, 0.02], d, footprint=[1.0, 0.0, 0.0, 1.0])
+    assert 0.0 < far[0] < gap**2
+    assert abs(s.pass_through(uv, d).mean() - far[0]) < 1e-3 * gap**2
+    # Off (the paper's opaque cloth), nothing passes.
+    off = woven.Surface(**kw)
+    assert not off.transmits and np.all(off.pass_through(uv, d) == 0.0)

@@ -24,6 +24,10 @@ def _bsdf_class(mi):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             self.surface, self.textures = _surface(props, mi)
+            if self.surface.transmits:
+                raise ValueError(
+                    "woven BSDF: `transmission` = true: the Mitsuba plugin does not pass light "
+                    "between the yarns yet (woven render does); set it false")
             self.filter = self.surface.footprint_filter
             self.table = self.surface.table
             self.material = self.surface.material
