@@ -234,6 +234,7 @@ fn samples(name: &str) -> (KeyValue, KeyValue) {
         "gap" => (Float(0.2), Float(f64::NAN)),
         "detail" => (Text("fibers".into()), Text("threads".into())),
         "relief" => (Bool(true), Text("yes".into())),
+        "transmission" => (Bool(true), Integer(1)),
         "irregularity" => (List(vec![Float(0.1), Float(0.4)]), Float(1.5)),
         "irregularity_length" => (Integer(60), Float(0.5)),
         "wavelength_nm" => (Float(450.0), Float(1.0)),
