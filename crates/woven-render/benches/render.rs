@@ -2,7 +2,8 @@
 //! elements/s = samples/s).
 //!
 //! `cargo bench -p woven-render --bench render` (`-- "showcase detail"` for the levels of detail
-//! alone, `-- "tilted sateen"` for cloth at real thread counts against its yarn-level twin)
+//! alone, `-- "tilted sateen"` for cloth at real thread counts against its yarn-level twin,
+//! `-- curtains` for light through cloth against the same cloths opaque)
 
 // criterion_group! and criterion_main! generate undocumented items.
 #![allow(missing_docs)]
@@ -176,5 +177,28 @@ fn tilted(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, detail, tilted);
+/// The curtains before a sunlit window (scenes/docs/curtains.toml) at 240 × 135, four samples a
+/// pixel, as they are (both curtains passing light between their yarns) and with `transmission`
+/// off (the same cloths opaque): what light through cloth costs a sample.
+fn transmission(c: &mut Criterion) {
+    let mut group = c.benchmark_group("curtains");
+    group.sample_size(10);
+    let text = include_str!("../../../scenes/docs/curtains.toml");
+    for (name, text) in [
+        ("transmitting", text.to_string()),
+        (
+            "opaque",
+            text.replace("transmission = true", "transmission = false"),
+        ),
+    ] {
+        let mut desc = SceneDescription::from_str(&text, name, Path::new(".")).unwrap();
+        (desc.film.width, desc.film.height, desc.film.spp) = (240, 135, 4);
+        desc.film.denoise = false;
+        desc.inset = None;
+        bench_scene(&mut group, name, &desc);
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, detail, tilted, transmission);
 criterion_main!(benches);
