@@ -243,8 +243,9 @@ fn trace<'a>(
         let mut hit = hit;
         // One-sided surfaces: the back side is black and ends the path. A surface that lets
         // light through is two-sided: met from behind, it is shaded turned over.
+        let two_sided = material.is_some_and(|m| m.transmits());
         let mut cos_front = -ray.d.dot(hit.ng);
-        if cos_front < 0.0 && material.is_some_and(|m| m.transmits()) {
+        if cos_front < 0.0 && two_sided {
             (hit.ng, hit.ns, cos_front) = (-hit.ng, -hit.ns, -cos_front);
         }
         if cos_front <= 0.0 {
@@ -318,7 +319,10 @@ fn trace<'a>(
             let (u1, u2) = sampler.next2();
             if let Some(ls) = scene.lights[k].sample_li(hit.p, [u1, u2]) {
                 let wi = frame.to_local(ls.wi);
-                if wi.z > 0.0 && ls.wi.dot(hit.ng) > 0.0 && !ls.radiance.is_black() {
+                // A light on the surface's side, or (through a surface that transmits) behind it.
+                let side = ls.wi.dot(hit.ng);
+                let seen = (wi.z > 0.0 && side > 0.0) || (two_sided && wi.z < 0.0 && side < 0.0);
+                if seen && !ls.radiance.is_black() {
                     let f = bsdf.eval(wi, wo);
                     if !f.is_black() {
                         let shadow = spawn(&hit, ls.wi);
@@ -336,7 +340,7 @@ fn trace<'a>(
                             } else {
                                 power(light_pdf, bsdf.pdf(wi, wo, Transport::Radiance))
                             };
-                            l += beta * f * ls.radiance * (passed * wi.z * w / light_pdf);
+                            l += beta * f * ls.radiance * (passed * wi.z.abs() * w / light_pdf);
                         }
                     }
                 }
@@ -363,11 +367,13 @@ fn trace<'a>(
             f.albedo = albedo_estimate(&s);
         }
         let wi = frame.to_world(s.wi);
-        if wi.dot(hit.ng) <= 0.0 {
-            // Below the geometric surface: a one-sided surface transmits nothing.
+        let side = wi.dot(hit.ng);
+        if !(s.wi.z > 0.0 && side > 0.0 || two_sided && s.wi.z < 0.0 && side < 0.0) {
+            // Through the geometric surface, or off its side: a one-sided surface transmits
+            // nothing.
             break;
         }
-        beta *= s.f * (s.wi.z / s.pdf);
+        beta *= s.f * (s.wi.z.abs() / s.pdf);
         prev_pdf = s.pdf;
         depth += 1;
 
@@ -393,7 +399,7 @@ fn trace<'a>(
 /// each channel clamped to `[0, 1]` (0 where it is not finite), for the denoiser's guide.
 #[inline]
 fn albedo_estimate(s: &MaterialSample) -> Rgb {
-    let w = s.f * (s.wi.z / s.pdf);
+    let w = s.f * (s.wi.z.abs() / s.pdf);
     Rgb(w.0.map(|c| {
         if c.is_finite() {
             c.clamp(0.0, 1.0)

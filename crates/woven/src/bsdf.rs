@@ -42,7 +42,7 @@ pub struct LobeFlags(u8);
 impl LobeFlags {
     /// No scattering.
     pub const NONE: LobeFlags = LobeFlags(0);
-    /// Reflection (every woven BSDF reflects only).
+    /// Reflection.
     pub const REFLECTION: LobeFlags = LobeFlags(1);
     /// A glossy lobe (the fibers' specular highlights).
     pub const GLOSSY: LobeFlags = LobeFlags(1 << 1);
@@ -52,6 +52,9 @@ impl LobeFlags {
     pub const ANISOTROPIC: LobeFlags = LobeFlags(1 << 3);
     /// The BSDF changes across the surface (a weave pattern, textured dyes).
     pub const SPATIALLY_VARYING: LobeFlags = LobeFlags(1 << 4);
+    /// Transmission to the far side (a woven surface with `transmission` on: the light through
+    /// its yarns).
+    pub const TRANSMISSION: LobeFlags = LobeFlags(1 << 5);
 
     /// Whether every bit of `other` is set here.
     pub fn contains(self, other: LobeFlags) -> bool {
@@ -69,9 +72,11 @@ impl BitOr for LobeFlags {
 /// A direction drawn by [`Bsdf::sample`], with both directions of the pair named.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BsdfSample<V = f64> {
-    /// Toward the viewer, unit, `z > 0` (drawn in [`Transport::Importance`]).
+    /// Toward the viewer, unit, `z > 0` (drawn in [`Transport::Importance`]; `z < 0` when
+    /// drawn through a transmitting surface).
     pub wo: Vec3,
-    /// Toward the light, unit, `z > 0` (drawn in [`Transport::Radiance`]).
+    /// Toward the light, unit, `z > 0` (drawn in [`Transport::Radiance`]; `z < 0` when drawn
+    /// through a transmitting surface).
     pub wi: Vec3,
     /// `f(wi, wo)`, sr⁻¹ (per channel for a coloured surface).
     pub f: V,

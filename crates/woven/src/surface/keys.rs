@@ -255,10 +255,11 @@ pub const SURFACE_KEYS: &[SurfaceKey] = &[
         default: Text::Words("false"),
         valid: Text::Words("true or false"),
         meaning: Text::Words(
-            "let light pass between the yarns: the share of the gaps left open along a \
-             direction (the yarns' cross-section closes them as it tilts; docs/model.md, \
-             \"The open area\") goes straight through, and the cloth is two-sided. false: the \
-             paper's opaque cloth",
+            "let light through the cloth: straight through the share of the gaps left open \
+             along a direction (the yarns' cross-section closes them as it tilts), and \
+             diffusely through the yarns, what they neither reflect nor absorb (docs/model.md, \
+             \"The open area\", \"Light through the yarns\"); the cloth is two-sided. false: \
+             the paper's opaque cloth",
         ),
         update: |s, v, _| {
             let KeyValue::Bool(on) = v else {

@@ -99,6 +99,7 @@ mod route;
 mod spec;
 mod tables;
 mod texel;
+pub mod translucent;
 
 use dyes::Dyes;
 use fibers::Fibers;
@@ -162,6 +163,8 @@ pub struct WovenSurface {
     relief: Option<Relief>,
     /// The yarns' cross-section where light passes between them ([`SurfaceSpec::transmission`]).
     open: Option<crate::gaps::YarnSection>,
+    /// The light through the yarns ([`translucent`]), worked out when first asked.
+    translucency: std::sync::OnceLock<translucent::Translucency>,
     dyes: Dyes,
     tables: SurfaceTables,
 }
@@ -246,6 +249,7 @@ impl WovenSurface {
                 None
             },
             fibers,
+            translucency: std::sync::OnceLock::new(),
             dyes: Dyes::new(own, [spec.weft_color, spec.warp_color], spec.irregularity),
             tables: SurfaceTables::new(yarn),
         })
@@ -297,6 +301,7 @@ impl WovenSurface {
             fibers: None,
             relief: None,
             open: None,
+            translucency: std::sync::OnceLock::new(),
             dyes: Dyes::new(own, [color; 2], Irregularity::default()),
             tables: SurfaceTables::new(table),
         })

@@ -12,38 +12,71 @@
 use super::{SurfacePoint, WovenSurface};
 use crate::Vec3;
 
+/// Where a point lies for the light through it: the cloth level's share of its shading (the
+/// footprint's weight), and whether at the yarn level it is a hole between gapped yarns.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Through {
+    pub(super) cloth: f64,
+    pub(super) hole: bool,
+}
+
 impl WovenSurface {
-    /// Whether light may pass through the surface ([`pass_through`](Self::pass_through) is not
-    /// always 0): transmission is on and the yarns leave gaps.
+    /// Whether light may pass through the surface (its `transmission` is on): between the yarns
+    /// where they leave gaps ([`pass_through`](Self::pass_through)), and through the yarns
+    /// ([`Translucency`](super::translucent::Translucency)).
     pub fn transmits(&self) -> bool {
-        self.open.is_some() && self.gap > 0.0
+        self.open.is_some()
+    }
+
+    /// The light through the surface's yarns ([`Translucency`](super::translucent::Translucency)),
+    /// worked out on first use (a fraction of a second).
+    pub fn translucency(&self) -> &super::translucent::Translucency {
+        self.translucency
+            .get_or_init(|| super::translucent::Translucency::of(self))
+    }
+
+    /// The cloth level's open area along `d` (either side): `O(d)`, 0 where the surface does
+    /// not transmit.
+    pub fn open_along(&self, d: Vec3) -> f64 {
+        match &self.open {
+            Some(section) if self.gap > 0.0 && d.z != 0.0 && d.z.is_finite() => {
+                section.open(d.y / d.z) * section.open(d.x / d.z)
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Where `at` lies for the light through it ([`Through`]); a surface without a pattern is
+    /// its cloth level everywhere.
+    pub(super) fn through(&self, at: &SurfacePoint) -> Through {
+        if self.pattern().is_none() {
+            return Through {
+                cloth: 1.0,
+                hole: false,
+            };
+        }
+        let cloth = self.macro_weight(at);
+        let hole = cloth < 1.0 && self.gap > 0.0 && {
+            let t = self.texel(at.uv);
+            t.weft + t.warp == 0.0
+        };
+        Through { cloth, hole }
     }
 
     /// The share of the light along `d` (the surface's frame, either side) that passes straight
     /// through at `at`, in `[0, 1]` (module docs); 0 where the surface does not transmit.
     pub fn pass_through(&self, at: &SurfacePoint, d: Vec3) -> f64 {
-        let Some(section) = &self.open else {
-            return 0.0;
-        };
-        if self.gap == 0.0 || d.z == 0.0 || !d.z.is_finite() {
+        let open = self.open_along(d);
+        if open == 0.0 {
             return 0.0;
         }
-        let open = section.open(d.y / d.z) * section.open(d.x / d.z);
-        if self.pattern().is_none() {
-            return open;
-        }
-        let w = self.macro_weight(at);
-        let resolved = if w < 1.0 {
-            let t = self.texel(at.uv);
-            if t.weft + t.warp == 0.0 {
-                (open / (self.gap * self.gap)).min(1.0)
-            } else {
-                0.0
-            }
+        let t = self.through(at);
+        let resolved = if t.hole {
+            (open / (self.gap * self.gap)).min(1.0)
         } else {
             0.0
         };
-        w * open + (1.0 - w) * resolved
+        t.cloth * open + (1.0 - t.cloth) * resolved
     }
 }
 
@@ -131,6 +164,7 @@ mod tests {
             surface(gap, false).pass_through(&at, Vec3::new(0.0, 0.0, 1.0)),
             0.0
         );
-        assert!(!surface(0.0, true).transmits());
+        let closed = surface(0.0, true);
+        assert!(closed.transmits() && closed.pass_through(&at, Vec3::new(0.0, 0.0, 1.0)) == 0.0);
     }
 }

@@ -22,6 +22,7 @@ impl WovenSurface {
             weft: self.dyes.weft,
             warp: self.dyes.warp,
             factors: [1.0, 1.0],
+            glow: None,
         };
         point.reset(self, at);
         point
@@ -77,6 +78,14 @@ fn scaled(albedos: [Albedos; 3], factor: f64) -> [Albedos; 3] {
     })
 }
 
+/// `τ` per channel for these dyes (the body albedos `ρ0`), the weft's share `g` of the weave
+/// ([`translucent`](super::translucent)).
+fn tau(g: f64, weft: &[Albedos; 3], warp: &[Albedos; 3]) -> [f64; 3] {
+    use super::translucent::{slab_transmitted_share, YARN_SCATTERING_DEPTH};
+    let share = |a: &Albedos| slab_transmitted_share(a.diffuse, YARN_SCATTERING_DEPTH);
+    std::array::from_fn(|c| g * share(&weft[c]) + (1.0 - g) * share(&warp[c]))
+}
+
 /// A woven surface's BSDF at one point: its mixture of lobes.
 #[derive(Clone, Debug)]
 pub struct PointBsdf<'a> {
@@ -91,6 +100,19 @@ pub struct PointBsdf<'a> {
     warp: [Albedos; 3],
     /// The weft's and the warp's dye factors here ([`WovenSurface::dye_factors`]).
     factors: [f64; 2],
+    /// The light through the yarns here, where the surface transmits.
+    glow: Option<Glow>,
+}
+
+/// What a point transmits through its yarns ([`translucent`](super::translucent)).
+#[derive(Clone, Copy, Debug)]
+struct Glow {
+    /// `τ` per channel: the Kubelka–Munk share of the point's dyes, the families mixed by their
+    /// shares of the weave.
+    tau: [f64; 3],
+    /// The point's share of the cloth's `f_t`: 1 at the cloth level; at the yarn level
+    /// `1 / (1 − gap²)` on a yarn and 0 in a hole; blended by the footprint between.
+    weight: f64,
 }
 
 impl<'a> PointBsdf<'a> {
@@ -131,6 +153,50 @@ impl<'a> PointBsdf<'a> {
         self.factors = factors;
         self.mix.clear();
         self.entry = surface.split_into(at, &mut self.mix);
+        self.glow = self.glow_at(at);
+    }
+
+    /// The point's [`Glow`], where the surface transmits (and has yarns).
+    fn glow_at(&self, at: &SurfacePoint) -> Option<Glow> {
+        let s = self.surface;
+        if !s.transmits() || matches!(s.layout, Layout::Flat { .. }) {
+            return None;
+        }
+        let t = s.through(at);
+        let yarn = if t.hole {
+            0.0
+        } else {
+            1.0 / (1.0 - s.gap * s.gap)
+        };
+        Some(Glow {
+            tau: tau(s.weft_fraction(), &self.weft, &self.warp),
+            weight: t.cloth + (1.0 - t.cloth) * yarn,
+        })
+    }
+
+    /// `f_t(wi, wo)` here, `wi` and `wo` on opposite sides (0 where nothing is transmitted).
+    fn eval_transmission(&self, wi: Vec3, wo: Vec3) -> Rgb {
+        let Some(glow) = &self.glow else {
+            return Rgb::BLACK;
+        };
+        let f = self.surface.translucency().eval(wi, wo);
+        Rgb(std::array::from_fn(|c| glow.tau[c] * glow.weight * f.0[c]))
+    }
+
+    /// The probability that [`sample`](Bsdf::sample) draws through the cloth for `known`: the
+    /// luminance of what is transmitted from it against what is reflected (held in
+    /// `[0.05, 0.95]`), 0 where nothing is.
+    fn transmission_choice(&self, known: Vec3) -> f64 {
+        let Some(glow) = &self.glow else {
+            return 0.0;
+        };
+        let r = self.surface.translucency().transmitted(known);
+        let t = Rgb(std::array::from_fn(|c| glow.tau[c] * glow.weight * r.0[c])).luminance();
+        if t <= 0.0 {
+            return 0.0;
+        }
+        let reflected = (1.0 - self.surface.open_along(known) - r.luminance()).max(0.0);
+        (t / (t + reflected)).clamp(0.05, 0.95)
     }
 
     /// The same point with other dyes where given (a textured colour, read at the point), each
@@ -141,6 +207,12 @@ impl<'a> PointBsdf<'a> {
         }
         if warp_color.is_some() {
             self.warp = scaled(self.surface.dyes.own.dyed(warp_color), self.factors[1]);
+        }
+        if let Some(glow) = self.glow {
+            self.glow = Some(Glow {
+                tau: tau(self.surface.weft_fraction(), &self.weft, &self.warp),
+                ..glow
+            });
         }
         self
     }
@@ -165,6 +237,11 @@ impl Bsdf for PointBsdf<'_> {
     fn lobes(&self) -> LobeFlags {
         let flags = LobeFlags::REFLECTION | LobeFlags::GLOSSY | LobeFlags::DIFFUSE;
         let flags = flags | LobeFlags::ANISOTROPIC;
+        let flags = if self.glow.is_some() {
+            flags | LobeFlags::TRANSMISSION
+        } else {
+            flags
+        };
         if self.surface.uses_footprint() {
             flags | LobeFlags::SPATIALLY_VARYING
         } else {
@@ -173,6 +250,79 @@ impl Bsdf for PointBsdf<'_> {
     }
 
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
+        if wi.z * wo.z < 0.0 {
+            return self.eval_transmission(wi, wo);
+        }
+        self.eval_reflection(wi, wo)
+    }
+
+    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+        let (known, drawn) = known_and_drawn(wi, wo, mode);
+        if known.z <= 0.0 {
+            return 0.0;
+        }
+        let q = self.transmission_choice(known);
+        if drawn.z < 0.0 {
+            q * (-drawn.z) * std::f64::consts::FRAC_1_PI
+        } else {
+            (1.0 - q) * self.pdf_reflection(wi, wo, mode)
+        }
+    }
+
+    fn sample(
+        &self,
+        known: Vec3,
+        uc: f64,
+        u: [f64; 2],
+        mode: Transport,
+    ) -> Option<BsdfSample<Rgb>> {
+        if known.z <= 0.0 {
+            return None;
+        }
+        let q = self.transmission_choice(known);
+        if uc < q {
+            // Through the yarns: a cosine lobe on the far side.
+            let d = crate::math::sampling::cosine_hemisphere(u[0], u[1]);
+            let drawn = Vec3::new(d.x, d.y, -d.z);
+            let pdf = q * d.z * std::f64::consts::FRAC_1_PI;
+            let (wi, wo) = pair_of(known, drawn, mode);
+            return (pdf > 0.0).then(|| BsdfSample {
+                wi,
+                wo,
+                f: self.eval_transmission(wi, wo),
+                pdf,
+                lobe: LobeFlags::TRANSMISSION | LobeFlags::DIFFUSE,
+            });
+        }
+        let uc = if q > 0.0 { (uc - q) / (1.0 - q) } else { uc };
+        let mut s = self.sample_reflection(known, uc.clamp(0.0, 1.0), u, mode)?;
+        s.pdf *= 1.0 - q;
+        Some(s)
+    }
+
+    /// The warp lobes' share of the weights the view meets (on a relief, the yarn the ray
+    /// toward `wo` meets first); 0 over a hole.
+    fn warp_share(&self, wo: Vec3) -> f64 {
+        let mix = self.mix_seen_from(wo);
+        let total = mix.total();
+        if total > 0.0 {
+            let warp: f64 = mix
+                .lobes()
+                .iter()
+                .filter(|l| l.warp)
+                .map(|l| l.weight)
+                .sum();
+            warp / total
+        } else {
+            0.0
+        }
+    }
+}
+
+impl PointBsdf<'_> {
+    /// The reflection alone: the paper's BRDF at this point (0 unless both directions are
+    /// above).
+    pub(super) fn eval_reflection(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return Rgb::BLACK;
         }
@@ -196,7 +346,8 @@ impl Bsdf for PointBsdf<'_> {
         f
     }
 
-    fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
+    /// The density of [`sample_reflection`](Self::sample_reflection)'s draws.
+    fn pdf_reflection(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
@@ -204,7 +355,8 @@ impl Bsdf for PointBsdf<'_> {
         self.pdf_mix(&self.mix_seen_from(known), known, drawn)
     }
 
-    fn sample(
+    /// A draw of the reflection alone (the lobes' mixture), its density the mixture's.
+    pub(super) fn sample_reflection(
         &self,
         known: Vec3,
         uc: f64,
@@ -236,27 +388,9 @@ impl Bsdf for PointBsdf<'_> {
         (pdf > 0.0 && pdf.is_finite()).then(|| BsdfSample {
             wi,
             wo,
-            f: self.eval(wi, wo),
+            f: self.eval_reflection(wi, wo),
             pdf,
             lobe: LobeFlags::REFLECTION | LobeFlags::GLOSSY,
         })
-    }
-
-    /// The warp lobes' share of the weights the view meets (on a relief, the yarn the ray
-    /// toward `wo` meets first); 0 over a hole.
-    fn warp_share(&self, wo: Vec3) -> f64 {
-        let mix = self.mix_seen_from(wo);
-        let total = mix.total();
-        if total > 0.0 {
-            let warp: f64 = mix
-                .lobes()
-                .iter()
-                .filter(|l| l.warp)
-                .map(|l| l.weight)
-                .sum();
-            warp / total
-        } else {
-            0.0
-        }
     }
 }
