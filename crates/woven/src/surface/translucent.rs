@@ -104,7 +104,7 @@ impl Translucency {
                         albedo += d.f * (d.wo.z / d.pdf);
                     }
                 }
-                albedo = albedo * (1.0 / (side * side) as f64);
+                albedo *= 1.0 / (side * side) as f64;
                 let open = surface.open_along(w);
                 let r = albedo.0.map(|a| (1.0 - open - a).max(0.0));
                 for c in 0..3 {
