@@ -85,6 +85,16 @@ def test_standard_surface_refuses_bad_texels_by_name():
         woven.standard_surface(surface, texels_per_cell=0)
 
 
+def test_a_cloth_that_lets_light_through_is_refused_by_name(tmp_path):
+    # The Blender materials carry reflection alone so far: a transmitting cloth is refused,
+    # not rendered opaque.
+    import bpy  # noqa: F401  (woven.blender.material builds into bpy's data)
+
+    with pytest.raises(ValueError, match="transmission"):
+        woven.blender.material("linen-plain", folder=tmp_path, pattern="plain", gap=0.3,
+                               transmission=True)
+
+
 SCENE = """
 [camera]
 origin = [0.0, -2.0, 1.2]
