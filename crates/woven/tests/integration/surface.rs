@@ -469,6 +469,69 @@ pub fn radiance_chi2<B: Bsdf + ?Sized>(
     )
 }
 
+/// χ² of a transmitting surface's draws over the whole sphere (reflection and the light through
+/// the yarns together) against its density, in radiance mode: a gapped, tilted twill with
+/// transmission on, at the cloth level and on a yarn at the yarn level, three views each
+/// (Bonferroni at 1 % over the six).
+#[test]
+fn transmitting_surfaces_sample_both_sides_by_chi_square() {
+    let spec = SurfaceSpec {
+        transmission: true,
+        ..spec("twill-2/1", 20.0, 0.25)
+    };
+    let surface = WovenSurface::new(&spec, yarn()).unwrap();
+    let points = [
+        SurfacePoint {
+            uv: [0.0; 2],
+            footprint: [[1e3, 0.0], [0.0, 1e3]],
+        },
+        // Cell (0, 0), the middle of its top yarn (gap 0.25: a yarn covers the middle 0.75).
+        SurfacePoint {
+            uv: [0.5 / 6.0, 0.5 / 4.0],
+            footprint: [[0.0; 2]; 2],
+        },
+    ];
+    let mut k = 0;
+    for at in &points {
+        let bsdf = surface.at(at);
+        for theta_deg in [15.0, 50.0, 75.0] {
+            let wo = Vec3::from_spherical(f64::to_radians(theta_deg), 0.7);
+            let (p, accepted, integral) = crate::table::chi2_of_sphere(
+                |rng| {
+                    bsdf.sample(
+                        wo,
+                        rng.uniform(),
+                        [rng.uniform(), rng.uniform()],
+                        Transport::Radiance,
+                    )
+                    .map(|s| s.wi)
+                },
+                |wi| bsdf.pdf(wi, wo, Transport::Radiance),
+                100_000,
+                301 + k,
+            );
+            k += 1;
+            println!(
+                "{at:?} θo {theta_deg}°: p {p:.3}, accepted {accepted:.4}, ∫pdf {integral:.4}"
+            );
+            assert!(p > 0.01 / 6.0, "θo {theta_deg}° at {at:?}: p {p:.2e}");
+            assert!(
+                (integral - accepted).abs() < 0.01,
+                "∫pdf {integral} vs accepted {accepted}"
+            );
+            // Some draws cross the cloth.
+            let through = (0..2000)
+                .filter_map(|i| {
+                    let u = [(i % 40) as f64 / 40.0 + 0.01, (i / 40) as f64 / 50.0 + 0.01];
+                    bsdf.sample(wo, (i as f64 * 0.618) % 1.0, u, Transport::Radiance)
+                })
+                .filter(|s| s.wi.z < 0.0)
+                .count();
+            assert!(through > 50, "{through} of 2000 draws through the cloth");
+        }
+    }
+}
+
 /// χ² of the fibre-level sampling (the facet's Beckmann lobe and the cosine lobe, mixed) against
 /// its density, at three incidences for every preset's yarn, in radiance mode: a pattern point at
 /// `detail = "fibers"` on the crest, on a flank and near the edge of a yarn.

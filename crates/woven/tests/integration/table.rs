@@ -67,7 +67,17 @@ pub fn chi2_of(
     n: usize,
     seed: u64,
 ) -> (f64, f64, f64) {
-    chi2_with(sample, pdf, n, seed, 4)
+    chi2_with(sample, pdf, n, seed, 4, 0.0)
+}
+
+/// [`chi2_of`] over the whole sphere (`cos θ` in `[−1, 1]`): a BSDF that also transmits.
+pub fn chi2_of_sphere(
+    sample: impl FnMut(&mut SplitMix) -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f64,
+    n: usize,
+    seed: u64,
+) -> (f64, f64, f64) {
+    chi2_with(sample, pdf, n, seed, 4, -1.0)
 }
 
 /// [`chi2_of`] for a density that is smooth within a cell (an analytic lobe, not a table's
@@ -78,17 +88,20 @@ pub fn chi2_of_smooth(
     n: usize,
     seed: u64,
 ) -> (f64, f64, f64) {
-    chi2_with(sample, pdf, n, seed, 2)
+    chi2_with(sample, pdf, n, seed, 2, 0.0)
 }
 
-/// [`chi2_of`] with each cell first integrated on `base × base` sub-cells.
+/// [`chi2_of`] with each cell first integrated on `base × base` sub-cells, `cos θ` binned over
+/// `[lowest, 1]`.
 fn chi2_with(
     mut sample: impl FnMut(&mut SplitMix) -> Option<Vec3>,
     pdf: impl Fn(Vec3) -> f64,
     n: usize,
     seed: u64,
     base: usize,
+    lowest: f64,
 ) -> (f64, f64, f64) {
+    let span = 1.0 - lowest;
     let (nc, np) = (16usize, 32usize);
     let mut observed = vec![0f64; nc * np];
     let mut rng = SplitMix(seed);
@@ -97,7 +110,7 @@ fn chi2_with(
         if let Some(d) = sample(&mut rng) {
             accepted += 1;
             let (ct, phi) = (d.z, d.y.atan2(d.x).rem_euclid(2.0 * PI));
-            let i = ((ct * nc as f64) as usize).min(nc - 1);
+            let i = (((ct - lowest) / span * nc as f64).max(0.0) as usize).min(nc - 1);
             let j = ((phi / (2.0 * PI) * np as f64) as usize).min(np - 1);
             observed[i * np + j] += 1.0;
         }
@@ -112,9 +125,9 @@ fn chi2_with(
         let mut e = 0.0;
         for a in 0..sub {
             for b in 0..sub {
-                let c0 = (i as f64 + a as f64 / sub as f64) / nc as f64;
+                let c0 = lowest + (i as f64 + a as f64 / sub as f64) / nc as f64 * span;
                 let p0 = (j as f64 + b as f64 / sub as f64) / np as f64 * 2.0 * PI;
-                e += gl.integrate(c0, c0 + 1.0 / (sub * nc) as f64, |ct| {
+                e += gl.integrate(c0, c0 + span / (sub * nc) as f64, |ct| {
                     gl.integrate(p0, p0 + 2.0 * PI / (sub * np) as f64, |phi| {
                         let st = (1.0 - ct * ct).max(0.0).sqrt();
                         pdf(Vec3::new(st * phi.cos(), st * phi.sin(), ct))
