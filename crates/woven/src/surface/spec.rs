@@ -165,7 +165,7 @@ impl SurfaceSpec {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first offending one (`yarns_per_unit`,
-    /// `weft_color`, `warp_color`, `u_max`, `gap`, `relief`, `irregularity`,
+    /// `weft_color`, `warp_color`, `u_max`, `gap`, `relief`, `transmission`, `irregularity`,
     /// `irregularity_length`), its
     /// value and the valid range.
     pub fn validate(&self) -> Result<()> {
@@ -227,6 +227,14 @@ impl SurfaceSpec {
                 "relief",
                 "true without a weave pattern".into(),
                 "false, or a material whose weave is a pattern (a relief lies on its cells)",
+            );
+        }
+        if self.transmission && self.material.yarn.is_none() {
+            return invalid(
+                "transmission",
+                "true with a flat fiber surface".into(),
+                "false: a flat fiber surface (no [yarn]) has no yarns to pass light through or \
+                 between",
             );
         }
         self.irregularity.validate_for(&self.material)

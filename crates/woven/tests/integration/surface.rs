@@ -271,6 +271,16 @@ fn bad_parameters_are_refused_by_name() {
     s.irregularity = irregular(0.3, 24.0);
     let err = WovenSurface::new(&s, Arc::clone(&table)).unwrap_err();
     assert!(err.to_string().contains("irregularity"), "{err}");
+    // Light through a flat fiber surface (no yarns) has nothing to pass through.
+    let flat = SurfaceSpec {
+        transmission: true,
+        ..SurfaceSpec::new(crate::common::table_material("rough"))
+    };
+    let err = flat.validate().unwrap_err().to_string();
+    assert!(
+        err.contains("transmission") && err.contains("flat fiber"),
+        "{err}"
+    );
 }
 
 /// Irregular yarns ([`Irregularity`]) vary the cloth from point to point, but over many yarns
