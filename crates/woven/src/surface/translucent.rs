@@ -90,6 +90,7 @@ impl Translucency {
         let mut rest = Vec::with_capacity(N_MU * N_PHI);
         let mut mean = [0.0; 3];
         let side = (DRAWS as f64).sqrt().ceil() as usize;
+        let mut lobe = crate::math::rng::SplitMix(0x5eed);
         for k in 0..N_MU {
             for j in 0..N_PHI {
                 let w = node(k, j);
@@ -99,7 +100,8 @@ impl Translucency {
                         ((s % side) as f64 + 0.5) / side as f64,
                         ((s / side) as f64 + 0.5) / side as f64,
                     ];
-                    let uc = ((s * 7 + k * 3 + j) % (side * side)) as f64 / (side * side) as f64;
+                    // The lobe's choice independent of the direction's stratum.
+                    let uc = lobe.uniform();
                     if let Some(d) = bsdf.sample_reflection(w, uc, u, Transport::Importance) {
                         albedo += d.f * (d.wo.z / d.pdf);
                     }
