@@ -15,7 +15,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Frame, Hit, Ray};
 use crate::light::{Emitter, EmitterHit};
-use crate::material::{BsdfScratch, MaterialSample, ShadingPoint, SurfaceMaterial};
+use crate::material::{BsdfScratch, MaterialSample, ShadingPoint};
 use crate::rng::Sampler;
 use crate::scene::{Scene, Strategy};
 use woven::bsdf::Transport;
@@ -40,17 +40,6 @@ fn spawn(hit: &Hit, d: Vec3) -> Ray {
 /// The most surfaces a path or a shadow ray passes straight through before it is ended (a
 /// bound on the work of a ray among many layers of sheer cloth).
 const MAX_PASSES: u32 = 64;
-
-/// The share of the light along `wo` that `material` passes straight through at `at`, where it
-/// passes any: `None` where it passes nothing there.
-#[inline]
-fn passing(material: &dyn SurfaceMaterial, at: &ShadingPoint, wo: Vec3) -> Option<f64> {
-    if !material.transmits() {
-        return None;
-    }
-    let pass = material.pass_through(at, wo);
-    (pass > 0.0).then_some(pass.min(1.0))
-}
 
 /// The share of light that reaches `ray.o + t_max ray.d` from `ray.o`: 1 where nothing stands
 /// between, 0 where an opaque surface does, and the product of what each surface met passes
@@ -292,26 +281,34 @@ fn trace<'a>(
                 f.uv(&camera_ray, &from_camera)
             }),
         };
-        // Light straight through (a delta lobe): followed with its share's probability, the
-        // throughput unchanged (its weight over its probability is 1); the rest of the vertex
-        // (light sampling and the next draw) carries what is not passed.
-        if let Some(pass) = passing(material, &at, wo) {
-            if sampler.uniform() < pass {
-                passes += 1;
-                if passes > MAX_PASSES {
-                    break;
-                }
-                travelled += hit.t;
-                ray = spawn(&hit, ray.d);
-                continue;
-            }
-            beta *= 1.0 / (1.0 - pass);
-        }
-        if depth + 1 >= max_depth {
+        // At the last vertex an opaque surface is not shaded (nothing further is allowed); one
+        // that transmits may still pass the path on, so its BSDF is built first.
+        if !two_sided && depth + 1 >= max_depth {
             break;
         }
         // The material's BSDF here, built once for every question below.
         let bsdf = material.bsdf(&at, &mut scratch.bsdf);
+        if two_sided {
+            // Light straight through (a delta lobe): followed with its share's probability,
+            // the throughput unchanged (its weight over its probability is 1); the rest of the
+            // vertex (light sampling and the next draw) carries what is not passed.
+            let pass = bsdf.pass_through(wo).min(1.0);
+            if pass > 0.0 {
+                if sampler.uniform() < pass {
+                    passes += 1;
+                    if passes > MAX_PASSES {
+                        break;
+                    }
+                    travelled += hit.t;
+                    ray = spawn(&hit, ray.d);
+                    continue;
+                }
+                beta *= 1.0 / (1.0 - pass);
+            }
+            if depth + 1 >= max_depth {
+                break;
+            }
+        }
 
         // Next-event estimation.
         if use_lights {

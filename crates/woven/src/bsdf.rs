@@ -176,6 +176,13 @@ pub trait Bsdf: Send + Sync {
     fn warp_share(&self, _wo: Vec3) -> f64 {
         0.0
     }
+
+    /// The share of the light along `d` (either side) that passes straight through, in `[0,
+    /// 1]`: a delta lobe beside `eval`'s, which a renderer follows by continuing the ray. 0 for
+    /// every BSDF but a woven surface's with `transmission` on.
+    fn pass_through(&self, _d: Vec3) -> f64 {
+        0.0
+    }
 }
 
 /// Splits a pair `(wi, wo)` into `(known, drawn)` for `mode`: the known direction is the `s` a
@@ -277,6 +284,10 @@ macro_rules! forward_bsdf {
 
             fn warp_share(&self, wo: Vec3) -> f64 {
                 (**self).warp_share(wo)
+            }
+
+            fn pass_through(&self, d: Vec3) -> f64 {
+                (**self).pass_through(d)
             }
         }
     )*};

@@ -169,6 +169,22 @@ pub struct WovenSurface {
     tables: SurfaceTables,
 }
 
+/// A surface of `spec` on a small dyeable table of its yarn (`[n_theta, n_phi, n_h]`): what the
+/// surface module's tests build.
+#[cfg(test)]
+pub(crate) fn test_surface(spec: &SurfaceSpec, [n_theta, n_phi, n_h]: [usize; 3]) -> WovenSurface {
+    let yarn = spec.table_material();
+    let options = crate::table::TableOptions {
+        n_theta,
+        n_phi,
+        n_h,
+        colour: true,
+        ..crate::table::TableOptions::default()
+    };
+    let table = Table::build(&yarn.build(550.0).unwrap(), &yarn, &options, &|_, _| {}).unwrap();
+    WovenSurface::new(spec, Arc::new(table)).unwrap()
+}
+
 impl WovenSurface {
     /// The surface `spec` renders with `yarn`, the table of
     /// [`spec.table_material()`](SurfaceSpec::table_material) (a flat fiber surface builds its

@@ -70,7 +70,20 @@ impl WovenSurface {
         if open == 0.0 {
             return 0.0;
         }
-        let t = self.through(at);
+        self.share(self.through(at), open)
+    }
+
+    /// The share passed along `d` at a point that lies as `t` says (module docs).
+    pub(super) fn passed(&self, t: Through, d: Vec3) -> f64 {
+        let open = self.open_along(d);
+        if open == 0.0 {
+            return 0.0;
+        }
+        self.share(t, open)
+    }
+
+    /// What a point that lies as `t` says passes where the cloth's open area is `open`.
+    fn share(&self, t: Through, open: f64) -> f64 {
         let resolved = if t.hole {
             (open / (self.gap * self.gap)).min(1.0)
         } else {
@@ -85,9 +98,7 @@ mod tests {
     use crate::gaps::open_area;
     use crate::material::{Material, Weave};
     use crate::surface::{SurfacePoint, SurfaceSpec, WovenSurface};
-    use crate::table::{Table, TableOptions};
     use crate::Vec3;
-    use std::sync::Arc;
 
     fn surface(gap: f64, transmission: bool) -> WovenSurface {
         let mut material = Material::preset("linen-plain").unwrap();
@@ -98,16 +109,7 @@ mod tests {
             transmission,
             ..SurfaceSpec::new(material)
         };
-        let yarn = spec.material.yarn_family();
-        let options = TableOptions {
-            n_theta: 3,
-            n_phi: 2,
-            n_h: 5,
-            colour: true,
-            ..TableOptions::default()
-        };
-        let table = Table::build(&yarn.build(550.0).unwrap(), &yarn, &options, &|_, _| {}).unwrap();
-        WovenSurface::new(&spec, Arc::new(table)).unwrap()
+        crate::surface::test_surface(&spec, [3, 2, 5])
     }
 
     #[test]

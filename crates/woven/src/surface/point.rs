@@ -113,6 +113,8 @@ struct Glow {
     /// The point's share of the cloth's `f_t`: 1 at the cloth level; at the yarn level
     /// `1 / (1 − gap²)` on a yarn and 0 in a hole; blended by the footprint between.
     weight: f64,
+    /// Where the point lies for the light through it (what it passes straight through).
+    through: super::pass::Through,
 }
 
 impl<'a> PointBsdf<'a> {
@@ -171,6 +173,7 @@ impl<'a> PointBsdf<'a> {
         Some(Glow {
             tau: tau(s.weft_fraction(), &self.weft, &self.warp),
             weight: t.cloth + (1.0 - t.cloth) * yarn,
+            through: t,
         })
     }
 
@@ -298,6 +301,14 @@ impl Bsdf for PointBsdf<'_> {
         let mut s = self.sample_reflection(known, uc.clamp(0.0, 1.0), u, mode)?;
         s.pdf *= 1.0 - q;
         Some(s)
+    }
+
+    /// The share passed straight through here ([`WovenSurface::pass_through`]), from where the
+    /// point lies as its reset found it.
+    fn pass_through(&self, d: Vec3) -> f64 {
+        self.glow
+            .as_ref()
+            .map_or(0.0, |g| self.surface.passed(g.through, d))
     }
 
     /// The warp lobes' share of the weights the view meets (on a relief, the yarn the ray

@@ -81,8 +81,6 @@ mod tests {
     use super::*;
     use crate::material::{Material, Weave};
     use crate::surface::{SurfacePoint, SurfaceSpec};
-    use crate::table::{Table, TableOptions};
-    use std::sync::Arc;
 
     fn surface(pattern: &str, u_max_deg: f64, gap: f64) -> WovenSurface {
         woven_with(Weave::named(pattern).unwrap(), u_max_deg, gap)
@@ -98,16 +96,7 @@ mod tests {
             gap,
             ..SurfaceSpec::new(material)
         };
-        let yarn = spec.material.yarn_family();
-        let options = TableOptions {
-            n_theta: 3,
-            n_phi: 2,
-            n_h: 5,
-            colour: true,
-            ..TableOptions::default()
-        };
-        let table = Table::build(&yarn.build(550.0).unwrap(), &yarn, &options, &|_, _| {}).unwrap();
-        WovenSurface::new(&spec, Arc::new(table)).unwrap()
+        crate::surface::test_surface(&spec, [3, 2, 5])
     }
 
     #[test]

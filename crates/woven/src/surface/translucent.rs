@@ -139,14 +139,7 @@ impl Translucency {
     /// `f_t(wi, wo)` per channel without `τ` (module docs), `wi` and `wo` on opposite sides: each
     /// taken to its own face's frame (the back's is the front's turned over about the weft).
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        let up = |w: Vec3| {
-            if w.z >= 0.0 {
-                w
-            } else {
-                Vec3::new(w.x, -w.y, -w.z)
-            }
-        };
-        let (a, b) = (self.rest(up(wi)), self.rest(up(wo)));
+        let (a, b) = (self.rest(face(wi)), self.rest(face(wo)));
         Rgb(std::array::from_fn(|c| {
             if self.mean[c] > 0.0 {
                 a[c] * b[c] / (PI * self.mean[c])
@@ -158,12 +151,17 @@ impl Translucency {
 
     /// The light transmitted from `w` (without `τ`): `r(w)` per channel.
     pub fn transmitted(&self, w: Vec3) -> Rgb {
-        let w = if w.z >= 0.0 {
-            w
-        } else {
-            Vec3::new(w.x, -w.y, -w.z)
-        };
-        Rgb(self.rest(w))
+        Rgb(self.rest(face(w)))
+    }
+}
+
+/// `w` in the frame of the face it lies on: itself above, and below the back's frame, the
+/// front's turned over about the weft (`y` and `z` reversed).
+fn face(w: Vec3) -> Vec3 {
+    if w.z >= 0.0 {
+        w
+    } else {
+        Vec3::new(w.x, -w.y, -w.z)
     }
 }
 
@@ -183,8 +181,6 @@ mod tests {
     use crate::material::{Material, Weave};
     use crate::math::sampling::cosine_hemisphere;
     use crate::surface::SurfaceSpec;
-    use crate::table::{Table, TableOptions};
-    use std::sync::Arc;
 
     /// A plain linen of `gap`, dyed `dye`, transmission on.
     fn surface(gap: f64, dye: f64) -> WovenSurface {
@@ -198,16 +194,7 @@ mod tests {
             warp_color: Some(Rgb([dye; 3])),
             ..SurfaceSpec::new(material)
         };
-        let yarn = spec.material.yarn_family();
-        let options = TableOptions {
-            n_theta: 12,
-            n_phi: 7,
-            n_h: 31,
-            colour: true,
-            ..TableOptions::default()
-        };
-        let table = Table::build(&yarn.build(550.0).unwrap(), &yarn, &options, &|_, _| {}).unwrap();
-        WovenSurface::new(&spec, Arc::new(table)).unwrap()
+        crate::surface::test_surface(&spec, [12, 7, 31])
     }
 
     const FAR: SurfacePoint = SurfacePoint {
