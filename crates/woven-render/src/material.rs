@@ -82,7 +82,7 @@ pub trait SurfaceMaterial: Send + Sync {
 
     /// The share of the light along `d` (the local frame, either side) that passes straight
     /// through at `at`, in `[0, 1]`: a delta lobe, which shadow rays carry (a path asks the
-    /// BSDF it built at its vertex, [`Bsdf::pass_through`](woven::bsdf::Bsdf::pass_through)).
+    /// BSDF it built at its vertex, [`Bsdf::pass_through`]).
     fn pass_through(&self, _at: &ShadingPoint, _d: Vec3) -> f64 {
         0.0
     }
