@@ -7,9 +7,7 @@ use rayon::prelude::*;
 use std::f64::consts::FRAC_1_PI;
 use std::sync::Mutex;
 use woven::baseline::SheenLobe;
-use woven::cloth::Structure;
 use woven::fiber::{beckmann_d, fresnel_dielectric, smith_lambda, Fiber, FiberParams};
-use woven::yarn::Yarn;
 use woven::{AffineBrdf, Model, Vec3};
 
 /// The BRDF's parts at one pair of directions: `f = scale·(specular·fixed + ρ0·per_diffuse +
@@ -92,15 +90,8 @@ impl Prepared {
                     Some(cache) => cache.fiber(&m.fiber)?,
                     None => Fiber::new(&m.fiber, woven::fiber::DEFAULT_WAVELENGTH_NM)?,
                 };
-                let structure = match m.yarn {
-                    None => Structure::Flat(fiber),
-                    Some(y) => Structure::Woven {
-                        yarn: Box::new(Yarn::new(fiber, y)?),
-                        weft_fraction: m.weft_fraction(),
-                    },
-                };
                 Prepared::Woven {
-                    model: Box::new(Model::new(structure)),
+                    model: Box::new(m.build_with(fiber)?),
                     rotation: set.get(Quantity::Rotation, 0).unwrap_or(0.0),
                 }
             }

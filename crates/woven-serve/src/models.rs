@@ -6,10 +6,8 @@
 //! that the two agree), with the fiber from the cache when its parameters and wavelength match.
 
 use std::sync::{Arc, Mutex};
-use woven::cloth::Structure;
 use woven::fiber::Fiber;
 use woven::material::Material;
-use woven::yarn::Yarn;
 use woven::{Model, Result};
 
 /// Models kept (most recent first).
@@ -65,14 +63,7 @@ impl ModelCache {
                 f
             }
         };
-        let structure = match &material.yarn {
-            None => Structure::Flat(fiber),
-            Some(y) => Structure::Woven {
-                yarn: Box::new(Yarn::new(fiber, *y)?),
-                weft_fraction: material.weft_fraction(),
-            },
-        };
-        let model = Arc::new(Model::new(structure));
+        let model = Arc::new(material.build_with(fiber)?);
         remember(&self.models, key, model.clone(), MODELS);
         Ok(model)
     }

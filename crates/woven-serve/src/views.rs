@@ -219,7 +219,14 @@ fn hemisphere_grid(
             if out.cancelled() {
                 return false;
             }
-            meter.add(evaluate_row(model, s, n, row, chunk));
+            meter.add(evaluate_row(
+                model,
+                s,
+                n,
+                row,
+                hemisphere::Side::Above,
+                chunk,
+            ));
             true
         })
         .reduce(|| true, |a, b| a && b);

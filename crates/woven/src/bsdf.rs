@@ -124,13 +124,14 @@ pub fn complete_draw<B: Bsdf + ?Sized>(
 }
 
 impl<V: Copy + Mul<f64, Output = V>> BsdfSample<V> {
-    /// The Monte Carlo weight `f cos θ / pdf`, `θ` the drawn direction's polar angle.
+    /// The Monte Carlo weight `f |cos θ| / pdf`, `θ` the drawn direction's polar angle (on
+    /// either side: a transmitted direction's cosine is negative).
     pub fn weight(&self, mode: Transport) -> V {
         let cos = match mode {
             Transport::Radiance => self.wi.z,
             Transport::Importance => self.wo.z,
         };
-        self.f * (cos / self.pdf)
+        self.f * (cos.abs() / self.pdf)
     }
 }
 
@@ -210,7 +211,13 @@ impl Bsdf for Model {
     type Value = f64;
 
     fn lobes(&self) -> LobeFlags {
-        LobeFlags::REFLECTION | LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::ANISOTROPIC
+        let lobes =
+            LobeFlags::REFLECTION | LobeFlags::GLOSSY | LobeFlags::DIFFUSE | LobeFlags::ANISOTROPIC;
+        if self.transmits() {
+            lobes | LobeFlags::TRANSMISSION
+        } else {
+            lobes
+        }
     }
 
     #[inline]
@@ -221,31 +228,73 @@ impl Bsdf for Model {
     #[inline]
     fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
         let (known, drawn) = known_and_drawn(wi, wo, mode);
-        if known.z <= 0.0 || drawn.z <= 0.0 {
-            0.0
-        } else {
-            drawn.z * FRAC_1_PI
-        }
+        exact_pdf(self.transmits(), known, drawn)
     }
 
-    fn sample(&self, known: Vec3, _uc: f64, u: [f64; 2], mode: Transport) -> Option<BsdfSample> {
-        if known.z <= 0.0 {
-            return None;
-        }
-        let drawn = cosine_hemisphere(u[0], u[1]);
-        if drawn.z <= 0.0 {
-            return None;
-        }
-        let pdf = cosine_hemisphere_pdf(drawn.z);
+    fn sample(&self, known: Vec3, uc: f64, u: [f64; 2], mode: Transport) -> Option<BsdfSample> {
+        let (drawn, lobe) = exact_draw(self.transmits(), known, uc, u)?;
         let (wi, wo) = pair_of(known, drawn, mode);
         Some(BsdfSample {
             wo,
             wi,
             f: Model::eval(self, wi, wo),
-            pdf,
-            lobe: LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
+            pdf: exact_pdf(self.transmits(), known, drawn),
+            lobe,
         })
     }
+
+    fn pass_through(&self, d: Vec3) -> f64 {
+        self.open_along(d)
+    }
+}
+
+/// The share of an exact transmitting model's draws that cross the cloth.
+pub const EXACT_THROUGH_SHARE: f64 = 0.5;
+
+/// The exact model's density of `drawn` for `known`: a cosine-weighted hemisphere on the known
+/// direction's side, and for a cloth that `transmits`, [`EXACT_THROUGH_SHARE`] of the draws in
+/// the same on the far side.
+pub fn exact_pdf(transmits: bool, known: Vec3, drawn: Vec3) -> f64 {
+    if !transmits {
+        return if known.z <= 0.0 {
+            0.0
+        } else {
+            cosine_hemisphere_pdf(drawn.z)
+        };
+    }
+    if known.z == 0.0 || drawn.z == 0.0 {
+        return 0.0;
+    }
+    let share = if (known.z > 0.0) == (drawn.z > 0.0) {
+        1.0 - EXACT_THROUGH_SHARE
+    } else {
+        EXACT_THROUGH_SHARE
+    };
+    share * drawn.z.abs() * FRAC_1_PI
+}
+
+/// The exact model's draw for `known` ([`exact_pdf`]'s density) and its lobe: `uc` picks the
+/// side for a cloth that `transmits`.
+pub fn exact_draw(transmits: bool, known: Vec3, uc: f64, u: [f64; 2]) -> Option<(Vec3, LobeFlags)> {
+    if known.z == 0.0 || (known.z < 0.0 && !transmits) {
+        return None;
+    }
+    let d = cosine_hemisphere(u[0], u[1]);
+    if d.z <= 0.0 {
+        return None;
+    }
+    let through = transmits && uc < EXACT_THROUGH_SHARE;
+    let side = if (known.z > 0.0) != through {
+        1.0
+    } else {
+        -1.0
+    };
+    let lobe = if through {
+        LobeFlags::TRANSMISSION
+    } else {
+        LobeFlags::REFLECTION
+    };
+    Some((Vec3::new(d.x, d.y, side * d.z), lobe | LobeFlags::DIFFUSE))
 }
 
 /// A boxed or shared BSDF is a BSDF (front ends choose the material at run time).

@@ -3,11 +3,10 @@
 //! ([`Microcylinder`]), so that `woven eval`, the renderer and the fitter's references take
 //! either the same way.
 
-use crate::bsdf::{complete_draw, Bsdf, BsdfSample, LobeFlags, Transport};
+use crate::bsdf::{exact_draw, pair_of, Bsdf, BsdfSample, LobeFlags, Transport};
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::material::{Dye, Material};
-use crate::math::sampling::cosine_hemisphere;
 use crate::math::Vec3;
 use crate::microcylinder::Microcylinder;
 use crate::Model;
@@ -127,33 +126,39 @@ impl Bsdf for DyedModel {
 
     #[inline]
     fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        self.model.eval_rgb(wi, wo, &self.dye)
+        if (wi.z > 0.0 && wo.z > 0.0) || !self.model.transmits() {
+            return self.model.eval_rgb(wi, wo, &self.dye);
+        }
+        self.model.eval_rgb_beyond(wi, wo, &self.dye)
     }
 
-    /// The exact model's density (a cosine-weighted hemisphere).
+    /// The exact model's density (a cosine-weighted hemisphere on each side it scatters to).
     fn pdf(&self, wi: Vec3, wo: Vec3, mode: Transport) -> f64 {
         Bsdf::pdf(&self.model, wi, wo, mode)
     }
 
-    /// The exact model's draw (a cosine-weighted hemisphere), valued in colour.
+    /// The exact model's draw (a cosine-weighted hemisphere on each side), valued in colour.
     fn sample(
         &self,
         known: Vec3,
-        _uc: f64,
+        uc: f64,
         u: [f64; 2],
         mode: Transport,
     ) -> Option<BsdfSample<Rgb>> {
-        if known.z <= 0.0 {
-            return None;
-        }
-        let drawn = cosine_hemisphere(u[0], u[1]);
-        complete_draw(
-            self,
-            known,
-            drawn,
-            LobeFlags::REFLECTION | LobeFlags::DIFFUSE,
-            mode,
-        )
+        let (drawn, lobe) = exact_draw(self.model.transmits(), known, uc, u)?;
+        let (wi, wo) = pair_of(known, drawn, mode);
+        let pdf = Bsdf::pdf(&self.model, wi, wo, mode);
+        (pdf > 0.0).then(|| BsdfSample {
+            wo,
+            wi,
+            f: self.eval(wi, wo),
+            pdf,
+            lobe,
+        })
+    }
+
+    fn pass_through(&self, d: Vec3) -> f64 {
+        self.model.open_along(d)
     }
 }
 

@@ -5,10 +5,12 @@
 //! |---|---|---|---|
 //! | `theta_i` | polar angle of the direction toward the light | rad | `[0, π/2]` |
 //! | `phi_i` | its azimuth | rad | any finite number |
-//! | `theta_r` | polar angle of the direction toward the viewer | rad | `[0, π/2]` |
+//! | `theta_r` | polar angle of the direction toward the viewer | rad | `[0, π]` |
 //! | `phi_r` | its azimuth | rad | any finite number |
 //!
 //! Both directions point away from the surface, in the cloth's local frame (`z` = macro normal).
+//! A `theta_r` above `π/2` is a direction below the cloth: light transmitted through it (0 for
+//! an opaque cloth).
 //! Lines end in `\n` or `\r\n`; fields are separated by commas and may be surrounded by spaces
 //! or enclosed in double quotes (`"0.5"`); blank lines are skipped; a UTF-8 byte-order mark before
 //! the header is ignored.
@@ -30,7 +32,7 @@
 //! ```
 
 use crate::error::{Error, Result};
-use std::f64::consts::FRAC_PI_2;
+use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt;
 use std::io::{self, BufRead, BufReader, Read};
 use std::ops::Range;
@@ -137,8 +139,8 @@ impl DirectionRecord {
     ///
     /// # Errors
     /// A [`RowError`] naming the line (and the column, where one is to blame) for a wrong number
-    /// of columns, text that is not a number, a non-finite number, or a polar angle outside
-    /// `[0, π/2]`.
+    /// of columns, text that is not a number, a non-finite number, a `theta_i` outside `[0, π/2]`
+    /// or a `theta_r` outside `[0, π]`.
     pub fn angles(&self) -> Result<[f64; 4], RowError> {
         let line = self.line;
         let error = |column: Option<usize>, message: String| RowError {
@@ -182,12 +184,17 @@ impl DirectionRecord {
                     format!("`{text}` is not a finite number of radians"),
                 ));
             }
-            // Polar angles: the hemisphere above the surface.
-            if (c == 0 || c == 2) && !(0.0..=FRAC_PI_2).contains(&x) {
+            // Polar angles: the light above the surface, the viewer on either side of it.
+            let (top, top_name) = if c == 2 {
+                (PI, "π")
+            } else {
+                (FRAC_PI_2, "π/2")
+            };
+            if (c == 0 || c == 2) && !(0.0..=top).contains(&x) {
                 return Err(error(
                     Some(c),
                     format!(
-                        "value {text} is outside the valid range [0, π/2] = [0, {FRAC_PI_2}] \
+                        "value {text} is outside the valid range [0, {top_name}] = [0, {top}] \
                          radians"
                     ),
                 ));

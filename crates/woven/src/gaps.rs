@@ -103,6 +103,35 @@ impl YarnSection {
     }
 }
 
+/// Where each yarn family shows from above, as shares of the cloth's area, `[weft, warp]`: a
+/// cloth of weft fraction `g` whose yarns leave `gap` of their pitch between them. A family lies
+/// on top over `1 − gap` of its cells' width (`top`), and shows below in the crossing family's
+/// gaps where it leaves none itself (`below`, seen flat); the rest, `gap²`, is open. With no
+/// gap, `top` is the paper's `[γ, 1 − γ]` exactly and `below` is 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cover {
+    /// Each family's share on top.
+    pub top: [f64; 2],
+    /// Each family's share seen below the other's gaps.
+    pub below: [f64; 2],
+}
+
+impl Cover {
+    /// The cover of weft fraction `g` and `gap` (type docs).
+    pub fn new(g: f64, gap: f64) -> Cover {
+        let w = 1.0 - gap;
+        Cover {
+            top: [w * g, w * (1.0 - g)],
+            below: [gap * w * (1.0 - g), gap * w * g],
+        }
+    }
+
+    /// Each family's whole share, on top and below.
+    pub fn total(&self) -> [f64; 2] {
+        [self.top[0] + self.below[0], self.top[1] + self.below[1]]
+    }
+}
+
 /// The share of light along `d` (either way through the cloth) that passes between the yarns of
 /// both families, each leaving `gap` of its pitch open (module docs): `gap²` along the normal,
 /// falling as `d` tilts across either family, 0 in the cloth's plane.
@@ -128,6 +157,16 @@ pub fn open_area(gap: f64, d: Vec3) -> Result<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_cover_leaves_the_gaps_square_open_and_is_the_papers_mix_without_gaps() {
+        for (g, gap) in [(0.5, 0.3), (0.2, 0.6), (1.0, 0.1)] {
+            let [a, b] = Cover::new(g, gap).total();
+            assert!((a + b - (1.0 - gap * gap)).abs() < 1e-15);
+        }
+        let c = Cover::new(0.3, 0.0);
+        assert_eq!((c.top, c.below), ([0.3, 1.0 - 0.3], [0.0, 0.0]));
+    }
 
     #[test]
     fn the_shadow_is_continuous_where_the_crowns_take_over_from_the_corners() {

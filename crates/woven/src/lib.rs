@@ -110,12 +110,13 @@ pub mod surface;
 #[cfg(feature = "serde")]
 pub mod table;
 pub mod tensor;
+pub mod translucency;
 pub mod weave;
 pub mod yarn;
 
 pub use error::{Error, Result};
 pub use math::Vec3;
-pub use model::{AffineBrdf, Model};
+pub use model::{AffineBrdf, Budget, Model};
 
 /// The README shows the examples whole: every `examples/*.rs` must appear in it verbatim.
 #[cfg(test)]

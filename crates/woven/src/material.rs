@@ -26,6 +26,8 @@
 //!
 //! [weave]                        # absent: γ = 1, one yarn orientation along x (φ = 0)
 //! weft_fraction = 0.5            # γ; or pattern = "plain" (below)
+//! gap = 0.0                      # the share of each cell's width between yarns, [0, 0.95]
+//! transmission = false           # true: light passes between and through the yarns
 //! "#;
 //! let material = Material::from_toml_str(toml, "my-fabric.toml")?;
 //! assert_eq!(material.weft_fraction(), 0.5);
@@ -81,6 +83,26 @@ pub struct Material {
     pub weave: Option<Weave>,
     /// The `[dye]` table: the colours the weft and warp are dyed (none: the material's own grey).
     pub dye: Dye,
+    /// The `[weave]` keys `gap` and `transmission`: how open the cloth is, and whether light
+    /// passes through it (by default neither: the paper's opaque cloth).
+    pub openness: Openness,
+}
+
+/// How open a cloth is: the `[weave]` keys `gap` and `transmission`, options beyond the paper
+/// (docs/model.md, "The open area" and "Light through the yarns"). A surface laid in a scene takes
+/// them as its own `gap` and `transmission` unless it sets them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Openness {
+    /// `weave.gap`: the share of each cell's width between yarns, in `[0, MAX_GAP]`
+    /// ([`MAX_GAP`](crate::gaps::MAX_GAP)). Each family then covers its
+    /// [`Cover`](crate::gaps::Cover) and `gap²` of the cloth is open. 0 (the default): yarns fill
+    /// their cells, as in the paper.
+    pub gap: f64,
+    /// `weave.transmission`: whether light passes between the yarns (the open area along a
+    /// direction, [`open_area`](crate::gaps::open_area)) and through them (a diffuse
+    /// transmission that closes each direction's energy). `false` (the default): the cloth is
+    /// opaque, as in the paper.
+    pub transmission: bool,
 }
 
 /// The colours a material's yarns are dyed: each replaces the fibres' diffuse albedo `ρ0` per
@@ -169,6 +191,7 @@ impl Material {
             yarn: None,
             weave: None,
             dye: Dye::default(),
+            openness: Openness::default(),
         }
     }
 
@@ -184,10 +207,31 @@ impl Material {
     pub fn yarn_family(&self) -> Material {
         let mut m = self.clone();
         m.weave = None;
+        // A surface leaves its own gaps between the yarns it lays (SurfaceSpec::gap).
+        m.openness = Openness::default();
         // A surface tilts the yarn itself (SurfaceSpec::u_max, which takes the material's).
         if let Some(y) = &mut m.yarn {
             (y.u_max, y.float_crest, y.float_flank) = (0.0, 0.0, 0.0);
         }
+        m
+    }
+
+    /// The same cloth seen from its back: where one family lies on top the other shows below,
+    /// so its pattern is the complement ([`Pattern::complement`]: a satin's back is its sateen)
+    /// and its weft fraction `1 − γ`. Seen from below, it is the front turned over about the weft
+    /// (`y` and `z` reversed), which keeps every yarn's axis; the dyes stay with their families.
+    pub fn back(&self) -> Material {
+        let mut m = self.clone();
+        m.weave = self.weave.as_ref().map(|w| match w {
+            Weave::WeftFraction(g) => Weave::WeftFraction(1.0 - g),
+            Weave::Pattern { pattern, .. } => {
+                let back = pattern.complement();
+                Weave::Pattern {
+                    spec: PatternSpec::Matrix(back.to_matrix()),
+                    pattern: back,
+                }
+            }
+        });
         m
     }
 
@@ -218,6 +262,19 @@ impl Material {
                 "a [yarn] table too: a weave arranges yarns, and a flat fiber surface has none",
             ));
         }
+        check_range("weave.gap", self.openness.gap, 0.0, crate::gaps::MAX_GAP)?;
+        if self.weave.is_none() && self.openness != Openness::default() {
+            let name = if self.openness.gap > 0.0 {
+                "weave.gap"
+            } else {
+                "weave.transmission"
+            };
+            return Err(Error::invalid(
+                name,
+                "(without a weave)",
+                "a [weave] table with a pattern or weft_fraction: gaps lie between a weave's yarns",
+            ));
+        }
         Ok(())
     }
 
@@ -227,15 +284,30 @@ impl Material {
     /// [`Error::InvalidParameter`] for an out-of-range parameter or wavelength.
     pub fn build(&self, wavelength_nm: f64) -> Result<crate::Model> {
         self.validate()?;
-        let fiber = Fiber::new(&self.fiber, wavelength_nm)?;
-        let structure = match &self.yarn {
-            None => Structure::Flat(fiber),
-            Some(y) => Structure::Woven {
-                yarn: Box::new(Yarn::new(fiber, *y)?),
-                weft_fraction: self.weft_fraction(),
-            },
+        self.build_with(Fiber::new(&self.fiber, wavelength_nm)?)
+    }
+
+    /// [`build`](Self::build) with its fiber already prepared (`fiber` must be built from
+    /// `self.fiber`: a fitter keeps the β tables of the roughnesses it has tried).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for an out-of-range yarn or gap.
+    pub fn build_with(&self, fiber: Fiber) -> Result<crate::Model> {
+        let structure = |m: &Material, fiber: Fiber| -> Result<Structure> {
+            Ok(match &m.yarn {
+                None => Structure::Flat(fiber),
+                Some(y) => Structure::Woven {
+                    yarn: Box::new(Yarn::new(fiber, *y)?),
+                    weft_fraction: m.weft_fraction(),
+                    gap: m.openness.gap,
+                },
+            })
         };
-        Ok(crate::Model::new(structure))
+        if !self.openness.transmission {
+            return Ok(crate::Model::new(structure(self, fiber)?));
+        }
+        let back = crate::Model::new(structure(&self.back(), fiber.clone())?);
+        crate::Model::new(structure(self, fiber)?).transmitting(self.openness.gap, back)
     }
 
     /// The names of the built-in presets, usable wherever a material file is: the paper's three
@@ -264,11 +336,19 @@ impl Material {
         ]
     }
 
+    /// The presets of open cloth that lets light through (`[weave] gap` and `transmission`:
+    /// docs/model.md, "Light through the yarns"): `cotton-voile`, a sheer.
+    pub fn open_preset_names() -> &'static [&'static str] {
+        &["cotton-voile"]
+    }
+
     /// Every built-in preset: [`preset_names`](Self::preset_names), then
-    /// [`grounded_preset_names`](Self::grounded_preset_names).
+    /// [`grounded_preset_names`](Self::grounded_preset_names), then
+    /// [`open_preset_names`](Self::open_preset_names).
     pub fn all_preset_names() -> Vec<&'static str> {
         let mut all = Self::preset_names().to_vec();
         all.extend_from_slice(Self::grounded_preset_names());
+        all.extend_from_slice(Self::open_preset_names());
         all
     }
 
@@ -283,6 +363,7 @@ impl Material {
             "silk-crepe-de-chine" => Some(include_str!("../presets/silk-crepe-de-chine.toml")),
             "linen-plain" => Some(include_str!("../presets/linen-plain.toml")),
             "silk-shot" => Some(include_str!("../presets/silk-shot.toml")),
+            "cotton-voile" => Some(include_str!("../presets/cotton-voile.toml")),
             _ => None,
         }
     }
@@ -350,6 +431,10 @@ mod file {
         weft_fraction: Option<f64>,
         #[serde(skip_serializing_if = "Option::is_none")]
         pattern: Option<toml::Value>,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        gap: f64,
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        transmission: bool,
     }
 
     impl RawYarn {
@@ -397,6 +482,13 @@ mod file {
     }
 
     impl RawWeave {
+        fn openness(&self) -> Openness {
+            Openness {
+                gap: self.gap,
+                transmission: self.transmission,
+            }
+        }
+
         fn into_weave(self, base: Option<&Path>) -> Result<Weave> {
             match (self.weft_fraction, self.pattern) {
                 (Some(_), Some(_)) => Err(Error::invalid(
@@ -417,13 +509,18 @@ mod file {
         }
 
         /// `inline`: write a WIF pattern as its matrix rather than its path.
-        fn from_weave(w: &Weave, inline: bool) -> Self {
+        fn from_weave(w: &Weave, openness: Openness, inline: bool) -> Self {
+            let Openness { gap, transmission } = openness;
             match w {
                 Weave::WeftFraction(g) => RawWeave {
                     weft_fraction: Some(*g),
                     pattern: None,
+                    gap,
+                    transmission,
                 },
                 Weave::Pattern { spec, pattern } => RawWeave {
+                    gap,
+                    transmission,
                     weft_fraction: None,
                     pattern: Some(match spec {
                         PatternSpec::Name(n) => toml::Value::String(n.clone()),
@@ -691,11 +788,16 @@ mod file {
                 path: origin.to_string(),
                 message: e.to_string().trim_end().to_string(),
             })?;
+            let openness = raw
+                .weave
+                .as_ref()
+                .map_or_else(Openness::default, RawWeave::openness);
             let material = Material {
                 name: raw.name,
                 fiber: raw.fiber.into_params()?,
                 yarn: raw.yarn.map(RawYarn::into_params).transpose()?,
                 weave: raw.weave.map(|w| w.into_weave(base)).transpose()?,
+                openness,
                 dye: raw.dye.map_or_else(Dye::default, |d| Dye {
                     weft: d.weft.map(Rgb),
                     warp: d.warp.map(Rgb),
@@ -766,7 +868,10 @@ mod file {
                 name: self.name.clone(),
                 fiber: RawFiber::from_params(&self.fiber),
                 yarn: self.yarn.as_ref().map(RawYarn::from_params),
-                weave: self.weave.as_ref().map(|w| RawWeave::from_weave(w, inline)),
+                weave: self
+                    .weave
+                    .as_ref()
+                    .map(|w| RawWeave::from_weave(w, self.openness, inline)),
                 dye: (!self.dye.is_none()).then(|| RawDye {
                     weft: self.dye.weft.map(|c| c.0),
                     warp: self.dye.warp.map(|c| c.0),

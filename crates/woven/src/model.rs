@@ -3,29 +3,195 @@
 use crate::cloth::{tilted_families, weave_axes, Structure};
 use crate::color::Rgb;
 use crate::fiber::Fiber;
+use crate::gaps::{Cover, YarnSection};
 use crate::material::Dye;
 use crate::math::Vec3;
 use crate::table::Albedos;
+use crate::translucency::{face, slab_transmitted_share, Translucency, YARN_SCATTERING_DEPTH};
 use crate::yarn::Masking;
+use std::sync::{Arc, OnceLock};
 
 /// A material ready to evaluate: the result of [`Material::build`](crate::material::Material::build).
 /// `Send + Sync`; cheap to clone.
 #[derive(Clone, Debug)]
 pub struct Model {
     structure: Structure,
+    /// The light through the cloth, when its `transmission` is on.
+    through: Option<Arc<Through>>,
+}
+
+/// What a transmitting model passes and transmits (docs/model.md, "Light through the yarns").
+#[derive(Debug)]
+struct Through {
+    /// The yarns' cross-section, for the open area.
+    section: YarnSection,
+    /// `τ`: the share of what enters the yarns that leaves on the far side.
+    tau: f64,
+    /// The cloth's back ([`Material::back`](crate::material::Material::back)), opaque: what it
+    /// reflects seen from below, in its own frame.
+    back: Model,
+    /// `r(w)`'s table, worked out when a transmitted direction is first asked for.
+    table: OnceLock<Translucency>,
 }
 
 impl Model {
     /// A model of the given structure.
     pub fn new(structure: Structure) -> Self {
-        Model { structure }
+        Model {
+            structure,
+            through: None,
+        }
     }
 
-    /// The BRDF (sr⁻¹, no cosine) for light from `s` seen from `v`, in the cloth's local frame
-    /// (docs/spec.md §0); 0 when either is below the surface.
+    /// The model with light passing through it (`[weave] transmission`): between its yarns,
+    /// which leave `gap` of their pitch open (the structure's own gap), and through them, a
+    /// Kubelka–Munk slab of the fibre's body albedo `ρ0` ([`crate::translucency`]). `back` is
+    /// the cloth seen from below, opaque ([`Material::back`](crate::material::Material::back)):
+    /// its reflection there, in its own frame.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) naming `transmission` for a
+    /// flat fiber surface, which has no yarns to pass light through or between.
+    pub fn transmitting(self, gap: f64, back: Model) -> crate::Result<Model> {
+        if matches!(self.structure, Structure::Flat(_)) {
+            return Err(crate::Error::invalid(
+                "transmission",
+                "true with a flat fiber surface",
+                "false: a flat fiber surface (no [yarn]) has no yarns to pass light through",
+            ));
+        }
+        let tau = slab_transmitted_share(self.fiber().params().diffuse, YARN_SCATTERING_DEPTH);
+        Ok(Model {
+            through: Some(Arc::new(Through {
+                section: YarnSection::new(gap)?,
+                tau,
+                back,
+                table: OnceLock::new(),
+            })),
+            ..self
+        })
+    }
+
+    /// Whether light passes through the cloth ([`transmitting`](Self::transmitting)).
+    pub fn transmits(&self) -> bool {
+        self.through.is_some()
+    }
+
+    /// The BSDF (sr⁻¹, no cosine) for light from `s` seen from `v`, in the cloth's local frame
+    /// (docs/spec.md §0). An opaque cloth's is its BRDF, 0 when either is below the surface. A
+    /// transmitting cloth ([`transmitting`](Self::transmitting)) transmits between the sides
+    /// (the diffuse part: the light straight through its gaps is the delta
+    /// [`open_along`](Self::open_along)), and its back reflects as the back's cloth
+    /// ([`Material::back`](crate::material::Material::back)) turned over about the weft.
     #[inline]
     pub fn eval(&self, s: Vec3, v: Vec3) -> f64 {
-        self.structure.eval(s, v)
+        if (s.z > 0.0 && v.z > 0.0) || self.through.is_none() {
+            return self.structure.eval(s, v);
+        }
+        self.eval_beyond(s, v)
+    }
+
+    /// [`eval`](Self::eval) of a transmitting cloth where a direction lies below it.
+    #[cold]
+    fn eval_beyond(&self, s: Vec3, v: Vec3) -> f64 {
+        let Some(through) = &self.through else {
+            return 0.0;
+        };
+        if s.z < 0.0 && v.z < 0.0 {
+            return through.back.eval(face(s), face(v));
+        }
+        if s.z == 0.0 || v.z == 0.0 {
+            return 0.0;
+        }
+        through.tau * self.translucency(through).eval(s, v).0[0]
+    }
+
+    /// [`eval_rgb`](Self::eval_rgb) of a transmitting cloth where a direction lies below it: the
+    /// back reflects as its own cloth turned over, and the light through the yarns is each
+    /// channel's `τ` (from its dyed `ρ0`, the families' mixed by their shares) times the undyed
+    /// cloth's `r(wi) r(wo) / (π r̄)`. The dye's change of the reflection albedo `A` is not
+    /// carried into `r`: exact undyed, an approximation dyed (docs/model.md).
+    pub fn eval_rgb_beyond(&self, s: Vec3, v: Vec3, dye: &Dye) -> Rgb {
+        let Some(through) = &self.through else {
+            return Rgb::BLACK;
+        };
+        if s.z < 0.0 && v.z < 0.0 {
+            return through.back.eval_rgb(face(s), face(v), dye);
+        }
+        if s.z == 0.0 || v.z == 0.0 {
+            return Rgb::BLACK;
+        }
+        let f = self.translucency(through).eval(s, v).0[0];
+        Rgb(self.dyed_tau(dye).map(|tau| tau * f))
+    }
+
+    /// `τ` per channel of the cloth dyed `dye`: each family's dyed `ρ0` as a slab's, mixed by
+    /// the families' shares of the cloth.
+    fn dyed_tau(&self, dye: &Dye) -> [f64; 3] {
+        let own = self.own_albedos();
+        let (weft, warp) = (own.dyed(dye.weft), own.dyed(dye.warp));
+        let g = match &self.structure {
+            Structure::Woven { weft_fraction, .. } => *weft_fraction,
+            Structure::Flat(_) => 1.0,
+        };
+        let tau =
+            |a: crate::table::Albedos| slab_transmitted_share(a.diffuse, YARN_SCATTERING_DEPTH);
+        std::array::from_fn(|c| g * tau(weft[c]) + (1.0 - g) * tau(warp[c]))
+    }
+
+    /// The table of `r(w)`, worked out on first use from the exact albedo.
+    fn translucency<'a>(&'a self, through: &'a Through) -> &'a Translucency {
+        through.table.get_or_init(|| {
+            Translucency::from_albedo(
+                |_, w| [self.albedo_along(w); 3],
+                |w| self.open_along(w),
+                true,
+            )
+        })
+    }
+
+    /// The share of light along `d` (either side) that passes straight between the yarns: the
+    /// open area ([`open_area`](crate::gaps::open_area)); 0 for an opaque cloth.
+    pub fn open_along(&self, d: Vec3) -> f64 {
+        match &self.through {
+            Some(t) if d.z != 0.0 => t.section.open(d.y / d.z) * t.section.open(d.x / d.z),
+            _ => 0.0,
+        }
+    }
+
+    /// Where the light from `(theta_i, phi_i)` goes ([`Budget`]): what the cloth reflects (its
+    /// [`albedo`](Self::albedo)), what passes straight between its yarns
+    /// ([`open_along`](Self::open_along)) and what its yarns transmit, `τ (1 − O − A)`; the rest
+    /// the dye absorbs. An opaque cloth passes and transmits nothing.
+    pub fn budget(&self, theta_i: f64, phi_i: f64) -> Budget {
+        let reflected = self.albedo(theta_i, phi_i);
+        let Some(through) = &self.through else {
+            return Budget {
+                reflected,
+                passed: 0.0,
+                transmitted: 0.0,
+            };
+        };
+        let passed = self.open_along(Vec3::from_spherical(theta_i, phi_i));
+        Budget {
+            reflected,
+            passed,
+            transmitted: through.tau * (1.0 - passed - reflected).max(0.0),
+        }
+    }
+
+    /// All the light from `(theta_i, phi_i)` that reaches the far side: [`Budget::transmittance`]
+    /// of [`budget`](Self::budget); 0 for an opaque cloth.
+    pub fn transmittance(&self, theta_i: f64, phi_i: f64) -> f64 {
+        if self.through.is_none() {
+            return 0.0;
+        }
+        self.budget(theta_i, phi_i).transmittance()
+    }
+
+    /// The reflection albedo along `w` (upper hemisphere).
+    fn albedo_along(&self, w: Vec3) -> f64 {
+        self.albedo(w.z.clamp(-1.0, 1.0).acos(), w.y.atan2(w.x))
     }
 
     /// The BRDF at `(s, v)` as the affine function of the material's two albedos that it is:
@@ -69,7 +235,8 @@ impl Model {
             Structure::Woven {
                 yarn,
                 weft_fraction,
-            } => yarn.eval_mix_affine(s, v, &weave_axes(*weft_fraction), Masking::Exact),
+                gap,
+            } => yarn.eval_mix_affine(s, v, &weave_axes(*weft_fraction, *gap), Masking::Exact),
         }
     }
 
@@ -115,15 +282,28 @@ impl Model {
             Structure::Woven {
                 yarn,
                 weft_fraction,
+                gap,
             } if yarn.params().u_max > 0.0 => {
-                tilted_families(yarn, *weft_fraction, s, v, |y, a, b, w| {
+                let cover = Cover::new(*weft_fraction, *gap);
+                let mut families = tilted_families(yarn, cover.top, s, v, |y, a, b, w| {
                     y.eval_mix_affine(a, b, &[(0.0, w)], Masking::Exact)
-                })
+                });
+                if *gap > 0.0 {
+                    // The share below the crossing family's gaps lies flat.
+                    let axes = [0.0, std::f64::consts::FRAC_PI_2]
+                        .into_iter()
+                        .zip(cover.below);
+                    for (family, (phi, w)) in families.iter_mut().zip(axes) {
+                        *family += yarn.eval_mix_affine(s, v, &[(phi, w)], Masking::Exact);
+                    }
+                }
+                families
             }
             Structure::Woven {
                 yarn,
                 weft_fraction,
-            } => weave_axes(*weft_fraction)
+                gap,
+            } => weave_axes(*weft_fraction, *gap)
                 .map(|axis| yarn.eval_mix_affine(s, v, &[axis], Masking::Exact)),
         }
     }
@@ -157,6 +337,24 @@ impl Model {
             Structure::Flat(fiber) => fiber.albedo(theta_i.cos()),
             Structure::Woven { .. } => crate::albedo::hemisphere_albedo(self, theta_i, phi_i),
         }
+    }
+}
+
+/// Where the light arriving from one direction goes ([`Model::budget`]), as shares of it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Budget {
+    /// Reflected: the directional albedo `A`.
+    pub reflected: f64,
+    /// Passed straight between the yarns: the open area `O`.
+    pub passed: f64,
+    /// Transmitted diffusely through the yarns: `τ (1 − O − A)`.
+    pub transmitted: f64,
+}
+
+impl Budget {
+    /// All that reaches the far side: passed and transmitted.
+    pub fn transmittance(&self) -> f64 {
+        self.passed + self.transmitted
     }
 }
 

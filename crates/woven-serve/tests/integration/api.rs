@@ -353,7 +353,7 @@ async fn the_views_are_the_library_s_numbers() {
     // The finest map equals woven::figures::hemisphere::evaluate, node for node.
     let hemi = msgs.iter().rfind(|m| m["kind"] == "hemisphere").unwrap();
     assert_eq!(hemi["n"], 64);
-    let want = woven::figures::hemisphere::evaluate(&model, s, 64, |_| {});
+    let want = woven::figures::hemisphere::evaluate(&model, s, 64, Default::default(), |_| {});
     for (got, want) in hemi["values"].as_array().unwrap().iter().zip(&want.values) {
         match got.as_f64() {
             // serde_json's default float parser may be one unit in the last place off.

@@ -66,6 +66,7 @@ fn main() -> Result<(), woven::Error> {
         let white = Model::new(Structure::Woven {
             yarn: Box::new(Yarn::new(f.clone().with_unit_fresnel(), params)?),
             weft_fraction: m.weft_fraction(),
+            gap: 0.0,
         });
         failures += check(&format!("{name}, unit Fresnel"), &white, |_| 0.25);
     }

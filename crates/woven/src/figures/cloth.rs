@@ -161,7 +161,7 @@ pub fn masking_factors(material: &Material, tilts_deg: &[f64]) -> Result<Vec<Mas
 /// ([`Yarn::eval_mix_unmasked`]), for single-orientation yarns.
 fn unmasked_radiance(material: &Material, azimuth_deg: f64, tilts_deg: &[f64]) -> Result<Vec<f64>> {
     let (yarn, _) = visible_yarn(material)?;
-    let axes = weave_axes(material.weft_fraction());
+    let axes = weave_axes(material.weft_fraction(), material.openness.gap);
     Ok(tilts_deg
         .par_iter()
         .map(|&t| {

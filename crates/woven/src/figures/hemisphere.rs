@@ -43,6 +43,29 @@ pub fn view_direction(x: f64, y: f64) -> Vec3 {
     Vec3::new(x, y, (1.0 - x * x - y * y).max(0.0).sqrt())
 }
 
+/// Which hemisphere of view directions a grid covers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Side {
+    /// Above the cloth: what it reflects.
+    #[default]
+    Above,
+    /// Below the cloth, seen from above through it (disc point `(x, y)` is the direction
+    /// `(x, y, −√(1 − x² − y²))`): what a cloth that lets light through transmits.
+    Below,
+}
+
+impl Side {
+    /// The view direction at disc point `(x, y)` on this side ([`view_direction`], mirrored
+    /// below the cloth's plane for [`Side::Below`]).
+    pub fn view(self, x: f64, y: f64) -> Vec3 {
+        let v = view_direction(x, y);
+        match self {
+            Side::Above => v,
+            Side::Below => Vec3::new(v.x, v.y, -v.z),
+        }
+    }
+}
+
 /// Whether node `(row, col)` of an `n`-grid can take part in interpolating a point of the disc:
 /// it lies within one grid diagonal of the unit circle.
 fn needed(row: usize, col: usize, n: usize) -> bool {
@@ -59,7 +82,7 @@ pub fn nodes_needed(n: usize) -> u64 {
 
 /// Evaluates `model` (any single-valued BSDF: a woven [`Model`](crate::Model), a table, a
 /// colour BSDF's [`Luminance`](crate::catalog::Luminance)) for light from `s` at the nodes of
-/// an `n × n` grid, rows in parallel;
+/// an `n × n` grid of view directions on `side`, rows in parallel;
 /// `progress` is called with the number of nodes each finished row computed (from any thread).
 ///
 /// # Panics
@@ -68,12 +91,13 @@ pub fn evaluate<B: Bsdf<Value = f64> + ?Sized>(
     model: &B,
     s: Vec3,
     n: usize,
+    side: Side,
     progress: impl Fn(u64) + Sync,
 ) -> Grid {
     assert!(n >= 2, "a grid needs at least 2 nodes per side");
     let mut values = vec![f64::NAN; n * n];
     values.par_chunks_mut(n).enumerate().for_each(|(row, out)| {
-        progress(evaluate_row(model, s, n, row, out));
+        progress(evaluate_row(model, s, n, row, side, out));
     });
     Grid { n, values }
 }
@@ -89,6 +113,7 @@ pub fn evaluate_row<B: Bsdf<Value = f64> + ?Sized>(
     s: Vec3,
     n: usize,
     row: usize,
+    side: Side,
     out: &mut [f64],
 ) -> u64 {
     assert!(out.len() == n && row < n, "row {row} of an {n}-grid");
@@ -96,7 +121,7 @@ pub fn evaluate_row<B: Bsdf<Value = f64> + ?Sized>(
     let mut done = 0;
     for (col, value) in out.iter_mut().enumerate() {
         if needed(row, col, n) {
-            *value = model.eval(s, view_direction(centre(col, n), y));
+            *value = model.eval(s, side.view(centre(col, n), y));
             done += 1;
         }
     }
@@ -171,7 +196,7 @@ mod tests {
         let m = model();
         let s = Vec3::from_spherical(0.6, 0.3);
         let n = 24;
-        let grid = evaluate(&m, s, n, |_| {});
+        let grid = evaluate(&m, s, n, Side::Above, |_| {});
         let image = grid.upsample(n);
         for row in 0..n {
             for col in 0..n {
@@ -223,7 +248,7 @@ mod tests {
             .unwrap();
         let s = Vec3::from_spherical(40f64.to_radians(), 0.0);
         let n = 64;
-        let grid = evaluate(&m, s, n, |_| {});
+        let grid = evaluate(&m, s, n, Side::Above, |_| {});
         let best = (0..n * n)
             .filter(|&k| grid.values[k].is_finite())
             .max_by(|&a, &b| grid.values[a].total_cmp(&grid.values[b]))

@@ -201,7 +201,7 @@ pub const SURFACE_KEYS: &[SurfaceKey] = &[
     },
     SurfaceKey {
         name: "gap",
-        default: Text::Words("0"),
+        default: Text::Words("the material's [weave] gap, else 0 (yarns fill their cells)"),
         valid: Text::Made(|| {
             format!("a fraction in [0, {MAX_GAP}]; 0 for a flat fiber surface (no [yarn])")
         }),
@@ -252,7 +252,7 @@ pub const SURFACE_KEYS: &[SurfaceKey] = &[
     },
     SurfaceKey {
         name: "transmission",
-        default: Text::Words("false"),
+        default: Text::Words("the material's [weave] transmission, else false (opaque)"),
         valid: Text::Words("true or false"),
         meaning: Text::Words(
             "let light through the cloth: straight through the share of the gaps left open \

@@ -322,20 +322,19 @@ impl WovenSurface {
     /// over `(1 − gap)` of its cells' width (a whole float when floats tilt), and seen flat in
     /// the other family's gaps where it is not itself in a gap.
     fn push_macro(&self, mix: &mut LobeMix, g: f64, scale: f64) {
-        let gap = self.gap;
-        if gap == 0.0 && self.u_max == 0.0 {
-            mix.push(false, Tilt::Flat, scale * g);
-            mix.push(true, Tilt::Flat, scale * (1.0 - g));
+        let cover = crate::gaps::Cover::new(g, self.gap);
+        if self.gap == 0.0 && self.u_max == 0.0 {
+            mix.push(false, Tilt::Flat, scale * cover.top[0]);
+            mix.push(true, Tilt::Flat, scale * cover.top[1]);
             return;
         }
-        let top = [(1.0 - gap) * g, (1.0 - gap) * (1.0 - g)];
-        let below = [gap * (1.0 - gap) * (1.0 - g), gap * (1.0 - gap) * g];
+        let total = cover.total();
         for (k, warp) in [false, true].into_iter().enumerate() {
             if self.u_max == 0.0 {
-                mix.push(warp, Tilt::Flat, scale * (top[k] + below[k]));
+                mix.push(warp, Tilt::Flat, scale * total[k]);
             } else {
-                mix.push(warp, Tilt::Float, scale * top[k]);
-                mix.push(warp, Tilt::Flat, scale * below[k]);
+                mix.push(warp, Tilt::Float, scale * cover.top[k]);
+                mix.push(warp, Tilt::Flat, scale * cover.below[k]);
             }
         }
     }

@@ -32,7 +32,7 @@ impl WovenSurface {
     /// worked out on first use (a fraction of a second).
     pub fn translucency(&self) -> &super::translucent::Translucency {
         self.translucency
-            .get_or_init(|| super::translucent::Translucency::of(self))
+            .get_or_init(|| super::translucent::of(self))
     }
 
     /// The cloth level's open area along `d` (either side): `O(d)`, 0 where the surface does

@@ -111,21 +111,34 @@ pub struct SurfaceSpec {
 impl SurfaceSpec {
     /// `material` with [`DEFAULT_YARNS_PER_UNIT`] pattern cells per unit of uv, its own colours
     /// (its `[dye]`, if any), its own float tilt (`[yarn] u_max_deg`, 0 for the paper's flat
-    /// yarns), no gaps, [`Detail::Auto`], no irregularity: the defaults of [`SURFACE_KEYS`](super::SURFACE_KEYS).
+    /// yarns), its own gaps and transmission (`[weave] gap` and `transmission`: none for the
+    /// paper's opaque cloth), [`Detail::Auto`], no irregularity: the defaults of
+    /// [`SURFACE_KEYS`](super::SURFACE_KEYS).
     pub fn new(material: Material) -> SurfaceSpec {
         let dye = material.dye;
         let u_max = material.yarn.map_or(0.0, |y| y.u_max);
+        let open = material.openness;
         SurfaceSpec {
             material,
             yarns_per_unit: [DEFAULT_YARNS_PER_UNIT; 2],
             weft_color: dye.weft,
             warp_color: dye.warp,
             u_max,
-            gap: 0.0,
+            gap: open.gap,
             detail: Detail::Auto,
             irregularity: Irregularity::default(),
             relief: false,
-            transmission: false,
+            transmission: open.transmission,
+        }
+    }
+
+    /// The same surface seen from its back: its material's back
+    /// ([`Material::back`](crate::material::Material::back): the pattern's complement), all else
+    /// the same. Its cells lie where the front's do, and its holes too.
+    pub fn back(&self) -> SurfaceSpec {
+        SurfaceSpec {
+            material: self.material.back(),
+            ..self.clone()
         }
     }
 

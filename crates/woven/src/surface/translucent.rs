@@ -1,177 +1,43 @@
-//! Light through the yarns ([`SurfaceSpec::transmission`](super::SurfaceSpec)): what enters
-//! the yarns and leaves on the far side, a diffuse lobe that closes each direction's energy
-//! (docs/model.md, "Light through the yarns").
-//!
-//! Of the light arriving along `w`, the cloth reflects its directional albedo `A(w)` (the
-//! surface's own cloth-level BRDF, integrated) and passes `O(w)` through its gaps
-//! ([`open_area`](crate::gaps::open_area)). The rest, `r(w) = 1 − O(w) − A(w)`, enters the yarns.
-//! A share `τ` of it leaves on the far side; the rest the dye absorbs. It leaves diffusely, in
-//! the symmetric form
-//!
-//! ```text
-//! f_t(wi, wo) = τ r(wi) r(wo) / (π r̄),    r̄ = ∫ r(w) cos θ dω / π,
-//! ```
-//!
-//! so the light transmitted from `wi` is exactly `τ r(wi)`, and `f_t(wi, wo) = f_t(wo, wi)`: a
-//! thin sheet's reciprocity. Reflected, passed, transmitted and absorbed light add to what
-//! arrives, and a white fibre that absorbs nothing (`τ = 1`) transmits all it neither reflects
-//! nor passes.
-//!
-//! **The share `τ`** is a Kubelka–Munk slab's: a layer of fibres whose reflectance when
-//! infinitely thick is the dyed body albedo `ρ0` (what the paper's `ρ0` is: the light a fibre
-//! mass sends back), so its absorption over scattering is `K/S = (1 − ρ0)² / (2ρ0)`, at a
-//! scattering depth `S X` of [`YARN_SCATTERING_DEPTH`]. Of what enters it the slab transmits `T`
-//! and reflects `R`; `τ = T / (1 − R)` is the share of what it does not send back that leaves
-//! on the far side. White fibres give `τ = 1`, black ones 0. Per channel, the two families'
-//! dyes are mixed by their shares of the weave.
-//!
-//! **Departures.** The paper's cloth is opaque; this is an option beyond it. The transmitted
-//! light is diffuse (no forward lobe about the yarn), the slab's depth a stated constant, not a
-//! fitted one, and the reflection is the paper's, not the slab's (it stays what `woven eval`,
-//! the tables and the fits are). At the yarn level a yarn transmits `1 / (1 − gap²)` of the
-//! cloth's `f_t` and a hole nothing (it passes light straight through instead), so a cell
-//! averages to the cloth's. The back of the cloth is its front turned over about the weft.
+//! The light through a surface's yarns ([`SurfaceSpec::transmission`](super::SurfaceSpec)): the
+//! cloth's [`Translucency`] with the albedo `A(w)` of the surface's own cloth-level BRDF, by its
+//! own sampling (docs/model.md, "Light through the yarns"). At the yarn level a yarn transmits
+//! `1 / (1 − gap²)` of the cloth's `f_t` and a hole nothing (it passes light straight through
+//! instead), so a cell averages to the cloth's.
 
 use super::{SurfacePoint, WovenSurface};
 use crate::bsdf::Transport;
 use crate::color::Rgb;
-use crate::Vec3;
-use std::f64::consts::PI;
+pub use crate::translucency::{slab_transmitted_share, Translucency, YARN_SCATTERING_DEPTH};
 
-/// The scattering depth `S X` of the Kubelka–Munk slab a yarn is taken to be (module docs):
-/// white fibres at this depth reflect `SX / (1 + SX)` = 2/3 of what enters them as a slab.
-pub const YARN_SCATTERING_DEPTH: f64 = 2.0;
-
-/// The polar nodes of the albedo table: cosine-weighted midpoints (`cos² θ` evenly spaced).
-const N_MU: usize = 16;
-/// The azimuthal nodes of the albedo table, over the whole turn.
-const N_PHI: usize = 24;
 /// Stratified draws per node of the albedo table (the reflection's own sampling).
 const DRAWS: usize = 256;
 
-/// The cloth's reflection albedo `A(w)` per channel over the hemisphere, and what `f_t` needs
-/// of it (module docs).
-#[derive(Clone, Debug)]
-pub struct Translucency {
-    /// `r(w) = 1 − O(w) − A(w)` per channel at each node, `[mu][phi]`.
-    rest: Vec<[f64; 3]>,
-    /// `r̄` per channel.
-    mean: [f64; 3],
-}
-
-/// A Kubelka–Munk slab's share of what it does not reflect that it transmits, for an infinite
-/// reflectance `rho` and scattering depth `depth` (module docs): 1 for `rho` = 1, 0 for 0.
-pub fn slab_transmitted_share(rho: f64, depth: f64) -> f64 {
-    if rho <= 0.0 {
-        return 0.0;
-    }
-    let ks = (1.0 - rho).powi(2) / (2.0 * rho);
-    let a = 1.0 + ks;
-    let b = (a * a - 1.0).max(0.0).sqrt();
-    if b * depth < 1e-8 {
-        // K → 0: R = SX / (1 + SX), T = 1 / (1 + SX), and T / (1 − R) = 1.
-        return 1.0;
-    }
-    let (sh, ch) = ((b * depth).sinh(), (b * depth).cosh());
-    let den = a * sh + b * ch;
-    let (r, t) = (sh / den, b / den);
-    (t / (1.0 - r)).clamp(0.0, 1.0)
-}
-
-impl Translucency {
-    /// `surface`'s table: its cloth-level BRDF's albedo by its own sampling, `DRAWS`
-    /// stratified draws a node.
-    pub fn of(surface: &WovenSurface) -> Translucency {
-        let far = SurfacePoint {
-            uv: [0.0; 2],
-            footprint: [[1e6, 0.0], [0.0, 1e6]],
-        };
-        let bsdf = surface.at(&far);
-        let mut rest = Vec::with_capacity(N_MU * N_PHI);
-        let mut mean = [0.0; 3];
-        let side = (DRAWS as f64).sqrt().ceil() as usize;
-        let mut lobe = crate::math::rng::SplitMix(0x5eed);
-        for k in 0..N_MU {
-            for j in 0..N_PHI {
-                let w = node(k, j);
-                let mut albedo = Rgb::BLACK;
-                for s in 0..side * side {
-                    let u = [
-                        ((s % side) as f64 + 0.5) / side as f64,
-                        ((s / side) as f64 + 0.5) / side as f64,
-                    ];
-                    // The lobe's choice independent of the direction's stratum.
-                    let uc = lobe.uniform();
-                    if let Some(d) = bsdf.sample_reflection(w, uc, u, Transport::Importance) {
-                        albedo += d.f * (d.wo.z / d.pdf);
-                    }
-                }
-                albedo *= 1.0 / (side * side) as f64;
-                let open = surface.open_along(w);
-                let r = albedo.0.map(|a| (1.0 - open - a).max(0.0));
-                for c in 0..3 {
-                    mean[c] += r[c] / (N_MU * N_PHI) as f64;
-                }
-                rest.push(r);
+/// `surface`'s table: its cloth-level BRDF's albedo by its own sampling, `DRAWS` stratified
+/// draws a node, the lobe's choice from a stream of its own per node.
+pub(super) fn of(surface: &WovenSurface) -> Translucency {
+    let far = SurfacePoint {
+        uv: [0.0; 2],
+        footprint: [[1e6, 0.0], [0.0, 1e6]],
+    };
+    let bsdf = surface.at(&far);
+    let side = (DRAWS as f64).sqrt().ceil() as usize;
+    let albedo = |node: usize, w: crate::Vec3| {
+        let mut lobe = crate::math::rng::SplitMix(0x5eed ^ (node as u64).wrapping_mul(0x9e37_79b9));
+        let mut albedo = Rgb::BLACK;
+        for s in 0..side * side {
+            let u = [
+                ((s % side) as f64 + 0.5) / side as f64,
+                ((s / side) as f64 + 0.5) / side as f64,
+            ];
+            // The lobe's choice independent of the direction's stratum.
+            let uc = lobe.uniform();
+            if let Some(d) = bsdf.sample_reflection(w, uc, u, Transport::Importance) {
+                albedo += d.f * (d.wo.z / d.pdf);
             }
         }
-        Translucency { rest, mean }
-    }
-
-    /// `r(w)` per channel, `w` in the upper hemisphere: bilinear in `cos² θ` and `φ`.
-    fn rest(&self, w: Vec3) -> [f64; 3] {
-        let mu2 = (w.z * w.z).clamp(0.0, 1.0);
-        let x = (mu2 * N_MU as f64 - 0.5).clamp(0.0, (N_MU - 1) as f64);
-        let (k0, fx) = (x.floor() as usize, x.fract());
-        let k1 = (k0 + 1).min(N_MU - 1);
-        let phi = w.y.atan2(w.x).rem_euclid(2.0 * PI) / (2.0 * PI) * N_PHI as f64 - 0.5;
-        let phi = phi.rem_euclid(N_PHI as f64);
-        let (j0, fy) = (phi.floor() as usize % N_PHI, phi.fract());
-        let j1 = (j0 + 1) % N_PHI;
-        let at = |k: usize, j: usize| self.rest[k * N_PHI + j];
-        std::array::from_fn(|c| {
-            let lo = at(k0, j0)[c] * (1.0 - fy) + at(k0, j1)[c] * fy;
-            let hi = at(k1, j0)[c] * (1.0 - fy) + at(k1, j1)[c] * fy;
-            lo * (1.0 - fx) + hi * fx
-        })
-    }
-
-    /// `f_t(wi, wo)` per channel without `τ` (module docs), `wi` and `wo` on opposite sides: each
-    /// taken to its own face's frame (the back's is the front's turned over about the weft).
-    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
-        let (a, b) = (self.rest(face(wi)), self.rest(face(wo)));
-        Rgb(std::array::from_fn(|c| {
-            if self.mean[c] > 0.0 {
-                a[c] * b[c] / (PI * self.mean[c])
-            } else {
-                0.0
-            }
-        }))
-    }
-
-    /// The light transmitted from `w` (without `τ`): `r(w)` per channel.
-    pub fn transmitted(&self, w: Vec3) -> Rgb {
-        Rgb(self.rest(face(w)))
-    }
-}
-
-/// `w` in the frame of the face it lies on: itself above, and below the back's frame, the
-/// front's turned over about the weft (`y` and `z` reversed).
-fn face(w: Vec3) -> Vec3 {
-    if w.z >= 0.0 {
-        w
-    } else {
-        Vec3::new(w.x, -w.y, -w.z)
-    }
-}
-
-/// The table's node `(k, j)`: `cos² θ` at the middle of its `k`-th of `N_MU` bins, `φ` at the
-/// middle of its `j`-th of `N_PHI`.
-fn node(k: usize, j: usize) -> Vec3 {
-    let mu = ((k as f64 + 0.5) / N_MU as f64).sqrt();
-    let phi = (j as f64 + 0.5) / N_PHI as f64 * 2.0 * PI;
-    let s = (1.0 - mu * mu).max(0.0).sqrt();
-    Vec3::new(s * phi.cos(), s * phi.sin(), mu)
+        (albedo * (1.0 / (side * side) as f64)).0
+    };
+    Translucency::from_albedo(albedo, |w| surface.open_along(w), false)
 }
 
 #[cfg(test)]
@@ -181,6 +47,8 @@ mod tests {
     use crate::material::{Material, Weave};
     use crate::math::sampling::cosine_hemisphere;
     use crate::surface::SurfaceSpec;
+    use crate::Vec3;
+    use std::f64::consts::PI;
 
     /// A plain linen of `gap`, dyed `dye`, transmission on.
     fn surface(gap: f64, dye: f64) -> WovenSurface {
@@ -273,20 +141,5 @@ mod tests {
             through += usize::from(d.wi.z < 0.0);
         }
         assert!(through > 20 && through < 380, "{through}");
-    }
-
-    #[test]
-    fn the_slab_passes_all_for_white_nothing_for_black_and_falls_between() {
-        assert_eq!(slab_transmitted_share(1.0, 2.0), 1.0);
-        assert_eq!(slab_transmitted_share(0.0, 2.0), 0.0);
-        let mut last = 0.0;
-        for k in 1..=20 {
-            let t = slab_transmitted_share(k as f64 / 20.0, YARN_SCATTERING_DEPTH);
-            assert!(t > last && t <= 1.0, "{k}: {t}");
-            last = t;
-        }
-        // Kubelka–Munk at K = 0: T = 1 / (1 + SX) of all, R = SX / (1 + SX), so τ = 1 — and
-        // just below, continuous.
-        assert!((slab_transmitted_share(0.999_999, 2.0) - 1.0).abs() < 1e-3);
     }
 }

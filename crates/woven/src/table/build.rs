@@ -110,11 +110,12 @@ fn tabulate<const K: usize>(
     let parts = |f: f64, per_diffuse: f64| -> [f64; K] {
         std::array::from_fn(|k| if k == 0 { f } else { per_diffuse })
     };
-    let (yarn, weft_fraction) = match model.structure() {
+    let (yarn, weft_fraction, gap) = match model.structure() {
         Structure::Woven {
             yarn,
             weft_fraction,
-        } if !yarn.is_single_orientation() => (&**yarn, *weft_fraction),
+            gap,
+        } if !yarn.is_single_orientation() => (&**yarn, *weft_fraction, *gap),
         _ => {
             return fill(theta, phi, t, progress, |half, a| {
                 move |o| {
@@ -154,7 +155,7 @@ fn tabulate<const K: usize>(
     let n = options.azimuth_nodes;
     let weights = yarn
         .orientation()
-        .midpoint_weights(n, &crate::cloth::weave_axes(weft_fraction));
+        .midpoint_weights(n, &crate::cloth::weave_axes(weft_fraction, gap));
     let stage2 = Share {
         progress,
         index: 1,

@@ -93,6 +93,7 @@ fn woven(yarn: Yarn, gamma: f64) -> Model {
     Model::new(Structure::Woven {
         yarn: Box::new(yarn),
         weft_fraction: gamma,
+        gap: 0.0,
     })
 }
 

@@ -17,6 +17,7 @@ mod material_files;
 mod microcylinder;
 mod relief;
 mod robustness;
+mod sheer;
 mod surface;
 mod surface_keys;
 mod table;

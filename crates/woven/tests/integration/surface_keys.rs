@@ -102,7 +102,16 @@ fn surface_keys_state_the_defaults_surface_spec_lays() {
     let spec = SurfaceSpec::new(Material::preset("polyester-sateen").unwrap());
     assert_eq!(DEFAULT_YARNS_PER_UNIT, 40.0);
     assert_eq!(spec.yarns_per_unit, [number("yarns_per_unit"); 2]);
-    assert_eq!(spec.gap, number("gap"));
+    // The gap and the transmission are the material's own (`[weave]`), else none.
+    assert!(key("gap")
+        .default()
+        .starts_with("the material's [weave] gap, else 0"));
+    assert!(key("transmission")
+        .default()
+        .starts_with("the material's [weave] transmission, else false"));
+    assert_eq!((spec.gap, spec.transmission), (0.0, false));
+    let voile = SurfaceSpec::new(Material::preset("cotton-voile").unwrap());
+    assert_eq!((voile.gap, voile.transmission), (0.5, true));
     assert_eq!(spec.irregularity.spread, [number("irregularity"); 2]);
     assert_eq!(spec.irregularity.length, number("irregularity_length"));
     assert_eq!(spec.irregularity, Irregularity::default());
