@@ -84,8 +84,10 @@ export WOVEN OUT
 export XDG_CACHE_HOME=$PWD/$OUT/cache
 export_preset() {
   local p=$1
-  # Both formats from one projection (--also-output): the projection is most of the time.
-  "$WOVEN" export --format openpbr -m "$p" --draft-tables --texels-per-cell 8 \
+  # Both formats from one projection (--also-output): the projection is most of the time. A
+  # sheer is exported with --transmission false (these formats carry no transmission yet, and
+  # refuse it otherwise): its reflection, its holes black.
+  "$WOVEN" export --format openpbr -m "$p" --draft-tables --texels-per-cell 8 --transmission false \
       -o "$OUT/openpbr/$p.mtlx" --also-output "$OUT/gltf/$p.gltf" >"$OUT/logs/$p.log" 2>&1 \
     || { cat "$OUT/logs/$p.log" >&2; echo "error: exporting $p failed" >&2; return 1; }
   echo "exported $p: $(grep -o 'the projection took .*' "$OUT/logs/$p.log")"

@@ -18,13 +18,16 @@ use std::time::Duration;
 hemisphere — the fraction of the light arriving from polar angle θi that the surface reflects — \
 for a list of incidence angles.
 
-Prints CSV with the header `theta_i_deg,albedo` (standard output unless --output is given). \
-In the `paper` normalization the albedo never exceeds 1. Twisted and isotropic yarns take a \
+Prints CSV with the header `theta_i_deg,albedo` (standard output unless --output is given); a \
+material that lets light through (`[weave] transmission = true`, as the preset `cotton-voile`) \
+adds a column `transmittance`: all the light that reaches the far side, what passes straight \
+between the yarns included. In the `paper` normalization the albedo never exceeds 1. Twisted and isotropic yarns take a \
 second or more per angle; a progress bar then shows on standard error when it is a terminal.",
     after_help = "Examples:
   woven albedo --material polyester.toml
   woven albedo -m polyester.toml --theta-deg 0:89:1 --output albedo.csv
-  woven albedo -m polyester.toml --theta-deg 0,30,60,80 --wavelength-nm 450"
+  woven albedo -m polyester.toml --theta-deg 0,30,60,80 --wavelength-nm 450
+  woven albedo -m cotton-voile --theta-deg 0:80:20"
 )]
 pub struct AlbedoArgs {
     #[command(flatten)]
@@ -69,18 +72,19 @@ pub fn run(args: &AlbedoArgs) -> Result<()> {
     // the job turns out to be long, even before the first angle is done.
     let bar = Progress::new(Some(args.theta_deg.0.len() as u64), "angles", true);
     let watcher = std::thread::current();
-    let albedos: Vec<f64> = std::thread::scope(|scope| {
+    let transmits = model.transmits();
+    let albedos: Vec<[f64; 2]> = std::thread::scope(|scope| {
         let worker = scope.spawn(|| {
             let albedos = args
                 .theta_deg
                 .0
                 .par_iter()
                 .map(|theta_deg| {
-                    let albedo = model.albedo(theta_deg.to_radians(), phi_i);
+                    let budget = model.budget(theta_deg.to_radians(), phi_i);
                     bar.inc(1);
-                    albedo
+                    [budget.reflected, budget.transmittance()]
                 })
-                .collect::<Vec<f64>>();
+                .collect::<Vec<[f64; 2]>>();
             watcher.unpark();
             albedos
         });
@@ -94,19 +98,34 @@ pub fn run(args: &AlbedoArgs) -> Result<()> {
     });
     bar.finish();
     io::write_output(args.output.as_deref(), |out| {
-        write_table(out, &args.theta_deg.0, &albedos)
+        write_table(out, &args.theta_deg.0, &albedos, transmits)
     })
     .context("writing the albedo table")
 }
 
-fn write_table(out: &mut dyn Write, thetas_deg: &[f64], albedos: &[f64]) -> Result<()> {
+/// The CSV: each angle's albedo, and its transmittance where the material `transmits`.
+fn write_table(
+    out: &mut dyn Write,
+    thetas_deg: &[f64],
+    rows: &[[f64; 2]],
+    transmits: bool,
+) -> Result<()> {
     let mut line = String::new();
-    writeln!(out, "theta_i_deg,albedo")?;
-    for (&theta, &albedo) in thetas_deg.iter().zip(albedos) {
+    let header = if transmits {
+        "theta_i_deg,albedo,transmittance"
+    } else {
+        "theta_i_deg,albedo"
+    };
+    writeln!(out, "{header}")?;
+    for (&theta, &[albedo, through]) in thetas_deg.iter().zip(rows) {
         line.clear();
         io::push_f64(&mut line, theta);
         line.push(',');
         io::push_f64(&mut line, albedo);
+        if transmits {
+            line.push(',');
+            io::push_f64(&mut line, through);
+        }
         writeln!(out, "{line}")?;
     }
     Ok(())

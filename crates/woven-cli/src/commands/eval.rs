@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use std::f64::consts::FRAC_PI_2;
 use std::io::{IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
-use woven::bsdf::Bsdf;
+use woven::bsdf::{Bsdf, LobeFlags};
 use woven::catalog::{AnyMaterial, Grey, Luminance};
 use woven::color::Rgb;
 use woven::directions::{DirectionReader, DirectionRecord, RowError, COLUMNS};
@@ -25,8 +25,11 @@ from a CSV file.
 The input has the header `theta_i,phi_i,theta_r,phi_r`: polar and azimuthal angles in radians of \
 the direction toward the light (theta_i, phi_i) and toward the viewer (theta_r, phi_r), both \
 pointing away from the surface, in the cloth's local frame (z = macro normal, weft along x, warp \
-along y). Polar angles must lie in [0, π/2]; azimuths may be any finite number. theta = π/2 \
-(grazing) gives a BRDF of 0.
+along y). theta_i must lie in [0, π/2] and theta_r in [0, π]; azimuths may be any finite number. \
+A theta_r above π/2 is a direction below the cloth: a material that lets light through \
+(`[weave] transmission = true`, as the preset `cotton-voile`) gives its transmission there (the \
+diffuse part through the yarns; what passes straight between them is a delta, printed by \
+`woven albedo`), any other 0. theta = π/2 (grazing) gives 0.
 
 The output repeats the four input columns exactly as read and appends `brdf`. Rows are processed \
 in chunks, in parallel on all cores, and written in input order. A malformed row stops the run \
@@ -304,8 +307,9 @@ fn evaluate_chunk(
         .collect()
 }
 
-/// The BRDF for one direction pair (validated angles): its values and how many there are (1 or
-/// 3). Exactly 0 at grazing `θ = π/2`, where `cos θ` is not exactly 0 in floating point.
+/// The BSDF for one direction pair (validated angles): its values and how many there are (1 or
+/// 3). Exactly 0 at grazing `θ = π/2`, where `cos θ` is not exactly 0 in floating point, and
+/// for a viewer below a material that does not transmit.
 fn eval_row(
     brdf: Brdf<'_>,
     theta_i: f64,
@@ -317,7 +321,12 @@ fn eval_row(
         Brdf::Mono(_) => 1,
         Brdf::Rgb(_) => 3,
     };
-    if theta_i >= FRAC_PI_2 || theta_r >= FRAC_PI_2 {
+    let transmits = match brdf {
+        Brdf::Mono(b) => b.lobes(),
+        Brdf::Rgb(b) => b.lobes(),
+    }
+    .contains(LobeFlags::TRANSMISSION);
+    if theta_i >= FRAC_PI_2 || theta_r == FRAC_PI_2 || (theta_r > FRAC_PI_2 && !transmits) {
         return ([0.0; 3], n);
     }
     let (wi, wo) = (

@@ -276,6 +276,55 @@ fn albedo_table_is_at_most_one() {
     }
 }
 
+/// The sheer preset lets light through: `albedo` adds its transmittance, and `eval` its
+/// transmission toward a viewer below (`theta_r` > π/2), where an opaque material gives 0.
+#[test]
+fn a_transmitting_material_prints_its_transmittance_and_evaluates_below() {
+    let out = woven()
+        .args(["albedo", "-m", "cotton-voile", "--theta-deg", "0,60"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let out = String::from_utf8(out).unwrap();
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some("theta_i_deg,albedo,transmittance"));
+    for line in lines {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        // The gaps alone pass 0.25 along the normal and 0.15 at 60°; nothing makes light.
+        assert!(v[2] > 0.15 && v[1] + v[2] <= 1.0, "{line}");
+    }
+    let input = "theta_i,phi_i,theta_r,phi_r\n0.3,0,2.5,1\n0.3,0,0.5,1\n";
+    let below = |material: &str| -> Vec<f64> {
+        let out = woven()
+            .args(["eval", "-m", material, "--input", "-"])
+            .write_stdin(input)
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        String::from_utf8(out)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+            .collect()
+    };
+    let (voile, silk) = (below("cotton-voile"), below("silk"));
+    assert!(voile[0] > 0.0 && voile[1] > 0.0, "{voile:?}");
+    assert!(silk[0] == 0.0 && silk[1] > 0.0, "{silk:?}");
+    woven()
+        .args(["eval", "-m", "silk", "--input", "-"])
+        .write_stdin("theta_i,phi_i,theta_r,phi_r\n0.3,0,3.5,1\n")
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "column 3 `theta_r`: value 3.5 is outside the valid range [0, π]",
+        ));
+}
+
 #[test]
 fn albedo_rejects_bad_angle_lists() {
     for (value, needle) in [

@@ -103,6 +103,12 @@ fn export_openpbr_and_gltf_write_a_woven_surface_and_refuse_bad_flags_by_name() 
             "--texels-per-cell",
         ),
         ("openpbr", vec!["--gap", "2"], "--gap"),
+        // These formats carry no transmission: a cloth that lets light through is refused.
+        (
+            "openpbr",
+            vec!["--gap", "0.3", "--transmission", "true"],
+            "--transmission",
+        ),
         (
             "openpbr",
             vec!["--yarns-per-unit", "-3"],

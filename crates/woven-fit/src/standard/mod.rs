@@ -39,7 +39,7 @@ pub mod textures;
 use crate::error::FitError;
 use crate::projection::{project_with, BuiltLobes, LobeSet, Objective, Reference, StandardLobes};
 use woven::color::Rgb;
-use woven::surface::WovenSurface;
+use woven::surface::{SurfaceSpec, WovenSurface};
 use woven::Vec3;
 
 /// The version of what [`project_surface`] and the baked textures give for a surface: a cache
@@ -158,11 +158,38 @@ impl StandardFamily {
     }
 }
 
+/// Whether a surface of `spec` can be projected ([`project_surface`]): asked before its tables
+/// are built, so that a refusal costs nothing.
+///
+/// # Errors
+/// [`FitError::InvalidParameter`] naming `transmission` for a surface that lets light through:
+/// the standard materials here carry no transmission (they would render it opaque, its holes
+/// black).
+pub fn check_spec(spec: &SurfaceSpec) -> Result<(), FitError> {
+    refuse_transmission(spec.transmission)
+}
+
+/// The refusal of [`check_spec`].
+fn refuse_transmission(transmits: bool) -> Result<(), FitError> {
+    if !transmits {
+        return Ok(());
+    }
+    Err(FitError::InvalidParameter {
+        name: "transmission".into(),
+        value: "true".into(),
+        expected: "false: the Cycles, OpenPBR and glTF materials woven writes do not pass light \
+                   between or through the yarns yet (woven render does); with transmission = \
+                   false they carry the cloth's reflection, its holes black"
+            .into(),
+    })
+}
+
 /// `surface`'s two families on the standard lobes (module docs).
 ///
 /// # Errors
-/// [`FitError`] when a family's BRDF is 0 everywhere (nothing to fit).
+/// As [`check_spec`]; [`FitError`] when a family's BRDF is 0 everywhere (nothing to fit).
 pub fn project_surface(surface: &WovenSurface) -> Result<StandardSurface, FitError> {
+    refuse_transmission(surface.transmits())?;
     let weft = project_family(surface, false)?;
     // Families dyed alike are one projection.
     let warp = if surface.albedos(true) == surface.albedos(false) {

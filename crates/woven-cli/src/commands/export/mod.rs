@@ -162,9 +162,15 @@ pub struct ExportArgs {
     pub u_max_deg: Option<f64>,
 
     /// openpbr, gltf: the fraction of each cell between yarns (holes where both leave one)
-    /// [default: 0].
+    /// [default: the material's, else 0].
     #[arg(long, value_name = "FRACTION", allow_hyphen_values = true, value_parser = parse_finite)]
     pub gap: Option<f64>,
+
+    /// openpbr, gltf: whether light passes through the cloth. These formats carry no
+    /// transmission yet, so a material that lets light through (`cotton-voile`) is refused unless
+    /// this is false: its reflection is then written, its holes black [default: the material's].
+    #[arg(long, value_name = "BOOL")]
+    pub transmission: Option<bool>,
 
     /// openpbr, gltf: the spread of the log of each yarn's dye along its length, one number or
     /// `WEFT,WARP` [default: 0].
@@ -241,6 +247,7 @@ pub fn run(args: &ExportArgs) -> Result<()> {
             ("--warp-color", args.warp_color.is_some()),
             ("--u-max-deg", args.u_max_deg.is_some()),
             ("--gap", args.gap.is_some()),
+            ("--transmission", args.transmission.is_some()),
             ("--irregularity", args.irregularity.is_some()),
             ("--also-output", args.also_output.is_some()),
             ("--draft-tables", args.draft_tables),

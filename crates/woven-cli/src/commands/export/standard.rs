@@ -17,17 +17,18 @@ use woven::surface::SurfaceSpec;
 use woven_fit::standard::gltf::{self, GltfOptions};
 use woven_fit::standard::openpbr;
 use woven_fit::standard::textures::LayoutImages;
-use woven_fit::standard::{project_surface, StandardFamily, StandardSurface};
+use woven_fit::standard::{check_spec, project_surface, StandardFamily, StandardSurface};
 use woven_render::woven_material::{TableGrid, WovenMaterial};
 
 /// The surface keys this command takes, each with its flag: `(key, flag)`.
-const SURFACE_FLAGS: [(&str, &str); 7] = [
+const SURFACE_FLAGS: [(&str, &str); 8] = [
     ("pattern", "--pattern"),
     ("yarns_per_unit", "--yarns-per-unit"),
     ("weft_color", "--weft-color"),
     ("warp_color", "--warp-color"),
     ("u_max_deg", "--u-max-deg"),
     ("gap", "--gap"),
+    ("transmission", "--transmission"),
     ("irregularity", "--irregularity"),
 ];
 
@@ -195,6 +196,8 @@ fn build_surface(args: &ExportArgs, material: &str, name: &str) -> Result<WovenM
             _ => anyhow::anyhow!("{message}"),
         }
     })?;
+    // Refused before the tables' seconds.
+    check_spec(&read.spec).map_err(|e| anyhow::anyhow!("{}", flag_names(&e.to_string())))?;
     let grid = if args.draft_tables {
         tables::draft_grid()
     } else {
@@ -259,6 +262,9 @@ fn surface_keys(args: &ExportArgs, material: &str) -> Keys {
         if let Some(v) = value {
             keys.insert(key, KeyValue::Float(v));
         }
+    }
+    if let Some(on) = args.transmission {
+        keys.insert("transmission", KeyValue::Bool(on));
     }
     keys
 }

@@ -36,6 +36,12 @@ centre, the horizon on the rim, the weft (x) to the right and the warp (y) up. R
 follow the viridis map, linear from 0 (or logarithmic over three decades with --log), with a \
 colour bar in sr⁻¹.
 
+With --side below the disc shows the view directions below the cloth instead, seen from above \
+through it (x = sin θr cos φr, y = sin θr sin φr, θr measured from the normal below): what a \
+material that lets light through (`[weave] transmission = true`, as the preset `cotton-voile`) \
+transmits diffusely through its yarns. The light straight through the gaps is a delta, not \
+drawn; an opaque material's disc is 0 there.
+
 The material is a woven material (a preset or file) or a microcylinder fabric (Sadeghi et al. \
 2013: the microcylinder-* presets, or a file with `model = \"microcylinder\"`). A microcylinder \
 fabric is coloured: the disc shows the luminance (Rec. 709) of its RGB BRDF, as `woven eval` \
@@ -56,7 +62,8 @@ standard error when it is a terminal and the job is long.";
   woven plot hemisphere --material silk -o silk.png
   woven plot hemisphere -m polyester-sateen --theta-i-deg 60 --phi-i-deg 90 -o sateen.png --log
   woven plot hemisphere -m my-cloth.toml --size 1024 --grid 400 -o big.png
-  woven plot hemisphere -m microcylinder-satin-charmeuse --theta-i-deg 30 -o charmeuse.png"
+  woven plot hemisphere -m microcylinder-satin-charmeuse --theta-i-deg 30 -o charmeuse.png
+  woven plot hemisphere -m cotton-voile --side below -o voile-through.png"
 )]
 pub struct HemisphereArgs {
     #[arg(short, long, value_name = "PRESET|FILE", value_parser = MaterialSource::parse,
@@ -97,6 +104,20 @@ pub struct HemisphereArgs {
     /// Logarithmic colour scale over the three decades below the maximum (linear from 0 otherwise).
     #[arg(long)]
     pub log: bool,
+
+    /// Which view hemisphere: `above` the cloth (what it reflects) or `below` it (what a material
+    /// that lets light through transmits).
+    #[arg(long, value_enum, default_value_t = SideArg::Above)]
+    pub side: SideArg,
+}
+
+/// `--side`: the hemisphere of view directions drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SideArg {
+    /// Above the cloth: its reflection.
+    Above,
+    /// Below it, seen through it from above: its transmission.
+    Below,
 }
 
 fn parse_theta_i(value: &str) -> Result<f64, String> {
@@ -205,10 +226,20 @@ pub fn run(args: &HemisphereArgs) -> Result<()> {
     let n = (args.grid as usize).min(layout.diameter as usize).max(8);
     let s = Vec3::from_spherical(args.theta_i_deg.to_radians(), args.phi_i_deg.to_radians());
     let bar = Progress::new(Some(hemisphere::nodes_needed(n)), "directions", true);
-    let grid = hemisphere::evaluate(&*material.brdf, s, n, |k| bar.inc(k));
+    let side = match args.side {
+        SideArg::Above => hemisphere::Side::Above,
+        SideArg::Below => hemisphere::Side::Below,
+    };
+    let grid = hemisphere::evaluate(&*material.brdf, s, n, side, |k| bar.inc(k));
     bar.finish();
     let words = Words {
-        title: format!("BRDF over the view hemisphere — {}", material.name),
+        title: match side {
+            hemisphere::Side::Above => format!("BRDF over the view hemisphere — {}", material.name),
+            hemisphere::Side::Below => format!(
+                "transmission below the cloth, seen through it — {}",
+                material.name
+            ),
+        },
         setting: format!(
             "light at θi = {}°, φi = {}° (dot); mirror direction (ring); {}",
             short(args.theta_i_deg),

@@ -37,11 +37,7 @@ def standard(surface, identity, folder, stem, texels_per_cell=16):
     keys a cache beside the library's tables (``$XDG_CACHE_HOME/woven/standard``, else
     ``~/.cache/woven/standard``): a projection takes seconds to a minute, a cached one none.
     Raises ValueError for a surface that lets light through (``transmission``), which these
-    materials do not carry yet."""
-    if surface.transmits:
-        raise ValueError(
-            "`transmission` = true: a Blender material does not pass light between the yarns "
-            "yet (woven render does); set it false")
+    materials do not carry yet (the library's projection refuses it)."""
     key = hashlib.sha256(
         f"{woven.__version__}\n{woven.STANDARD_VERSION}\n{texels_per_cell}\n{identity}".encode()).hexdigest()[:32]
     root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
