@@ -228,14 +228,15 @@ fn trace<'a>(
             break;
         };
         let info = scene.prim_info[hit.prim];
-        let material = info.material.map(|mi| scene.materials[mi].as_ref());
+        let mut material = info.material.map(|mi| scene.materials[mi].as_ref());
         let mut hit = hit;
         // One-sided surfaces: the back side is black and ends the path. A surface that lets
-        // light through is two-sided: met from behind, it is shaded turned over.
+        // light through is two-sided: met from behind, it is shaded turned over, as its back.
         let two_sided = material.is_some_and(|m| m.transmits());
         let mut cos_front = -ray.d.dot(hit.ng);
         if cos_front < 0.0 && two_sided {
             (hit.ng, hit.ns, cos_front) = (-hit.ng, -hit.ns, -cos_front);
+            material = material.map(|m| m.back().unwrap_or(m));
         }
         if cos_front <= 0.0 {
             break;

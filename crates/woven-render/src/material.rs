@@ -80,6 +80,13 @@ pub trait SurfaceMaterial: Send + Sync {
         false
     }
 
+    /// The material met from behind, where it [`transmits`](Self::transmits) (shaded turned
+    /// over): its back, where that differs from its front (a woven cloth's is its pattern's
+    /// complement: a satin's back is its sateen). `None`: the same material.
+    fn back(&self) -> Option<&dyn SurfaceMaterial> {
+        None
+    }
+
     /// The share of the light along `d` (the local frame, either side) that passes straight
     /// through at `at`, in `[0, 1]`: a delta lobe, which shadow rays carry (a path asks the
     /// BSDF it built at its vertex, [`Bsdf::pass_through`]).

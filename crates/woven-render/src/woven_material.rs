@@ -35,6 +35,9 @@ pub enum TableGrid {
 /// A tabulated woven material, ready to render.
 pub struct WovenMaterial {
     surface: WovenSurface,
+    /// The cloth seen from behind, where it lets light through and is met from there: its
+    /// back ([`WovenSpec::back`], the pattern's complement) on the same table.
+    back: Option<Box<WovenMaterial>>,
 }
 
 /// The tables a scene's woven materials render from: the library's
@@ -71,15 +74,26 @@ impl WovenMaterial {
             progress,
         )?;
         // The resolved levels' tables (a crowned yarn, the relief's ratio, kept on disk).
-        let surface = WovenSurface::new(spec, yarn)?.prepared_from(
-            cache,
-            &yarn_material,
-            WAVELENGTH_NM,
-            &options,
-            &|_| on_build(),
-            progress,
-        )?;
-        Ok(WovenMaterial { surface })
+        let face = |spec: &WovenSpec, cache: &mut TableCache| {
+            WovenSurface::new(spec, yarn.clone())?.prepared_from(
+                cache,
+                &yarn_material,
+                WAVELENGTH_NM,
+                &options,
+                &|_| on_build(),
+                progress,
+            )
+        };
+        let surface = face(spec, cache)?;
+        let back = if spec.transmission && spec.material.weave.is_some() {
+            Some(Box::new(WovenMaterial {
+                surface: face(&spec.back(), cache)?,
+                back: None,
+            }))
+        } else {
+            None
+        };
+        Ok(WovenMaterial { surface, back })
     }
 
     /// The library's surface this material renders.
@@ -104,6 +118,10 @@ impl SurfaceMaterial for WovenMaterial {
 
     fn transmits(&self) -> bool {
         self.surface.transmits()
+    }
+
+    fn back(&self) -> Option<&dyn SurfaceMaterial> {
+        self.back.as_deref().map(|b| b as &dyn SurfaceMaterial)
     }
 
     #[inline]

@@ -246,3 +246,78 @@ fn a_white_transmitting_sheet_vanishes_in_a_furnace() {
         );
     }
 }
+
+/// A cloth that lets light through, met from behind, is shaded as its back: the pattern's
+/// complement (a weft-faced satin's back is warp-faced), turned over about the weft. The back of
+/// a satin `P`, seen from below, renders as the front of `1 − P` seen from above in the scene
+/// turned by π about the weft (`x`): the same image, pixel for pixel within the noise.
+#[test]
+fn a_cloth_met_from_behind_shows_its_back() {
+    let satin: Vec<Vec<u8>> = (0..5)
+        .map(|r| (0..5).map(|c| u8::from(c != (2 * r) % 5)).collect())
+        .collect();
+    let back: Vec<Vec<u8>> = satin
+        .iter()
+        .map(|row| row.iter().map(|c| 1 - c).collect())
+        .collect();
+    // `side` 1: the camera above, looking down, the light low from +x; −1: the scene turned
+    // over (below). Lit across the weft, a warp-faced satin shows its warp's sheen toward the
+    // camera and a weft-faced one hardly any.
+    let render = |pattern: &[Vec<u8>], side: f64| {
+        let text = format!(
+            r#"
+            [camera]
+            origin = [0, 0, {}]
+            target = [0, 0, 0]
+            up = [0, {}, 0]
+            fov_deg = 40
+            [film]
+            width = 8
+            height = 8
+            spp = 256
+            seed = 4
+            [integrator]
+            max_depth = 2
+            [[light]]
+            type = "point"
+            position = [2, 0, {}]
+            intensity = [10, 10, 10]
+            [[shape]]
+            type = "rectangle"
+            corner = [-3, -3, 0]
+            edge_u = [6, 0, 0]
+            edge_v = [0, 6, 0]
+            material = "cloth"
+            [material.cloth]
+            type = "woven"
+            material = "filament-satin"
+            pattern = {pattern:?}
+            yarns_per_unit = 60000
+            gap = 0.1
+            transmission = true
+            "#,
+            2.0 * side,
+            side,
+            side,
+        );
+        let image = render_text(&text);
+        (0..8 * 8)
+            .map(|i| image.at(i % 8, i / 8).luminance())
+            .collect::<Vec<f64>>()
+    };
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    // The satin's back from below, the complement's front from above.
+    let (below, above) = (render(&satin, -1.0), render(&back, 1.0));
+    let front = render(&satin, 1.0);
+    let (b, a, f) = (mean(&below), mean(&above), mean(&front));
+    assert!(
+        (b / a - 1.0).abs() < 0.03,
+        "back from below {b}, its front from above {a}"
+    );
+    // The two faces differ: the test would see the front shown from behind. The warp's sheen
+    // is a band across the middle of the image (the viewers on its specular cone).
+    let peak = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+    let (pa, pf) = (peak(&above), peak(&front));
+    println!("means: below {b}, above {a}, front {f}; peaks: above {pa}, front {pf}");
+    assert!(pa > 1.5 * pf, "the back's peak {pa}, the front's {pf}");
+}
