@@ -379,7 +379,8 @@ impl Model {
     /// The BRDF f(wi, wo) in sr⁻¹, without the cosine: `wi` toward the light, `wo` toward the
     /// viewer, unit vectors in the cloth's frame, shape (N, 3) or (3,) (one broadcasts against
     /// many). Returns shape (N,), or a float when both are (3,). 0 where either lies below the
-    /// surface.
+    /// surface, unless the material lets light through (`transmits`): then `wo` below is the
+    /// diffuse transmission through the yarns, and both below the back's reflection.
     ///
     /// Raises ValueError for a direction that is not finite or not unit length (within
     /// `woven.UNIT_TOLERANCE`), naming the argument, the row and its length; TypeError for a
@@ -411,6 +412,29 @@ impl Model {
         // Each albedo is a quadrature: one task each.
         let out = map_each::<1, _>(py, n, |i| [model.albedo(at(&theta, i), at(&phi, i))])?;
         scalar_or_array(py, out, theta.scalar && phi.scalar)
+    }
+
+    /// The whole transmittance for light from `theta_i`, `phi_i` (as `albedo`): what passes
+    /// straight between the yarns and what the yarns transmit; 0 unless the material lets light
+    /// through (its `[weave] transmission`).
+    #[pyo3(signature = (theta_i, phi_i = None))]
+    fn transmittance<'py>(
+        &self,
+        py: Python<'py>,
+        theta_i: &Bound<'py, PyAny>,
+        phi_i: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
+        let model = &*self.inner;
+        let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
+        let out = map_each::<1, _>(py, n, |i| [model.transmittance(at(&theta, i), at(&phi, i))])?;
+        scalar_or_array(py, out, theta.scalar && phi.scalar)
+    }
+
+    /// Whether light passes through the cloth (its material's `[weave] transmission`).
+    #[getter]
+    fn transmits(&self) -> bool {
+        self.inner.transmits()
     }
 
     /// The material the model was built from.

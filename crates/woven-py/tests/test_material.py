@@ -2,6 +2,7 @@
 
 import pickle
 
+import numpy as np
 import pytest
 
 import woven
@@ -17,6 +18,21 @@ def test_presets_are_the_clis(cli):
         # `woven materials --show` prints the preset's TOML exactly; the preset parses the same.
         text = cli("materials", "--show", name)
         assert woven.Material.from_toml(text) == woven.Material.preset(name)
+
+
+def test_a_sheer_transmits_what_the_cli_says(cli):
+    # The preset opens its weave in [weave]; its model transmits, an opaque one does not.
+    voile = woven.Material.preset("cotton-voile")
+    assert voile.weave["gap"] == 0.5 and voile.weave["transmission"] is True
+    model = voile.build()
+    assert model.transmits and not woven.Material.preset("silk").build().transmits
+    rows = cli("albedo", "-m", "cotton-voile", "--theta-deg", "0,60").splitlines()
+    assert rows[0] == "theta_i_deg,albedo,transmittance"
+    want = np.array([[float(x) for x in r.split(",")[1:]] for r in rows[1:]])
+    theta = np.radians([0.0, 60.0])
+    assert np.allclose(model.albedo(theta), want[:, 0], rtol=1e-12)
+    assert np.allclose(model.transmittance(theta), want[:, 1], rtol=1e-12)
+    assert woven.Material.preset("silk").build().transmittance(0.3) == 0.0
 
 
 def test_toml_round_trip_and_sections():

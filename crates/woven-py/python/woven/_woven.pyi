@@ -167,6 +167,12 @@ class Model:
         self, theta_i: ArrayLike, phi_i: Optional[ArrayLike] = None
     ) -> Union[float, FloatArray]:
         """The directional albedo for light from (θi, φi), radians."""
+    def transmittance(
+        self, theta_i: ArrayLike, phi_i: Optional[ArrayLike] = None
+    ) -> Union[float, FloatArray]:
+        """All the light from (θi, φi) that reaches the far side; 0 for an opaque cloth."""
+    @property
+    def transmits(self) -> bool: ...
     @property
     def material(self) -> Material: ...
     @property
