@@ -378,6 +378,24 @@ where
     run_batch(py, n, PARALLEL_MIN, CHUNK, f)
 }
 
+/// `f(θi, φi)` for each incidence of `theta_i` and `phi_i` (radians; scalars or (N,) arrays,
+/// broadcast, checked as [`incidences`] checks them), one task each ([`map_each`]): the values,
+/// `N`, and whether both were scalars.
+pub fn per_incidence<const K: usize, F>(
+    py: Python<'_>,
+    theta_i: &Bound<'_, PyAny>,
+    phi_i: Option<&Bound<'_, PyAny>>,
+    f: F,
+) -> PyResult<(Vec<f64>, usize, bool)>
+where
+    F: Fn(f64, f64) -> [f64; K] + Sync + Send,
+{
+    let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
+    let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
+    let out = map_each::<K, _>(py, n, |i| f(at(&theta, i), at(&phi, i)))?;
+    Ok((out, n, theta.scalar && phi.scalar))
+}
+
 /// As [`map_batch`] for costly items (a quadrature each): each item its own rayon task, the GIL
 /// released from one item up.
 pub fn map_each<const K: usize, F>(py: Python<'_>, n: usize, f: F) -> PyResult<Vec<f64>>

@@ -3,7 +3,7 @@
 //! 2013), `woven.Sheen` and `woven.RoughPlastic` (the baselines). Every value is the library's;
 //! this file converts arrays.
 
-use crate::arrays::{broadcast, incidences, map_batch, map_each, Dirs, Numbers, UNIFORMS};
+use crate::arrays::{broadcast, map_batch, per_incidence, Dirs, Numbers, UNIFORMS};
 use crate::table::split_columns;
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
@@ -135,15 +135,13 @@ impl PyBsdf {
         theta_i: &Bound<'py, PyAny>,
         phi_i: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
         let b = &*self.inner;
-        let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
         // Each albedo is a quadrature: one task each.
-        let out = map_each::<3, _>(py, n, |i| {
-            let wi = Vec3::from_spherical(at(&theta, i), at(&phi, i));
+        let (out, n, scalar) = per_incidence(py, theta_i, phi_i, |t, p| {
+            let wi = Vec3::from_spherical(t, p);
             albedo_quadrature(|wo| b.eval(wi, wo), ALBEDO_PANELS).0
         })?;
-        rows_of_three(py, out, n, theta.scalar && phi.scalar)
+        rows_of_three(py, out, n, scalar)
     }
 
     /// The kinds of scattering, as the library's lobe flags name them: a subset of

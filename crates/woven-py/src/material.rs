@@ -1,7 +1,7 @@
 //! `woven.Material`, its parameter sections, `woven.Model` (the exact BRDF), `woven.presets`
 //! and `woven.gonio`.
 
-use crate::arrays::{broadcast, incidences, map_batch, map_each, Dirs, Numbers};
+use crate::arrays::{broadcast, map_batch, per_incidence, Dirs, Numbers};
 use crate::IntoPy;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyTypeError, PyValueError};
@@ -406,12 +406,10 @@ impl Model {
         theta_i: &Bound<'py, PyAny>,
         phi_i: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
         let model = &*self.inner;
-        let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
         // Each albedo is a quadrature: one task each.
-        let out = map_each::<1, _>(py, n, |i| [model.albedo(at(&theta, i), at(&phi, i))])?;
-        scalar_or_array(py, out, theta.scalar && phi.scalar)
+        let (out, _, scalar) = per_incidence(py, theta_i, phi_i, |t, p| [model.albedo(t, p)])?;
+        scalar_or_array(py, out, scalar)
     }
 
     /// The whole transmittance for light from `theta_i`, `phi_i` (as `albedo`): what passes
@@ -424,11 +422,10 @@ impl Model {
         theta_i: &Bound<'py, PyAny>,
         phi_i: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let (theta, phi, n) = incidences(py, theta_i, phi_i)?;
         let model = &*self.inner;
-        let at = |v: &Numbers, i: usize| v.get(if v.n == 1 { 0 } else { i });
-        let out = map_each::<1, _>(py, n, |i| [model.transmittance(at(&theta, i), at(&phi, i))])?;
-        scalar_or_array(py, out, theta.scalar && phi.scalar)
+        let (out, _, scalar) =
+            per_incidence(py, theta_i, phi_i, |t, p| [model.transmittance(t, p)])?;
+        scalar_or_array(py, out, scalar)
     }
 
     /// Whether light passes through the cloth (its material's `[weave] transmission`).

@@ -10,9 +10,9 @@ use woven_render::camera::Camera;
 
 const GAP: f64 = 0.35;
 
-/// A plain-weave linen cloth of gap [`GAP`] as a 6 m square at height `z`, in cells of 0.1 mm
-/// (a rectangle's uv spans its edges), resolved as `detail` says.
-fn cloth(z: f64, transmission: bool, detail: &str) -> String {
+/// A 6 m square of woven cloth at height `z` in cells of 0.1 mm (a rectangle's uv spans its
+/// edges), its material's other keys `keys` (TOML lines).
+fn sheet(z: f64, keys: &str) -> String {
     format!(
         r#"
         [[shape]]
@@ -23,13 +23,20 @@ fn cloth(z: f64, transmission: bool, detail: &str) -> String {
         material = "cloth"
         [material.cloth]
         type = "woven"
-        material = "linen-plain"
-        pattern = "plain"
         yarns_per_unit = 60000
-        gap = {GAP}
-        transmission = {transmission}
-        detail = "{detail}"
+        {keys}
         "#
+    )
+}
+
+/// A plain-weave linen [`sheet`] of gap [`GAP`] at height `z`, resolved as `detail` says.
+fn cloth(z: f64, transmission: bool, detail: &str) -> String {
+    sheet(
+        z,
+        &format!(
+            "material = \"linen-plain\"\npattern = \"plain\"\ngap = {GAP}\n\
+             transmission = {transmission}\ndetail = \"{detail}\""
+        ),
     )
 }
 
@@ -211,22 +218,16 @@ fn a_white_transmitting_sheet_vanishes_in_a_furnace() {
             [[light]]
             type = "environment"
             radiance = [1, 1, 1]
-            [[shape]]
-            type = "rectangle"
-            corner = [-3, -3, 0]
-            edge_u = [6, 0, 0]
-            edge_v = [0, 6, 0]
-            material = "cloth"
-            [material.cloth]
-            type = "woven"
-            material = "linen-plain"
-            pattern = "plain"
-            yarns_per_unit = 60000
-            gap = 0.3
-            weft_color = [{dye}, {dye}, {dye}]
-            warp_color = [{dye}, {dye}, {dye}]
-            transmission = true
-            "#
+            {}
+            "#,
+            sheet(
+                0.0,
+                &format!(
+                    "material = \"linen-plain\"\npattern = \"plain\"\ngap = 0.3\n\
+                     weft_color = [{dye}, {dye}, {dye}]\nwarp_color = [{dye}, {dye}, {dye}]\n\
+                     transmission = true"
+                ),
+            )
         );
         let image = render_text(&text);
         let mean = image.pixels.iter().map(|p| p.0[1]).sum::<f64>() / image.pixels.len() as f64;
@@ -282,23 +283,18 @@ fn a_cloth_met_from_behind_shows_its_back() {
             type = "point"
             position = [2, 0, {}]
             intensity = [10, 10, 10]
-            [[shape]]
-            type = "rectangle"
-            corner = [-3, -3, 0]
-            edge_u = [6, 0, 0]
-            edge_v = [0, 6, 0]
-            material = "cloth"
-            [material.cloth]
-            type = "woven"
-            material = "filament-satin"
-            pattern = {pattern:?}
-            yarns_per_unit = 60000
-            gap = 0.1
-            transmission = true
+            {}
             "#,
             2.0 * side,
             side,
             side,
+            sheet(
+                0.0,
+                &format!(
+                    "material = \"filament-satin\"\npattern = {pattern:?}\ngap = 0.1\n\
+                     transmission = true"
+                ),
+            ),
         );
         let image = render_text(&text);
         (0..8 * 8)
