@@ -241,9 +241,10 @@ pub fn run(args: &HemisphereArgs) -> Result<()> {
             ),
         },
         setting: format!(
-            "light at θi = {}°, φi = {}° (dot); mirror direction (ring); {}",
+            "light at θi = {}°, φi = {}° (dot); {} direction (ring); {}",
             short(args.theta_i_deg),
             short(args.phi_i_deg),
+            ring(side),
             match material.kind {
                 MaterialKind::Woven => format!("λ = {} nm", short(args.wavelength_nm)),
                 MaterialKind::Microcylinder => "luminance (Rec. 709) of its RGB BRDF".into(),
@@ -254,11 +255,25 @@ pub fn run(args: &HemisphereArgs) -> Result<()> {
              {n} × {n} grid, bilinear; {} colour scale",
             if args.log { "logarithmic" } else { "linear" }
         ),
+        ring: ring(side),
+        quantity: match side {
+            hemisphere::Side::Above => "BRDF f(s, v)",
+            hemisphere::Side::Below => "BTDF f(s, v)",
+        },
     };
     let scale = ColorScale::new(grid.max_in_disc(), args.log);
     let bytes = render(&grid, scale, s, &layout, &words)
         .with_context(|| format!("drawing `{}`", args.output.display()))?;
     io::write_atomically(&args.output, |out| Ok(out.write_all(&bytes)?))
+}
+
+/// The name of the ring on `side`: where light from the dot leaves as from a mirror above, and
+/// straight on below.
+fn ring(side: hemisphere::Side) -> &'static str {
+    match side {
+        hemisphere::Side::Above => "mirror",
+        hemisphere::Side::Below => "straight through",
+    }
 }
 
 /// The texts of the image.
@@ -269,6 +284,10 @@ pub struct Words {
     pub setting: String,
     /// Third line: the projection and the grid.
     pub method: String,
+    /// The ring's name: the mirror direction above, the direction straight through below.
+    pub ring: &'static str,
+    /// What the colour bar measures: a BRDF above, a BTDF below.
+    pub quantity: &'static str,
 }
 
 /// Where everything goes in an image of a given height (tuned at 512 px, scaled with it).
@@ -516,7 +535,7 @@ fn decorate<DB: DrawingBackend>(
     .map_err(plot_error)?;
     for (at, x, name) in [
         (light_px, light.x, "light"),
-        (mirror_px, -light.x, "mirror"),
+        (mirror_px, -light.x, words.ring),
     ] {
         // Outlined white text, toward the centre (clear of the axis names outside the rim).
         let (pos, h) = if x > 0.3 {
@@ -584,8 +603,8 @@ fn decorate<DB: DrawingBackend>(
         )?;
     }
     let unit = match scale {
-        ColorScale::Linear { .. } => "BRDF f(s, v)  (sr⁻¹)",
-        ColorScale::Log { .. } => "BRDF f(s, v)  (sr⁻¹, log scale)",
+        ColorScale::Linear { .. } => format!("{}  (sr⁻¹)", words.quantity),
+        ColorScale::Log { .. } => format!("{}  (sr⁻¹, log scale)", words.quantity),
     };
     let style = TextStyle::from(
         (FONT, 13.0 * k)
