@@ -101,6 +101,15 @@ impl YarnSection {
     pub fn open(&self, t: f64) -> f64 {
         (1.0 - self.shadow(t)).max(0.0)
     }
+
+    /// The cloth's open area along `d` (either side) between yarns of this section in both
+    /// families (module docs): `O(d)`, 0 in the cloth's plane.
+    pub fn open_along(&self, d: Vec3) -> f64 {
+        if d.z == 0.0 {
+            return 0.0;
+        }
+        self.open(d.y / d.z) * self.open(d.x / d.z)
+    }
 }
 
 /// Where each yarn family shows from above, as shares of the cloth's area, `[weft, warp]`: a
@@ -148,10 +157,7 @@ pub fn open_area(gap: f64, d: Vec3) -> Result<f64> {
             "a finite, non-zero direction",
         ));
     }
-    if d.z == 0.0 {
-        return Ok(0.0);
-    }
-    Ok(section.open(d.y / d.z) * section.open(d.x / d.z))
+    Ok(section.open_along(d))
 }
 
 #[cfg(test)]

@@ -153,10 +153,9 @@ impl Model {
     /// The share of light along `d` (either side) that passes straight between the yarns: the
     /// open area ([`open_area`](crate::gaps::open_area)); 0 for an opaque cloth.
     pub fn open_along(&self, d: Vec3) -> f64 {
-        match &self.through {
-            Some(t) if d.z != 0.0 => t.section.open(d.y / d.z) * t.section.open(d.x / d.z),
-            _ => 0.0,
-        }
+        self.through
+            .as_ref()
+            .map_or(0.0, |t| t.section.open_along(d))
     }
 
     /// Where the light from `(theta_i, phi_i)` goes ([`Budget`]): what the cloth reflects (its

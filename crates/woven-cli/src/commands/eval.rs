@@ -96,6 +96,16 @@ enum Owned {
 
 impl Brdf<'_> {
     /// The output's value columns.
+    /// Whether the BSDF transmits (a viewer below the cloth sees light through it): asked once
+    /// a block, not once a row.
+    fn transmits(self) -> bool {
+        match self {
+            Brdf::Mono(b) => b.lobes(),
+            Brdf::Rgb(b) => b.lobes(),
+        }
+        .contains(LobeFlags::TRANSMISSION)
+    }
+
     fn columns(self) -> &'static str {
         match self {
             Brdf::Mono(_) => "brdf",
@@ -284,6 +294,7 @@ fn evaluate_chunk(
             // ~100 bytes a row: four echoed angles of up to 20 characters, the BRDF, commas.
             let mut out = Vec::with_capacity(block.len() * 100);
             let mut number = String::new();
+            let transmits = brdf.transmits();
             for record in block {
                 let [theta_i, phi_i, theta_r, phi_r] = record.angles()?;
                 for field in record.fields() {
@@ -291,7 +302,7 @@ fn evaluate_chunk(
                     out.push(b',');
                 }
                 number.clear();
-                let (values, n) = eval_row(brdf, theta_i, phi_i, theta_r, phi_r);
+                let (values, n) = eval_row(brdf, transmits, theta_i, phi_i, theta_r, phi_r);
                 for (k, v) in values[..n].iter().enumerate() {
                     if k > 0 {
                         number.push(',');
@@ -312,6 +323,7 @@ fn evaluate_chunk(
 /// for a viewer below a material that does not transmit.
 fn eval_row(
     brdf: Brdf<'_>,
+    transmits: bool,
     theta_i: f64,
     phi_i: f64,
     theta_r: f64,
@@ -321,11 +333,6 @@ fn eval_row(
         Brdf::Mono(_) => 1,
         Brdf::Rgb(_) => 3,
     };
-    let transmits = match brdf {
-        Brdf::Mono(b) => b.lobes(),
-        Brdf::Rgb(b) => b.lobes(),
-    }
-    .contains(LobeFlags::TRANSMISSION);
     if theta_i >= FRAC_PI_2 || theta_r == FRAC_PI_2 || (theta_r > FRAC_PI_2 && !transmits) {
         return ([0.0; 3], n);
     }

@@ -39,9 +39,7 @@ impl WovenSurface {
     /// not transmit.
     pub fn open_along(&self, d: Vec3) -> f64 {
         match &self.open {
-            Some(section) if self.gap > 0.0 && d.z != 0.0 && d.z.is_finite() => {
-                section.open(d.y / d.z) * section.open(d.x / d.z)
-            }
+            Some(section) if self.gap > 0.0 && d.z.is_finite() => section.open_along(d),
             _ => 0.0,
         }
     }
