@@ -16,7 +16,8 @@ use woven_render::scene::{CameraSpec, FilmOverrides, SceneDescription, SHOWCASE_
 /// The scene file `scene` (or `"showcase"`, the built-in one), checked as `woven render` checks
 /// it, as plain data for another renderer: a dict with `camera` (`origin`, `target`, `up`,
 /// `fov_deg` across the width), `inset` (None, or its `camera` and the `inner` and `outer`
-/// rectangles on the film, each `((x, y), (width, height))`), `size`, `spp`, `seed`,
+/// rectangles on the film, each `((x, y), (width, height))`, and the `border`'s linear RGB),
+/// `size`, `spp`, `seed`,
 /// `sampler`, `max_depth` (None: no limit), `rr_depth`, `hide_emitters`, `shapes` (each a dict:
 /// `key`, `material`, and `sphere` `(center, radius)` or `positions` (N, 3), `normals` (N, 3)
 /// or None, `uvs` (N, 2) and `indices` (M, 3)), `materials` (by name: a dict with `type` and
@@ -61,6 +62,8 @@ fn to_dict<'py>(py: Python<'py>, p: &Portable) -> PyResult<Bound<'py, PyDict>> {
             inset.set_item("camera", camera(py, &i.camera)?)?;
             inset.set_item("inner", i.inner)?;
             inset.set_item("outer", i.outer)?;
+            // The border's linear colour, as `woven render` draws it.
+            inset.set_item("border", woven_render::render::INSET_BORDER.0)?;
             d.set_item("inset", inset)?;
         }
         None => d.set_item("inset", py.None())?,

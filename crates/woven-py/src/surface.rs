@@ -57,6 +57,8 @@ pub struct Surface {
     /// `footprint_filter`: off, calls' footprints are ignored (as `woven render` with the
     /// integrator's filter off).
     filter: bool,
+    /// The face seen from behind, where light passes through a weave (`SurfaceSpec::back`).
+    back: Option<Arc<WovenSurface>>,
 }
 
 /// The points of a call: uv (N, 2), footprints (N, 4) and dyes (N, 3), each also one row.
@@ -227,6 +229,7 @@ impl Surface {
                 inner: Arc::new(surface),
                 material: None,
                 filter,
+                back: None,
             });
         };
         if !weave {
@@ -250,6 +253,7 @@ impl Surface {
                 inner: Arc::new(surface),
                 material: Some(own),
                 filter: read.footprint_filter,
+                back: None,
             });
         }
         if own.weave.is_some() || own.yarn.is_none() {
@@ -271,39 +275,52 @@ impl Surface {
         tables: Option<(UserTables, TableOptions)>,
     ) -> PyResult<Surface> {
         let spec = &read.spec;
-        let base = Arc::clone(&yarn);
-        let surface = WovenSurface::new(spec, yarn).py_err()?;
+        let front = WovenSurface::new(spec, Arc::clone(&yarn)).py_err()?;
         let yarn_material = spec.table_material();
-        let tables = match tables {
+        let mut tables = match tables {
             Some(t) => Some(t),
-            None if surface.resolves_relief() => {
+            None if front.resolves_relief() => {
                 let model = py
                     .detach(|| yarn_material.build(read.wavelength_nm))
                     .py_err()?;
                 let options = TableOptions::for_render(&model);
                 let mut session = UserTables::session();
-                session
-                    .tables
-                    .insert(&yarn_material, read.wavelength_nm, &options, base);
+                session.tables.insert(
+                    &yarn_material,
+                    read.wavelength_nm,
+                    &options,
+                    Arc::clone(&yarn),
+                );
                 Some((session, options))
             }
             None => None,
         };
-        let surface = match tables {
-            Some((mut user, options)) => prepared(
+        // Each face's resolved levels (a crowned yarn, the relief's ratio) from the same cache.
+        let mut prepare = |surface: WovenSurface| match tables.as_mut() {
+            Some((user, options)) => prepared(
                 py,
-                &mut user,
+                user,
                 surface,
                 &yarn_material,
                 read.wavelength_nm,
-                &options,
-            )?,
-            None => surface,
+                options,
+            ),
+            None => Ok(surface),
+        };
+        let front = prepare(front)?;
+        // A cloth that lets light through is seen from behind as its back face (the pattern's
+        // complement), as `woven render` shades it.
+        let back = match spec.transmission && spec.material.weave.is_some() {
+            true => Some(Arc::new(prepare(
+                WovenSurface::new(&spec.back(), yarn).py_err()?,
+            )?)),
+            false => None,
         };
         Ok(Surface {
-            inner: Arc::new(surface),
+            inner: Arc::new(front),
             material: Some(spec.material.clone()),
             filter: read.footprint_filter,
+            back,
         })
     }
 
@@ -589,6 +606,21 @@ impl Surface {
     #[getter]
     fn transmits(&self) -> bool {
         self.inner.transmits()
+    }
+
+    /// The face seen from behind (the weave turned over: its pattern's complement, the weft's
+    /// share ``1 − γ``), on the same yarn table, where the surface lets light through a weave;
+    /// None otherwise. A renderer shades a hit from behind with it, its directions turned half
+    /// a turn about the weft (x, y, z) → (x, −y, −z), as `woven render` does.
+    #[getter]
+    fn back(&self) -> Option<Surface> {
+        let back = self.back.as_ref()?;
+        Some(Surface {
+            inner: Arc::clone(back),
+            material: self.material.as_ref().map(|m| m.back()),
+            filter: self.filter,
+            back: None,
+        })
     }
 
     /// The share (N,) of the light along ``d`` (the surface's frame, either side; (N, 3) or

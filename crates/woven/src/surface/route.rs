@@ -122,6 +122,8 @@ pub enum LibraryReason {
     Resolved(Detail),
     /// `relief` on a pattern: the weave's relief (ray-marched) at every level.
     Relief,
+    /// `transmission`: light through the gaps and the yarns, and the back face.
+    Transmission,
 }
 
 impl fmt::Display for LibraryReason {
@@ -133,6 +135,9 @@ impl fmt::Display for LibraryReason {
             LibraryReason::Relief => {
                 f.write_str("`relief` = true lays the weave's relief, ray-marched at every level")
             }
+            LibraryReason::Transmission => f.write_str(
+                "`transmission` = true lets light through the gaps and the yarns, and shows the back face from behind",
+            ),
         }
     }
 }
@@ -191,8 +196,12 @@ impl WovenSurface {
     /// Where a JIT renderer takes this surface's values from: traced where it only gathers,
     /// interpolates and follows a float's profile (a flat or whole table, the macro BRDF, a
     /// pattern at `detail` "yarns" or "cloth", its floats flat, tilted or shaped, its dyes even
-    /// or irregular), else the library, with the reason: the fibres, or the relief.
+    /// or irregular), else the library, with the reason: light through the cloth, the fibres,
+    /// or the relief.
     pub fn route(&self) -> Route {
+        if self.transmits() {
+            return Route::Library(LibraryReason::Transmission);
+        }
         if matches!(self.layout, super::Layout::Pattern { .. }) {
             if self.relief.is_some() {
                 return Route::Library(LibraryReason::Relief);

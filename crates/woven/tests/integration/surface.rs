@@ -811,4 +811,18 @@ fn a_jit_layout_traces_shaped_floats_and_irregular_dyes() {
             "{detail:?}, relief {relief}"
         );
     }
+    // Light through the cloth, and its back face, at every level (even the cloth's average).
+    for detail in [Detail::Cloth, Detail::Yarns, Detail::Fibers] {
+        let s = SurfaceSpec {
+            detail,
+            transmission: true,
+            ..shaped.clone()
+        };
+        let surface = WovenSurface::new(&s, Arc::clone(&table)).unwrap();
+        assert_eq!(
+            surface.route(),
+            Route::Library(LibraryReason::Transmission),
+            "{detail:?}"
+        );
+    }
 }

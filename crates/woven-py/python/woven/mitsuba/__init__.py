@@ -64,6 +64,20 @@ near-forward pairs (|wi + wo| < 0.5) or half vectors within 5° of the horizon (
 frame can bring about) give ``Table.eval_interpolated`` there, and flat fiber surfaces their
 table, not the exact model.
 
+**Light through the cloth.** With ``transmission`` on (a material's ``[weave] transmission``,
+such as the ``cotton-voile`` preset's, or the key) the BSDF is two-sided and has three
+components, as ``woven render`` shades it: the reflection (``GlossyReflection``), the light
+through the yarns (``DiffuseTransmission``: ``wo`` and ``si.wi`` on opposite sides) and the
+light straight between them (``Null``: the direction goes on, the share ``Surface.pass_through``
+along it, which ``eval_null_transmission`` returns). A hit from behind is shaded as the back face
+(``Surface.back``: the pattern's complement), its directions turned half a turn about the weft,
+(x, y, z) → (x, −y, −z), as ``woven render`` turns a hit's frame. The library answers such a
+surface lane by lane in every variant (``Surface.route``). ``woven_path`` traces its shadow rays
+through null components (multiplying what each passes, as ``volpath`` does), and a path that
+goes straight through keeps its last vertex and depth, as in ``woven render``; Mitsuba's
+``path`` stops shadow rays at the cloth, so light beyond a sheer then reaches a point only
+through the BSDF's draws (unbiased, but noisier).
+
 ``material`` may also name a microcylinder fabric (Sadeghi et al. 2013: a ``microcylinder-*``
 preset, or a file with ``model = "microcylinder"``; see ``woven.Microcylinder``). RGB variants
 then evaluate, sample and weigh it with the library (the keys above other than ``material`` do

@@ -12,6 +12,12 @@ from ._surface import _Lanes, _NEEDS_DIFFERENTIALS, _surface
 from ._table import JitTable
 
 
+# A face's directions as the library takes them: the front's as they are, the back's turned
+# half a turn about the weft, (x, y, z) → (x, −y, −z) (an involution: it turns them back too).
+_AS_IS = np.array([1.0, 1.0, 1.0])
+_TURNED = np.array([1.0, -1.0, -1.0])
+
+
 def _bsdf_class(mi):
     """The BSDF class for the current variant."""
     import drjit as dr
@@ -24,32 +30,46 @@ def _bsdf_class(mi):
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             self.surface, self.textures = _surface(props, mi)
-            if self.surface.transmits:
-                raise ValueError(
-                    "woven BSDF: `transmission` = true: the Mitsuba plugin does not pass light "
-                    "between the yarns yet (woven render does); set it false")
             self.filter = self.surface.footprint_filter
             self.table = self.surface.table
             self.material = self.surface.material
-            flags = (
+            # A cloth that lets light through (the library answers it: Surface.route): two-sided,
+            # its back face seen from behind, light through the yarns a diffuse transmission and
+            # light straight between them Mitsuba's null component.
+            self.transmits = self.surface.transmits
+            self.back = self.surface.back
+            extra = 0
+            if self.surface.uses_footprint or self.textures:
+                extra |= int(mi.BSDFFlags.SpatiallyVarying)
+            lay = self.surface.layout()
+            if self.filter and (self.surface.uses_footprint or lay["detail"] == "auto"):
+                # Integrators that can (``direct``, ``aov``, ``woven_path``) then compute
+                # si.duv_dx, si.duv_dy (BSDFFlags::NeedsDifferentials, which Mitsuba's Python
+                # enum leaves out).
+                extra |= _NEEDS_DIFFERENTIALS
+            reflection = (
                 mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide | mi.BSDFFlags.Anisotropic
             )
-            if self.surface.uses_footprint or self.textures:
-                flags |= mi.BSDFFlags.SpatiallyVarying
+            if self.transmits:
+                sides = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
+                components = [
+                    reflection | mi.BSDFFlags.BackSide,
+                    mi.BSDFFlags.DiffuseTransmission | sides,
+                    mi.BSDFFlags.Null | sides,
+                ]
+            else:
+                components = [reflection]
+            self.m_components = [int(c) | extra for c in components]
+            flags = 0
+            for c in self.m_components:
+                flags |= c
             self.m_flags = flags
-            self.m_components = [flags]
-            lay = self.surface.layout()
             # The library's dye rule as constants, for colours read per lane (textures).
             self.dye_rule = lay["dye_rule"]
             # Where the library answers each lane (every variant's scalar calls, and in JIT
             # variants the levels Dr.Jit does not trace: see the module's docs).
             # The library decides which surfaces a JIT variant traces (Surface.route).
             self.library = not jit or self.surface.route is not None
-            if self.filter and (self.surface.uses_footprint or lay["detail"] == "auto"):
-                # Integrators that can (``direct``, ``aov``) then compute si.duv_dx, si.duv_dy.
-                # (BSDFFlags::NeedsDifferentials, which Mitsuba's Python enum leaves out.)
-                self.m_flags = int(flags) | _NEEDS_DIFFERENTIALS
-                self.m_components = [int(flags) | _NEEDS_DIFFERENTIALS]
             self.why = self.surface.route if jit else None
             if jit and not self.library:
                 self.jt = JitTable(self.table, mi)
@@ -206,22 +226,41 @@ def _bsdf_class(mi):
 
         # -- the BSDF interface ----------------------------------------------------------------
 
+        def _enabled(self, ctx):
+            """Whether ``ctx`` enables any of the components."""
+            if not self.transmits:
+                return ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
+            return any(ctx.is_enabled(mi.BSDFFlags(c & 0x7FF), i)
+                       for i, c in enumerate(self.m_components))
+
+        def _sides(self, ctx, si, wo, active):
+            """The lanes a call answers: ``si.wi`` and ``wo`` above (an opaque cloth), or, where
+            light passes through, on any side whose component ``ctx`` enables (reflection where
+            they share a side, transmission where they do not)."""
+            active = mi.Bool(active)
+            if not self.transmits:
+                return active & (si.wi.z > 0) & (wo.z > 0)
+            reflect = mi.Bool(ctx.is_enabled(mi.BSDFFlags.GlossyReflection, 0))
+            through = mi.Bool(ctx.is_enabled(mi.BSDFFlags.DiffuseTransmission, 1))
+            same = si.wi.z * wo.z > 0
+            return active & (si.wi.z != 0) & (wo.z != 0) & dr.select(same, reflect, through)
+
         def eval(self, ctx, si, wo, active=True):
-            active = mi.Bool(active) & (si.wi.z > 0) & (wo.z > 0)
-            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
+            active = self._sides(ctx, si, wo, active)
+            if not self._enabled(ctx) or (not jit and not active):
                 return mi.Color3f(0.0)
             if self.library:
                 f = self._lib_eval(si, wo, active)
             else:
                 f = self._eval_jit(si, wo, active)
-            return dr.select(active, f * wo.z, 0.0)
+            return dr.select(active, f * dr.abs(wo.z), 0.0)
 
         def pdf(self, ctx, si, wo, active=True):
-            active = mi.Bool(active) & (si.wi.z > 0) & (wo.z > 0)
-            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
+            active = self._sides(ctx, si, wo, active)
+            if not self._enabled(ctx) or (not jit and not active):
                 return mi.Float(0.0)
             if self.library:
-                p = self._lib.floats(self.surface.pdf(*self._lib_args(si, wo, active)))
+                p = self._lib_pdf(si, wo, active)
             else:
                 p = self._pdf_jit(si, wo, active)
             return dr.select(active, p, 0.0)
@@ -229,33 +268,62 @@ def _bsdf_class(mi):
         def eval_pdf(self, ctx, si, wo, active=True):
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
+        def eval_null_transmission(self, si, active=True):
+            """The share of the light along ``si.wi`` that passes straight between the yarns
+            (0 where the cloth does not let light through): what ``woven_path``'s and
+            ``volpath``'s shadow rays carry through the cloth."""
+            if not self.transmits:
+                return mi.Spectrum(0.0)
+            return mi.Spectrum(dr.select(mi.Bool(active), self._lib_passed(si, active), 0.0))
+
         def sample(self, ctx, si, sample1, sample2, active=True):
             bs = mi.BSDFSample3f()
-            active = mi.Bool(active) & (si.wi.z > 0)
-            if not ctx.is_enabled(mi.BSDFFlags.GlossyReflection) or (not jit and not active):
+            active = mi.Bool(active) & ((si.wi.z != 0) if self.transmits else (si.wi.z > 0))
+            if not self._enabled(ctx) or (not jit and not active):
                 return bs, mi.Color3f(0.0)
+            # Straight through with the share that passes (Mitsuba's null component: the
+            # direction on, the throughput unchanged), the rest drawn from the other lobes.
+            passed = mi.Float(0.0)
+            if self.transmits and ctx.is_enabled(mi.BSDFFlags.Null, 2):
+                passed = dr.select(active, self._lib_passed(si, active), 0.0)
+            null = mi.Bool(active & (sample1 < passed))
+            drawn = mi.Bool(active & ~null)
+            sample1 = dr.clip((sample1 - passed) / dr.select(passed < 1, 1 - passed, 1), 0, 1)
+            if not jit and null:
+                return self._passed_sample(bs, si, passed)
             if self.library:
                 # The library's draw carries its f: no second call to evaluate it.
-                wo, pdf, f = self._lib_sample(si, sample1, sample2, active)
+                wo, pdf, f = self._lib_sample(si, sample1, sample2, drawn)
+                f = f * dr.abs(wo.z)
             else:
-                wo, pdf, ok = self._sample_jit(si, sample1, sample2, active)
-                active &= ok
-            active &= wo.z > 0
-            if not jit and not (active and pdf > 0):
+                wo, pdf, ok = self._sample_jit(si, sample1, sample2, drawn)
+                drawn &= ok
+                f = self.eval(ctx, si, wo, drawn)
+            drawn = mi.Bool(drawn & self._sides(ctx, si, wo, drawn) & (pdf > 0))
+            if not jit and not drawn:
                 return bs, mi.Color3f(0.0)
-            pdf = dr.select(active, pdf, 0.0)
-            bs.wo = wo
+            pdf = pdf * (1 - passed)
+            same = wo.z * si.wi.z > 0
+            bs.wo = dr.select(null, -si.wi, wo)
             bs.eta = 1.0
-            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
-            bs.sampled_component = mi.UInt32(0)
-            if self.library:
-                f = dr.select(active, f * wo.z, 0.0)
-            else:
-                f = self.eval(ctx, si, wo, active)
-            active &= pdf > 0
-            bs.pdf = dr.select(active, pdf, 0.0)
-            weight = dr.select(active, f / dr.select(active, pdf, 1.0), 0.0)
-            return bs, weight
+            bs.pdf = dr.select(null, passed, dr.select(drawn, pdf, 0.0))
+            kinds = [(mi.BSDFFlags.GlossyReflection, 0), (mi.BSDFFlags.DiffuseTransmission, 1),
+                     (mi.BSDFFlags.Null, 2)]
+            kind = dr.select(null, 2, dr.select(same, 0, 1))
+            bs.sampled_type = mi.UInt32(+kinds[0][0])
+            bs.sampled_component = mi.UInt32(kind)
+            if self.transmits:
+                for flag, i in kinds[1:]:
+                    bs.sampled_type = dr.select(kind == i, mi.UInt32(+flag), bs.sampled_type)
+            weight = dr.select(drawn, f / dr.select(drawn, pdf, 1.0), 0.0)
+            return bs, dr.select(null, 1.0, weight)
+
+        def _passed_sample(self, bs, si, passed):
+            """A scalar variant's draw straight through the gaps."""
+            bs.wo, bs.eta, bs.pdf = -si.wi, 1.0, passed
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.Null)
+            bs.sampled_component = mi.UInt32(2)
+            return bs, mi.Color3f(1.0)
 
         # -- the library's woven.Surface, lanes as arrays (scalar variants: one lane) ----------
 
@@ -280,6 +348,16 @@ def _bsdf_class(mi):
             # Mitsuba's wo is toward the light (woven's wi), si.wi toward the viewer.
             return uv, lanes.dirs(wo, active), lanes.dirs(si.wi, active), fp
 
+        def _faces(self, v):
+            """The face that answers each lane, as [(surface, rows, turn)]: the front where the
+            viewer ``v`` (N, 3) is above it, and where the cloth lets light through, the back
+            where it is below, its directions turned over about the weft (``turn``: y and z
+            reversed, as ``woven render`` turns the frame of a hit from behind)."""
+            if not self.transmits:
+                return [(self.surface, np.ones(len(v), dtype=bool), _AS_IS)]
+            below = v[:, 2] < 0
+            return [(self.surface, ~below, _AS_IS), (self.back or self.surface, below, _TURNED)]
+
         def _lib_dyes(self, si, active):
             lanes = self._lib
             # The library takes dyes in [0, 1]: a texture outside (HDR, scaled) saturates, and
@@ -289,20 +367,50 @@ def _bsdf_class(mi):
                     for k, t in self.textures.items()}
 
         def _lib_eval(self, si, wo, active):
-            f = self.surface.eval(*self._lib_args(si, wo, active), **self._lib_dyes(si, active))
+            uv, s, v, fp = self._lib_args(si, wo, active)
+            dyes = self._lib_dyes(si, active)
+            f = np.zeros((len(uv), 3))
+            for surface, rows, turn in self._faces(v):
+                if rows.any():
+                    f[rows] = surface.eval(uv[rows], s[rows] * turn, v[rows] * turn, fp[rows],
+                                           **{k: c[rows] for k, c in dyes.items()})
             return self._lib.color(f)
+
+        def _lib_pdf(self, si, wo, active):
+            uv, s, v, fp = self._lib_args(si, wo, active)
+            p = np.zeros(len(uv))
+            for surface, rows, turn in self._faces(v):
+                if rows.any():
+                    p[rows] = surface.pdf(uv[rows], s[rows] * turn, v[rows] * turn, fp[rows])
+            if self.transmits:
+                p *= 1.0 - self._lib_passes(uv, v, fp)
+            return self._lib.floats(p)
+
+        def _lib_passes(self, uv, v, fp):
+            """The share (N,) passed straight through along the viewer's ``v`` at each lane."""
+            out = np.zeros(len(uv))
+            for surface, rows, turn in self._faces(v):
+                if rows.any():
+                    out[rows] = surface.pass_through(uv[rows], v[rows] * turn, fp[rows])
+            return np.minimum(out, 1.0)
+
+        def _lib_passed(self, si, active):
+            uv, fp = self._lib_points(si, active)
+            return self._lib.floats(self._lib_passes(uv, self._lib.dirs(si.wi, active), fp))
 
         def _lib_sample(self, si, sample1, sample2, active):
             lanes = self._lib
             uv, fp = self._lib_points(si, active)
-            d, f, pdf = self.surface.sample(
-                uv,
-                lanes.dirs(si.wi, active),
-                lanes.cols(sample1, 1, active, 0.5)[:, 0],
-                lanes.cols(sample2, 2, active, 0.5),
-                fp,
-                **self._lib_dyes(si, active),
-            )
+            v = lanes.dirs(si.wi, active)
+            uc, u = lanes.cols(sample1, 1, active, 0.5)[:, 0], lanes.cols(sample2, 2, active, 0.5)
+            dyes = self._lib_dyes(si, active)
+            d, f, pdf = np.zeros((len(uv), 3)), np.zeros((len(uv), 3)), np.zeros(len(uv))
+            for surface, rows, turn in self._faces(v):
+                if rows.any():
+                    dr_, f[rows], pdf[rows] = surface.sample(
+                        uv[rows], v[rows] * turn, uc[rows], u[rows], fp[rows],
+                        **{k: c[rows] for k, c in dyes.items()})
+                    d[rows] = dr_ * turn
             return lanes.vector(d), lanes.floats(pdf), lanes.color(f)
 
         def traverse(self, callback):

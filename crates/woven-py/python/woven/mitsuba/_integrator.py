@@ -18,6 +18,57 @@ Keys: ``max_depth`` (default 6, -1 for no limit, as ``path``'s) and ``rr_depth``
 from __future__ import annotations
 
 
+# The most surfaces a shadow ray passes straight through (`woven render`'s bound).
+MAX_PASSES = 64
+
+
+def _passed(mi, dr, scene, si, ds, active):
+    """The share of the light from the emitter sample ``ds`` that reaches ``si``: 0 where an
+    opaque surface stands between, the product of each surface's null transmission
+    (``eval_null_transmission``: what passes straight between a sheer's yarns) where only such
+    surfaces do, as ``woven render``'s shadow rays and Mitsuba's ``volpath`` carry it."""
+    passed = mi.Spectrum(1.0)
+    ray = si.spawn_ray_to(ds.p)
+    if not dr.is_jit_v(mi.Float):
+        # One lane: the surfaces met in turn (a scalar variant's invalid hit has no BSDF).
+        for _ in range(MAX_PASSES if active else 0):
+            hit = scene.ray_intersect(ray, ray_flags=mi.RayFlags.All, coherent=False)
+            if not hit.is_valid():
+                return passed
+            bsdf = hit.bsdf()
+            if not mi.has_flag(bsdf.flags(), mi.BSDFFlags.Null):
+                return mi.Spectrum(0.0)
+            passed = passed * bsdf.eval_null_transmission(hit)
+            if dr.max(passed) <= 0:
+                return passed
+            ray = hit.spawn_ray_to(ds.p)
+        return mi.Spectrum(0.0)
+    state = (ray, passed, mi.UInt32(0), mi.Bool(active))
+
+    def body(ray, passed, k, active):
+        hit = scene.ray_intersect(ray, ray_flags=mi.RayFlags.All, coherent=False, active=active)
+        met = active & hit.is_valid()
+        bsdf = hit.bsdf()
+        null = met & mi.has_flag(bsdf.flags(), mi.BSDFFlags.Null)
+        through = bsdf.eval_null_transmission(hit, null)
+        passed = dr.select(met, dr.select(null, passed * through, 0.0), passed)
+        ray = dr.select(null, hit.spawn_ray_to(ds.p), ray)
+        k = k + 1
+        active = null & (dr.max(passed) > 0) & (k < MAX_PASSES)
+        return ray, passed, k, active
+
+    state = dr.while_loop(state, lambda *s: s[-1], body, label="woven_path shadow")
+    return dr.select(active, state[1], 0.0)
+
+
+def _passes(mi, scene):
+    """Whether a BSDF of ``scene`` lets light straight through (has a null component)."""
+    null = int(mi.BSDFFlags.Null)
+    return any(
+        shape.bsdf() is not None and int(shape.bsdf().flags()) & null for shape in scene.shapes()
+    )
+
+
 def _integrator_class(mi):
     """The ``woven_path`` integrator class for the current variant."""
     import drjit as dr
@@ -45,6 +96,7 @@ def _integrator_class(mi):
             if rr_depth <= 0:
                 raise ValueError(f"woven_path: `rr_depth` = {rr_depth}: expected > 0")
             self.rr_depth = int(rr_depth)
+            self._scene_passes = None
 
         def sample(self, scene, sampler, ray, medium=None, active=True):
             ctx = mi.BSDFContext()
@@ -103,13 +155,16 @@ def _integrator_class(mi):
                 return sampler, si, L, beta, eta, depth, prev, prev_pdf, prev_delta, mi.Bool(False)
             bsdf = si.bsdf()
 
-            # Next-event estimation.
+            # Next-event estimation (its shadow ray through what passes light straight on).
             smooth = mi.has_flag(bsdf.flags(), mi.BSDFFlags.Smooth)
             em_active = go_on & smooth
+            passing = self._passing(scene)
             ds, em_weight = scene.sample_emitter_direction(
-                si, sampler.next_2d(), True, em_active
+                si, sampler.next_2d(), not passing, em_active
             )
             em_active &= ds.pdf != 0.0
+            if passing:
+                em_weight = em_weight * _passed(mi, dr, scene, si, ds, em_active)
             wo = si.to_local(ds.d)
             f, bsdf_pdf = bsdf.eval_pdf(ctx, si, wo, em_active)
             em_mis = dr.select(ds.delta, 1.0, mis(ds.pdf, bsdf_pdf))
@@ -119,11 +174,16 @@ def _integrator_class(mi):
             bs, weight = bsdf.sample(ctx, si, sampler.next_1d(), sampler.next_2d(), go_on)
             beta = beta * dr.select(go_on, weight, 0.0)
             eta = eta * dr.select(go_on, bs.eta, 1.0)
-            prev = si
-            prev_pdf = bs.pdf
-            prev_delta = mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta)
+            # Straight through (a null component, light between a sheer's yarns): no vertex,
+            # as in `woven render`. The path keeps its last vertex, its draw's density and its
+            # depth, so an emitter met beyond is weighed against that vertex's light sampling,
+            # whose shadow ray passed the same way.
+            on = go_on & ~mi.has_flag(bs.sampled_type, mi.BSDFFlags.Null)
+            prev = dr.select(on, si, prev)
+            prev_pdf = dr.select(on, bs.pdf, prev_pdf)
+            prev_delta = dr.select(on, mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta), prev_delta)
             ray = si.spawn_ray(si.to_world(bs.wo))
-            depth = dr.select(active, depth + 1, depth)
+            depth = dr.select(on, depth + 1, depth)
 
             # Russian roulette, as Mitsuba's `path`: on the throughput with η² folded in.
             rr_prob = dr.minimum(dr.max(beta) * dr.square(eta), 0.95)
@@ -133,6 +193,23 @@ def _integrator_class(mi):
             active = go_on & survives & (dr.max(beta) != 0.0)
             si = scene.ray_intersect(ray, ray_flags=mi.RayFlags.All, coherent=False, active=active)
             return sampler, si, L, beta, eta, depth, prev, prev_pdf, prev_delta, active
+
+        def render(self, scene, sensor, seed=0, spp=0, develop=True, evaluate=True):
+            # Whether the scene passes light straight on, found once for the whole render.
+            self._scene_passes = _passes(mi, scene)
+            try:
+                return mi.SamplingIntegrator.render(
+                    self, scene, sensor, seed, spp, develop, evaluate
+                )
+            finally:
+                self._scene_passes = None
+
+        def _passing(self, scene):
+            """Whether a BSDF of ``scene`` passes light straight on (a null component): then
+            shadow rays are traced through such surfaces; else Mitsuba's own test, as ``path``'s."""
+            if self._scene_passes is not None:
+                return self._scene_passes
+            return _passes(mi, scene)
 
         def aov_names(self):
             return []
