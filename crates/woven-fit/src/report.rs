@@ -206,6 +206,14 @@ pub(crate) fn assemble(
             data.dropped
         ));
     }
+    if dataset.dropped_below_horizon > 0 {
+        warnings.push(format!(
+            "{} rows with a direction at or below the horizon (θ ≥ π/2) were dropped when the \
+             data was read: the fit uses reflection only (a transmitted direction, θr in \
+             (π/2, π], is not fitted)",
+            dataset.dropped_below_horizon
+        ));
+    }
     FitResult {
         dataset: dataset.name.clone(),
         model: params.model,

@@ -7,7 +7,9 @@ use crate::gaps::{Cover, YarnSection};
 use crate::material::Dye;
 use crate::math::Vec3;
 use crate::table::Albedos;
-use crate::translucency::{face, slab_transmitted_share, Translucency, YARN_SCATTERING_DEPTH};
+use crate::translucency::{
+    face, forward_spread, slab_transmitted_share, Translucency, YARN_SCATTERING_DEPTH,
+};
 use crate::yarn::Masking;
 use std::sync::{Arc, OnceLock};
 
@@ -27,6 +29,8 @@ struct Through {
     section: YarnSection,
     /// `τ`: the share of what enters the yarns that leaves on the far side.
     tau: f64,
+    /// The forward lobe's spread ([`forward_spread`]).
+    spread: f64,
     /// The cloth's back ([`Material::back`](crate::material::Material::back)), opaque: what it
     /// reflects seen from below, in its own frame.
     back: Model,
@@ -61,10 +65,16 @@ impl Model {
             ));
         }
         let tau = slab_transmitted_share(self.fiber().params().diffuse, YARN_SCATTERING_DEPTH);
+        let yarn = match &self.structure {
+            Structure::Woven { yarn, .. } => Some(*yarn.params()),
+            Structure::Flat(_) => None,
+        };
+        let spread = forward_spread(self.fiber().eta(), self.fiber().alpha(), yarn.as_ref());
         Ok(Model {
             through: Some(Arc::new(Through {
                 section: YarnSection::new(gap)?,
                 tau,
+                spread,
                 back,
                 table: OnceLock::new(),
             })),
@@ -146,6 +156,7 @@ impl Model {
                 |_, w| [self.albedo_along(w); 3],
                 |w| self.open_along(w),
                 true,
+                through.spread,
             )
         })
     }

@@ -216,3 +216,57 @@ fn a_plot_on_a_full_disk_leaves_no_output() {
         "only the data and the link remain"
     );
 }
+
+/// A sheer's measurements with transmitted rows (`theta_r` above π/2, as `woven eval` takes
+/// them): the fit keeps the init material's openness (its gap and transmission) in the file it
+/// writes, fits the reflected rows, and says how many transmitted ones it left out.
+#[test]
+fn a_sheer_fits_its_reflection_and_says_what_it_left_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rows = String::from("theta_i,phi_i,theta_r,phi_r\n");
+    for k in 0..30 {
+        let t = k as f64 / 30.0;
+        let theta_r = if k % 3 == 0 { PI - 0.3 - t } else { 0.2 + t };
+        rows.push_str(&format!(
+            "{},{},{theta_r},{}\n",
+            0.1 + t,
+            0.2 * k as f64,
+            3.0 - t
+        ));
+    }
+    let eval = woven()
+        .args(["eval", "-m", "cotton-voile", "--input", "-"])
+        .write_stdin(rows)
+        .output()
+        .unwrap();
+    assert!(eval.status.success());
+    let data = dir.path().join("voile.csv");
+    let text = String::from_utf8(eval.stdout)
+        .unwrap()
+        .replacen("brdf", "value", 1);
+    std::fs::write(&data, text).unwrap();
+    let out = dir.path().join("fitted.toml");
+    woven()
+        .args([
+            "fit",
+            "--init",
+            "cotton-voile",
+            "--starts",
+            "1",
+            "--max-iterations",
+            "5",
+        ])
+        .arg("--data")
+        .arg(&data)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("fit to 20 measurements"))
+        .stderr(predicate::str::contains(
+            "10 rows with a direction at or below the horizon",
+        ));
+    let fitted = woven::material::Material::from_path(&out).unwrap();
+    assert_eq!(fitted.openness.gap, 0.5);
+    assert!(fitted.openness.transmission);
+}

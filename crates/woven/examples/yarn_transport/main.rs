@@ -39,7 +39,7 @@
 use rayon::prelude::*;
 use woven::gaps::{open_area, YarnSection};
 use woven::math::rng::SplitMix;
-use woven::translucency::{slab_transmitted_share, YARN_SCATTERING_DEPTH};
+use woven::translucency::{slab_transmitted_share, YARN_OPTICAL_DEPTH, YARN_SCATTERING_DEPTH};
 use woven::Vec3;
 
 /// Walks per 1-D slab estimate.
@@ -188,13 +188,18 @@ fn main() {
     let thickness_optical = bisect(0.05, 30.0, |t| slab(t, 1.0).0 - want);
     println!(
         "a slab that absorbs nothing reflects {want:.4} of diffuse light at optical thickness \
-         {thickness_optical:.3}"
+         {thickness_optical:.3} (the library's YARN_OPTICAL_DEPTH: {YARN_OPTICAL_DEPTH})"
     );
+    let mut failures = 0;
+    // The forward lobe's share (translucency::forward_share) rests on this thickness.
+    if (thickness_optical / YARN_OPTICAL_DEPTH - 1.0).abs() > 0.01 {
+        println!("  the optical thickness leaves YARN_OPTICAL_DEPTH by more than 1 %");
+        failures += 1;
+    }
     println!(
         "\n| ρ0 | a | gap | θi | O (open area) | R | T | τ_tile | τ 1-D slab | τ formula | exit cos |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    let mut failures = 0;
     for rho0 in [1.0, 0.8, 0.4] {
         // a: a half-space of the medium reflects ρ0 of diffuse light (all of it: a = 1).
         let a = if rho0 == 1.0 {

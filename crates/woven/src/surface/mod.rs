@@ -163,6 +163,9 @@ pub struct WovenSurface {
     relief: Option<Relief>,
     /// The yarns' cross-section where light passes between them ([`SurfaceSpec::transmission`]).
     open: Option<crate::gaps::YarnSection>,
+    /// The forward lobe's spread of the light through the yarns
+    /// ([`forward_spread`](crate::translucency::forward_spread)).
+    spread: f64,
     /// The light through the yarns ([`translucent`]), worked out when first asked.
     translucency: std::sync::OnceLock<translucent::Translucency>,
     dyes: Dyes,
@@ -264,6 +267,11 @@ impl WovenSurface {
             } else {
                 None
             },
+            spread: crate::translucency::forward_spread(
+                spec.material.fiber.eta.at(yarn.wavelength_nm()),
+                spec.material.fiber.model.alpha(),
+                spec.material.yarn.as_ref(),
+            ),
             fibers,
             translucency: std::sync::OnceLock::new(),
             dyes: Dyes::new(own, [spec.weft_color, spec.warp_color], spec.irregularity),
@@ -317,6 +325,7 @@ impl WovenSurface {
             fibers: None,
             relief: None,
             open: None,
+            spread: crate::translucency::MIN_FORWARD_SPREAD,
             translucency: std::sync::OnceLock::new(),
             dyes: Dyes::new(own, [color; 2], Irregularity::default()),
             tables: SurfaceTables::new(table),

@@ -266,7 +266,11 @@ impl Bsdf for PointBsdf<'_> {
         }
         let q = self.transmission_choice(known);
         if drawn.z < 0.0 {
-            q * (-drawn.z) * std::f64::consts::FRAC_1_PI
+            if q > 0.0 {
+                q * self.surface.translucency().pdf(known, drawn)
+            } else {
+                0.0
+            }
         } else {
             (1.0 - q) * self.pdf_reflection(wi, wo, mode)
         }
@@ -284,10 +288,10 @@ impl Bsdf for PointBsdf<'_> {
         }
         let q = self.transmission_choice(known);
         if uc < q {
-            // Through the yarns: a cosine lobe on the far side.
-            let d = crate::math::sampling::cosine_hemisphere(u[0], u[1]);
-            let drawn = Vec3::new(d.x, d.y, -d.z);
-            let pdf = q * d.z * std::f64::consts::FRAC_1_PI;
+            // Through the yarns: the forward lobe or a cosine lobe on the far side.
+            let table = self.surface.translucency();
+            let drawn = table.sample(known, uc / q, u)?;
+            let pdf = q * table.pdf(known, drawn);
             let (wi, wo) = pair_of(known, drawn, mode);
             return (pdf > 0.0).then(|| BsdfSample {
                 wi,

@@ -37,7 +37,7 @@ pub(super) fn of(surface: &WovenSurface) -> Translucency {
         }
         (albedo * (1.0 / (side * side) as f64)).0
     };
-    Translucency::from_albedo(albedo, |w| surface.open_along(w), false)
+    Translucency::from_albedo(albedo, |w| surface.open_along(w), false, surface.spread)
 }
 
 #[cfg(test)]
@@ -125,21 +125,26 @@ mod tests {
                 assert!(f.0[c] > 0.0 && (f.0[c] - g.0[c]).abs() < 1e-12 * f.0[c]);
             }
         }
-        // Draws through the cloth report eval's f and pdf's density.
+        // Draws through the cloth report eval's f and pdf's density; a draw of the forward lobe
+        // that lands back on the viewer's side fails (its density leaves that out).
         let wo = Vec3::from_spherical(0.5, 0.8);
-        let mut through = 0;
+        let (mut through, mut failed) = (0, 0);
         for k in 0..400 {
             let u = [
                 (k % 20) as f64 / 20.0 + 0.025,
                 (k / 20) as f64 / 20.0 + 0.025,
             ];
             let uc = (k as f64 * 0.618_034) % 1.0;
-            let d = bsdf.sample(wo, uc, u, Transport::Radiance).unwrap();
+            let Some(d) = bsdf.sample(wo, uc, u, Transport::Radiance) else {
+                failed += 1;
+                continue;
+            };
             let pdf = bsdf.pdf(d.wi, d.wo, Transport::Radiance);
             assert!((pdf - d.pdf).abs() < 1e-9 * pdf, "{pdf} {}", d.pdf);
             assert_eq!(bsdf.eval(d.wi, d.wo), d.f);
             through += usize::from(d.wi.z < 0.0);
         }
         assert!(through > 20 && through < 380, "{through}");
+        assert!(failed < 20, "{failed} of 400 draws failed");
     }
 }
