@@ -268,6 +268,30 @@ def test_chi2_of_the_plugins_sampling(llvm, yarn_tables, name):
             assert ok, f"{name} ({'warp' if warp else 'weft'}) at θi {theta_deg}°: {test.messages}"
 
 
+def woven_binary():
+    """The `woven` binary the renders compare against: WOVEN_BIN, else the release build."""
+    return os.environ.get("WOVEN_BIN") or str(
+        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
+    )
+
+
+def both_renderers(s, scene, tmp_path, label, seeds=tuple(range(8)), spp=32):
+    """The Mitsuba scene `s` and `woven render`'s `scene`, each at `spp` for every seed,
+    compared by compare.stats' rule, and the z-scores of their 8×8-block differences; both
+    printed. Returns (stats, z)."""
+    m = np.stack(
+        [np.array(mi.render(s, spp=spp, seed=k), dtype=np.float64)[..., :3] for k in seeds]
+    )
+    w = compare.render_woven(woven_binary(), scene, list(seeds), spp, tmp_path, mi)
+    st = compare.stats(m, w, compare.TOL_FLOAT32)
+    print(compare.HEADER)
+    print(compare.row(label, st))
+    z = block_z(m, w, 8)
+    print(f"mean rel diff {st['mean_rel_diff']:+.4f} ({st['mean_diff_z']:+.1f} s.e.),"
+          f" 8x8-block z RMS {np.sqrt(np.mean(z**2)):.2f}")
+    return st, z
+
+
 def plane_scene(tmp_path, light):
     """Scene (ii)'s camera, film and plane with a woven material (the sateen's yarn as a 2/1
     twill, dyed weft and warp, yarns tilted 30° at the ends of their floats, gaps of 0.3 of each
@@ -326,21 +350,8 @@ def test_plugin_render_agrees_with_woven_render(llvm, cache, cli, tmp_path, ligh
     scene, d = plane_scene(tmp_path, light)
     scene.path.write_text(scene.path.read_text().replace("fov_deg = 45.0", "fov_deg = 11.5"))
     scene.fov_deg = d["sensor"]["fov"] = 11.5
-    seeds, spp = list(range(8)), 32
     s = mi.load_dict(d)  # builds the sateen yarn's table into the shared cache
-    m = np.stack(
-        [np.array(mi.render(s, spp=spp, seed=k), dtype=np.float64)[..., :3] for k in seeds]
-    )
-    binary = os.environ.get("WOVEN_BIN") or str(
-        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
-    )
-    w = compare.render_woven(binary, scene, seeds, spp, tmp_path, mi)
-    st = compare.stats(m, w, compare.TOL_FLOAT32)
-    print(compare.HEADER)
-    print(compare.row(f"woven render vs Mitsuba + woven plugin ({light})", st))
-    z = block_z(m, w, 8)
-    print(f"mean rel diff {st['mean_rel_diff']:+.4f} ({st['mean_diff_z']:+.1f} s.e.),"
-          f" 8x8-block z RMS {np.sqrt(np.mean(z**2)):.2f}")
+    st, z = both_renderers(s, scene, tmp_path, f"woven render vs Mitsuba + woven plugin ({light})")
     assert st["pass"], st
     assert abs(st["mean_rel_diff"]) <= 0.005, st
     assert np.sqrt(np.mean(z**2)) < 2.0, z
@@ -376,9 +387,7 @@ def test_fibre_close_up_agrees_in_llvm_scalar_and_woven_render(llvm, cache, cli,
         )
     finally:
         mi.set_variant("llvm_ad_rgb")
-    binary = os.environ.get("WOVEN_BIN") or str(
-        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
-    )
+    binary = woven_binary()
     stacks["woven"] = compare.render_woven(binary, scene, list(range(8)), spp, tmp_path, mi)
     assert stacks["llvm"].std(axis=(1, 2)).mean() > 0.2 * stacks["llvm"].mean(), "no fibres?"
     for a, b in [("llvm", "scalar"), ("llvm", "woven"), ("scalar", "woven")]:
@@ -959,9 +968,7 @@ def test_the_showcase_renders_in_mitsuba_as_in_woven_render(llvm, cache, cli):
     8×8-pixel blocks within 4 standard errors, and no banding over the satin beyond noise's."""
     import showcase
 
-    binary = os.environ.get("WOVEN_BIN") or str(
-        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
-    )
+    binary = woven_binary()
     size, spp, seeds = (192, 108), 32, [0, 1, 2, 3]
     with tempfile.TemporaryDirectory() as folder:
         w, _ = showcase.woven_images(binary, size, spp, seeds, folder)
@@ -985,9 +992,7 @@ def test_the_curtains_render_in_mitsuba_as_in_woven_render(llvm, cache, cli):
     render` draws it."""
     import showcase
 
-    binary = os.environ.get("WOVEN_BIN") or str(
-        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
-    )
+    binary = woven_binary()
     scene = REPO / "scenes" / "docs" / "curtains.toml"
     # Six seeds: the blocks' standard errors come from the seeds' spread, and with four a block
     # beyond 4 of them is about 0.7 % likely by chance alone (Student's t, 6 degrees of freedom).
@@ -1104,9 +1109,7 @@ def test_woven_path_agrees_with_woven_render_where_footprints_filter(llvm, cache
     compare.stats' rule, per-pixel z RMS near 1)."""
     scene, d = plane_scene(tmp_path, "environment")
     seeds, spp = list(range(8)), 32
-    binary = os.environ.get("WOVEN_BIN") or str(
-        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
-    )
+    binary = woven_binary()
     w = compare.render_woven(binary, scene, seeds, spp, tmp_path, mi)
     means = {}
     for integrator in ("path", "woven_path"):
@@ -1333,21 +1336,9 @@ def test_a_sheer_renders_in_mitsuba_as_in_woven_render(llvm, cache, cli, tmp_pat
     assert np.allclose(d["point0"]["position"], [0.3, 0.4, -1.5]) and "env" in d
     d["integrator"] = {"type": "woven_path", "max_depth": 3, "hide_emitters": False}
     d["rect0"]["bsdf"] = dict(SHEER)
-    seeds, spp = list(range(8)), 32
     s = mi.load_dict(d)
-    m = np.stack(
-        [np.array(mi.render(s, spp=spp, seed=k), dtype=np.float64)[..., :3] for k in seeds]
-    )
-    binary = os.environ.get("WOVEN_BIN") or str(
-        pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "woven"
-    )
-    w = compare.render_woven(binary, scene, seeds, spp, tmp_path, mi)
-    st = compare.stats(m, w, compare.TOL_FLOAT32)
-    print(compare.HEADER)
-    print(compare.row("woven render vs Mitsuba + woven plugin (voile, lit from behind)", st))
-    z = block_z(m, w, 8)
-    print(f"mean rel diff {st['mean_rel_diff']:+.4f} ({st['mean_diff_z']:+.1f} s.e.),"
-          f" 8x8-block z RMS {np.sqrt(np.mean(z**2)):.2f}")
+    st, z = both_renderers(s, scene, tmp_path,
+                           "woven render vs Mitsuba + woven plugin (voile, lit from behind)")
     assert st["pass"], st
     assert abs(st["mean_rel_diff"]) <= 0.01, st
     assert np.sqrt(np.mean(z**2)) < 2.0, z

@@ -305,41 +305,65 @@ impl Translucency {
     /// forward part over `K` (module docs).
     fn forward_factor(&self, wi: Vec3, wo: Vec3) -> [f64; 3] {
         let (a, b) = (face(wi), face(wo));
-        let (ka, kb) = (forward_share(a.z), forward_share(b.z));
+        self.forward_factor_in(a.z, b.z, Cell::of(a), Cell::of(b))
+    }
+
+    /// [`forward_factor`](Self::forward_factor) for faces of cosines `mu_a`, `mu_b` in the cells
+    /// `ca`, `cb`.
+    fn forward_factor_in(&self, mu_a: f64, mu_b: f64, ca: Cell, cb: Cell) -> [f64; 3] {
+        let (ka, kb) = (forward_share(mu_a), forward_share(mu_b));
         if ka * kb <= 0.0 {
             return [0.0; 3];
         }
-        let n = self.forward.norm_at(a.z) * self.forward.norm_at(b.z);
+        let n = self.forward.norm_at(mu_a) * self.forward.norm_at(mu_b);
         if n <= 0.0 {
             return [0.0; 3];
         }
-        let (ra, rb) = (self.rest(a), self.rest(b));
+        let (ra, rb) = (ca.read(&self.rest), cb.read(&self.rest));
         std::array::from_fn(|c| (ka * ra[c] * kb * rb[c] / n).max(0.0).sqrt())
     }
 
     /// `r(w)` per channel, `w` in the upper hemisphere: bilinear in `cos² θ` and `φ`.
     fn rest(&self, w: Vec3) -> [f64; 3] {
-        bilinear(&self.rest, w)
+        Cell::of(w).read(&self.rest)
     }
 }
 
-/// A table of per-channel values at the nodes, at `w` in the upper hemisphere: bilinear in
-/// `cos² θ` and `φ`.
-fn bilinear(values: &[[f64; 3]], w: Vec3) -> [f64; 3] {
-    let mu2 = (w.z * w.z).clamp(0.0, 1.0);
-    let x = (mu2 * N_MU as f64 - 0.5).clamp(0.0, (N_MU - 1) as f64);
-    let (k0, fx) = (x.floor() as usize, x.fract());
-    let k1 = (k0 + 1).min(N_MU - 1);
-    let phi = w.y.atan2(w.x).rem_euclid(2.0 * PI) / (2.0 * PI) * N_PHI as f64 - 0.5;
-    let phi = phi.rem_euclid(N_PHI as f64);
-    let (j0, fy) = (phi.floor() as usize % N_PHI, phi.fract());
-    let j1 = (j0 + 1) % N_PHI;
-    let at = |k: usize, j: usize| values[k * N_PHI + j];
-    std::array::from_fn(|c| {
-        let lo = at(k0, j0)[c] * (1.0 - fy) + at(k0, j1)[c] * fy;
-        let hi = at(k1, j0)[c] * (1.0 - fy) + at(k1, j1)[c] * fy;
-        lo * (1.0 - fx) + hi * fx
-    })
+/// Where a direction in the upper hemisphere falls among the table's nodes: its two polar and two
+/// azimuthal neighbours and its place between them, bilinear in `cos² θ` and `φ` (worked out
+/// once, read from any table of per-channel node values).
+#[derive(Clone, Copy, Debug)]
+struct Cell {
+    k: [usize; 2],
+    fx: f64,
+    j: [usize; 2],
+    fy: f64,
+}
+
+impl Cell {
+    fn of(w: Vec3) -> Cell {
+        let mu2 = (w.z * w.z).clamp(0.0, 1.0);
+        let x = (mu2 * N_MU as f64 - 0.5).clamp(0.0, (N_MU - 1) as f64);
+        let (k0, fx) = (x.floor() as usize, x.fract());
+        let phi = w.y.atan2(w.x).rem_euclid(2.0 * PI) / (2.0 * PI) * N_PHI as f64 - 0.5;
+        let phi = phi.rem_euclid(N_PHI as f64);
+        let (j0, fy) = (phi.floor() as usize % N_PHI, phi.fract());
+        Cell {
+            k: [k0, (k0 + 1).min(N_MU - 1)],
+            fx,
+            j: [j0, (j0 + 1) % N_PHI],
+            fy,
+        }
+    }
+
+    fn read(&self, values: &[[f64; 3]]) -> [f64; 3] {
+        let at = |k: usize, j: usize| values[self.k[k] * N_PHI + self.j[j]];
+        std::array::from_fn(|c| {
+            let lo = at(0, 0)[c] * (1.0 - self.fy) + at(0, 1)[c] * self.fy;
+            let hi = at(1, 0)[c] * (1.0 - self.fy) + at(1, 1)[c] * self.fy;
+            lo * (1.0 - self.fx) + hi * self.fx
+        })
+    }
 }
 
 impl Translucency {
@@ -350,12 +374,16 @@ impl Translucency {
         if wi.z * wo.z >= 0.0 {
             return Rgb::BLACK;
         }
-        let (a, b) = (
-            bilinear(&self.diffuse, face(wi)),
-            bilinear(&self.diffuse, face(wo)),
-        );
+        let (fa, fb) = (face(wi), face(wo));
+        let (ca, cb) = (Cell::of(fa), Cell::of(fb));
+        let (a, b) = (ca.read(&self.diffuse), cb.read(&self.diffuse));
         let k = self.forward.kernel(wi, wo);
-        let forward = self.forward_factor(wi, wo);
+        // Beyond e⁻³⁰ of its peak the lobe adds nothing a float holds.
+        let forward = if k > 1e-13 {
+            self.forward_factor_in(fa.z, fb.z, ca, cb)
+        } else {
+            [0.0; 3]
+        };
         Rgb(std::array::from_fn(|c| {
             let diffuse = if self.mean[c] > 0.0 {
                 a[c] * b[c] / (PI * self.mean[c])
