@@ -907,6 +907,13 @@ def test_microcylinder_fabric_renders_in_scalar_rgb_as_the_library():
         # The woven cloth's keys do not apply to a fabric, and say so.
         with pytest.raises(Exception, match="pattern"):
             mi.load_dict({"type": "woven", "material": name, "pattern": "plain"})
+        # Nor does a spectral variant take the woven cloth, whose values are RGB.
+        if "scalar_spectral" in mi.variants():
+            mi.set_variant("scalar_spectral")
+            woven.mitsuba.register()
+            with pytest.raises(Exception, match="not an RGB variant.*export --format rgl"):
+                mi.load_dict({"type": "woven", "material": "polyester-sateen"})
+            mi.set_variant("scalar_rgb")
         # A fabric has no gaps to let light through, and says so.
         with pytest.raises(Exception, match="transmission"):
             mi.load_dict({"type": "woven", "material": name, "transmission": True})
@@ -1063,11 +1070,22 @@ def test_a_nan_texel_is_black_not_nan(llvm, interpolated_sateen, variant):
         mi.set_variant("llvm_ad_rgb")
 
 
-def test_woven_path_is_paths_estimator(llvm):
+@pytest.mark.parametrize("variant", ["llvm_ad_rgb", "scalar_rgb"])
+def test_woven_path_is_paths_estimator(llvm, variant):
     """`woven_path` is Mitsuba's `path` (emitters with MIS, next-event estimation, Russian
     roulette) with the camera ray's footprint at the first vertex: on a scene without a woven
     surface, with the same seed, it renders `path`'s image to float rounding (the same draws in
-    the same order), at several depths and with Russian roulette at work."""
+    the same order), at several depths and with Russian roulette at work, in a JIT variant and
+    in a scalar one (where it once failed: a Python bool's `~` is an integer's)."""
+    mi.set_variant(variant)
+    woven.mitsuba.register()
+    try:
+        _woven_path_is_paths_estimator()
+    finally:
+        mi.set_variant("llvm_ad_rgb")
+
+
+def _woven_path_is_paths_estimator():
     def scene(integrator, depth):
         return mi.load_dict({
             "type": "scene",

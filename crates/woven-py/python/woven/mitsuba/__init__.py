@@ -78,6 +78,10 @@ goes straight through keeps its last vertex and depth, as in ``woven render``; M
 ``path`` stops shadow rays at the cloth, so light beyond a sheer then reaches a point only
 through the BSDF's draws (unbiased, but noisier).
 
+**Variants.** The woven cloth's values are RGB: RGB variants take it (``scalar_rgb``,
+``llvm_ad_rgb``, ``cuda_ad_rgb``); spectral and monochrome variants refuse it by name, and for
+them ``woven export --format rgl --spectral`` writes a file Mitsuba's ``measured`` BSDF reads.
+
 ``material`` may also name a microcylinder fabric (Sadeghi et al. 2013: a ``microcylinder-*``
 preset, or a file with ``model = "microcylinder"``; see ``woven.Microcylinder``). RGB variants
 then evaluate, sample and weigh it with the library (the keys above other than ``material`` do

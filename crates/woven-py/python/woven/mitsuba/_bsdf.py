@@ -29,6 +29,13 @@ def _bsdf_class(mi):
 
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
+            if not mi.is_rgb:
+                raise ValueError(
+                    f"woven BSDF: the {mi.variant()} variant is not an RGB variant, and the"
+                    " woven cloth's values are RGB; use an RGB variant (scalar_rgb, llvm_ad_rgb,"
+                    " cuda_ad_rgb), or for a spectral one `woven export --format rgl --spectral`"
+                    " and Mitsuba's `measured` BSDF"
+                )
             self.surface, self.textures = _surface(props, mi)
             self.filter = self.surface.footprint_filter
             self.table = self.surface.table

@@ -75,9 +75,17 @@ def _integrator_class(mi):
 
     jit = dr.is_jit_v(mi.Float)
 
+    def no(mask):
+        """A mask's negation: Dr.Jit's ``~`` in JIT variants; in scalar ones the mask is a
+        Python bool, whose ``~`` is an integer's."""
+        return ~mask if jit else not mask
+
     def mis(a, b):
         """The power heuristic (β = 2) weight of a draw with density ``a`` against ``b``."""
         a2 = dr.square(a)
+        if not jit:
+            # (A scalar variant's floats are Python's: both branches are evaluated.)
+            return a2 / (a2 + dr.square(b)) if a > 0 else 0.0
         return dr.detach(dr.select(a > 0, a2 / (a2 + dr.square(b)), 0.0))
 
     class WovenPath(mi.SamplingIntegrator):
@@ -142,10 +150,16 @@ def _integrator_class(mi):
             # An emitter hit (the environment where the ray left the scene), weighed against
             # the light sampling that could have drawn it.
             ds = mi.DirectionSample3f(scene, si=si, ref=prev)
-            em_pdf = dr.select(
-                prev_delta, 0.0, scene.pdf_emitter_direction(prev, ds, active & ~prev_delta)
-            )
-            visible = active & ~((depth == 0) & self.hide_emitters)
+            if jit:
+                em_pdf = dr.select(
+                    prev_delta, 0.0, scene.pdf_emitter_direction(prev, ds, active & ~prev_delta)
+                )
+            elif active and not prev_delta and ds.emitter is not None:
+                em_pdf = scene.pdf_emitter_direction(prev, ds)
+            else:
+                # (A scalar variant's call dereferences the emitter even for an inactive lane.)
+                em_pdf = mi.Float(0.0)
+            visible = active & no((depth == 0) & self.hide_emitters)
             if jit or ds.emitter is not None:
                 emitted = ds.emitter.eval(si, visible)
                 L = L + dr.select(visible, beta * mis(prev_pdf, em_pdf) * emitted, 0.0)
@@ -178,7 +192,7 @@ def _integrator_class(mi):
             # as in `woven render`. The path keeps its last vertex, its draw's density and its
             # depth, so an emitter met beyond is weighed against that vertex's light sampling,
             # whose shadow ray passed the same way.
-            on = go_on & ~mi.has_flag(bs.sampled_type, mi.BSDFFlags.Null)
+            on = go_on & no(mi.has_flag(bs.sampled_type, mi.BSDFFlags.Null))
             prev = dr.select(on, si, prev)
             prev_pdf = dr.select(on, bs.pdf, prev_pdf)
             prev_delta = dr.select(on, mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta), prev_delta)
@@ -189,7 +203,7 @@ def _integrator_class(mi):
             rr_prob = dr.minimum(dr.max(beta) * dr.square(eta), 0.95)
             roulette = depth >= self.rr_depth
             beta = dr.select(roulette, beta * dr.rcp(rr_prob), beta)
-            survives = ~roulette | (sampler.next_1d() < rr_prob)
+            survives = no(roulette) | (sampler.next_1d() < rr_prob)
             active = go_on & survives & (dr.max(beta) != 0.0)
             si = scene.ray_intersect(ray, ray_flags=mi.RayFlags.All, coherent=False, active=active)
             return sampler, si, L, beta, eta, depth, prev, prev_pdf, prev_delta, active
