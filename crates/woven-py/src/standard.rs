@@ -17,7 +17,10 @@ use woven_fit::standard::{project_surface, StandardFamily};
 /// `alpha` `[along, across]` the yarn, `sheen_roughness`, `rms_log` and `isotropic_rms_log`,
 /// and `cycles` and `gltf`: the GGX lobe in each renderer's own parameters),
 /// `yarns_per_unit`, `cells` (pattern cells the tile spans, `[u, v]`), `texels_per_cell`,
-/// `factor_range` (a dye factor's texture value times it), and with `folder`, `files`: the
+/// `factor_range` (a dye factor's texture value times it), `translucent` (where the surface
+/// lets light through: what a point on a yarn transmits per channel, as a Lambertian
+/// translucency, its holes passing light straight through; None for an opaque surface, its
+/// holes black), and with `folder`, `files`: the
 /// paths of `STEM-layout.png` (weft share R, warp share G) and `STEM-factors.png` (weft R,
 /// warp G dye factors
 /// over `factor_range`), each written whole. Raises ValueError naming `texels_per_cell` outside
@@ -46,6 +49,7 @@ pub fn standard_surface<'py>(
     d.set_item("cells", images.cells.to_vec())?;
     d.set_item("texels_per_cell", images.texels_per_cell)?;
     d.set_item("factor_range", FACTOR_RANGE)?;
+    d.set_item("translucent", standard.translucent.map(|t| t.to_vec()))?;
     if let Some(folder) = folder {
         let files = py
             .detach(|| images.write(&folder, stem))

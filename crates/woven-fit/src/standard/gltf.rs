@@ -286,7 +286,8 @@ const TEXTURE_NAMES: [&str; 5] = [
 /// the document names them relative to itself (module docs).
 ///
 /// # Errors
-/// [`FitError::InvalidParameter`] naming `swatch_m` out of range or `path` without a file
+/// [`FitError::InvalidParameter`] naming `transmission` for a surface that lets light through
+/// ([`check_spec`](super::check_spec)), `swatch_m` out of range or `path` without a file
 /// name; [`FitError::Material`] holding the I/O error that names a file that cannot be written.
 pub fn write(
     surface: &StandardSurface,
@@ -294,6 +295,7 @@ pub fn write(
     path: &Path,
     options: &GltfOptions,
 ) -> Result<GltfFiles, FitError> {
+    super::refuse_transmission(surface.translucent.is_some())?;
     options.validate()?;
     let (folder, stem) = super::openpbr::folder_and_stem(path)?;
     let textures = GltfTextures::bake(surface, images);

@@ -77,6 +77,11 @@ pub struct StandardSurface {
     pub warp: StandardFamily,
     /// Pattern cells per unit of uv, `[n_u, n_v]`.
     pub yarns_per_unit: [f64; 2],
+    /// Where the surface lets light through (`transmission`): what a point on a yarn transmits
+    /// through its fibres per channel, as a Lambertian translucency
+    /// ([`WovenSurface::yarn_transmittance`]); its holes pass light straight through. `None`
+    /// for an opaque surface, whose holes are black.
+    pub translucent: Option<[f64; 3]>,
 }
 
 /// Cycles' GGX lobe (its Metallic BSDF: GGX, physical-conductor Fresnel of index 1.5 and
@@ -163,23 +168,24 @@ impl StandardFamily {
 ///
 /// # Errors
 /// [`FitError::InvalidParameter`] naming `transmission` for a surface that lets light through:
-/// the standard materials here carry no transmission (they would render it opaque, its holes
-/// black).
+/// the OpenPBR and glTF writers carry no transmission (they would render it opaque, its holes
+/// black); Blender's Cycles does ([`StandardSurface::translucent`]).
 pub fn check_spec(spec: &SurfaceSpec) -> Result<(), FitError> {
     refuse_transmission(spec.transmission)
 }
 
-/// The refusal of [`check_spec`].
-fn refuse_transmission(transmits: bool) -> Result<(), FitError> {
+/// The refusal of [`check_spec`] (and of the OpenPBR and glTF writers).
+pub(crate) fn refuse_transmission(transmits: bool) -> Result<(), FitError> {
     if !transmits {
         return Ok(());
     }
     Err(FitError::InvalidParameter {
         name: "transmission".into(),
         value: "true".into(),
-        expected: "false: the Cycles, OpenPBR and glTF materials woven writes do not pass light \
-                   between or through the yarns yet (woven render does); with transmission = \
-                   false they carry the cloth's reflection, its holes black"
+        expected: "false: the OpenPBR and glTF materials woven writes do not pass light \
+                   between or through the yarns yet (woven render, the Mitsuba plugin and \
+                   woven.blender do); with transmission = false they carry the cloth's \
+                   reflection, its holes black"
             .into(),
     })
 }
@@ -187,9 +193,8 @@ fn refuse_transmission(transmits: bool) -> Result<(), FitError> {
 /// `surface`'s two families on the standard lobes (module docs).
 ///
 /// # Errors
-/// As [`check_spec`]; [`FitError`] when a family's BRDF is 0 everywhere (nothing to fit).
+/// [`FitError`] when a family's BRDF is 0 everywhere (nothing to fit).
 pub fn project_surface(surface: &WovenSurface) -> Result<StandardSurface, FitError> {
-    refuse_transmission(surface.transmits())?;
     let weft = project_family(surface, false)?;
     // Families dyed alike are one projection.
     let warp = if surface.albedos(true) == surface.albedos(false) {
@@ -201,6 +206,7 @@ pub fn project_surface(surface: &WovenSurface) -> Result<StandardSurface, FitErr
         weft,
         warp,
         yarns_per_unit: surface.yarns_per_unit(),
+        translucent: surface.yarn_transmittance().map(|t| t.0),
     })
 }
 

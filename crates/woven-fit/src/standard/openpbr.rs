@@ -129,13 +129,15 @@ pub struct OpenPbrFiles {
 /// itself (module docs: no normal map).
 ///
 /// # Errors
-/// [`FitError::InvalidParameter`] naming `path` when it has no file name;
+/// [`FitError::InvalidParameter`] naming `transmission` for a surface that lets light through
+/// ([`check_spec`](super::check_spec)) or `path` when it has no file name;
 /// [`FitError::Material`] holding the I/O error that names a file that cannot be written.
 pub fn write(
     surface: &StandardSurface,
     images: &LayoutImages,
     path: &Path,
 ) -> Result<OpenPbrFiles, FitError> {
+    super::refuse_transmission(surface.translucent.is_some())?;
     let (folder, stem) = folder_and_stem(path)?;
     let textures = images.write(&folder, &stem)?;
     let text = document(surface, images, &stem);

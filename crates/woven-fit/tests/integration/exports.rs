@@ -66,6 +66,7 @@ fn standard() -> StandardSurface {
         weft: family([0.05, 0.4], [0.6, 0.15, 0.05], [1.4, 1.2, 1.0], 0.01),
         warp: family([0.1, 0.3], [0.05, 0.2, 0.5], [0.5, 0.6, 0.7], 0.004),
         yarns_per_unit: [2000.0, 1000.0],
+        translucent: None,
     }
 }
 
@@ -408,5 +409,24 @@ fn bad_parameters_are_refused_by_name() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no/such/folder"), "{e}");
+    // A surface that lets light through: its transmission is Blender's alone, and the writers
+    // say so before they write anything.
+    let sheer = StandardSurface {
+        translucent: Some([0.4, 0.3, 0.2]),
+        ..standard()
+    };
+    let e = openpbr::write(&sheer, &images, &dir.path().join("s.mtlx"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("transmission"), "{e}");
+    let e = gltf::write(
+        &sheer,
+        &images,
+        &dir.path().join("s.gltf"),
+        &GltfOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("transmission"), "{e}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }

@@ -80,7 +80,7 @@ fn scaled(albedos: [Albedos; 3], factor: f64) -> [Albedos; 3] {
 
 /// `τ` per channel for these dyes (the body albedos `ρ0`), the weft's share `g` of the weave
 /// ([`translucent`](super::translucent)).
-fn tau(g: f64, weft: &[Albedos; 3], warp: &[Albedos; 3]) -> [f64; 3] {
+pub(super) fn tau(g: f64, weft: &[Albedos; 3], warp: &[Albedos; 3]) -> [f64; 3] {
     use super::translucent::{slab_transmitted_share, YARN_SCATTERING_DEPTH};
     let share = |a: &Albedos| slab_transmitted_share(a.diffuse, YARN_SCATTERING_DEPTH);
     std::array::from_fn(|c| g * share(&weft[c]) + (1.0 - g) * share(&warp[c]))

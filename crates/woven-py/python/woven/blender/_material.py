@@ -36,8 +36,8 @@ def standard(surface, identity, folder, stem, texels_per_cell=16):
     ``folder`` as ``STEM-*.png``. ``identity`` (text naming the material and its keys wholly)
     keys a cache beside the library's tables (``$XDG_CACHE_HOME/woven/standard``, else
     ``~/.cache/woven/standard``): a projection takes seconds to a minute, a cached one none.
-    Raises ValueError for a surface that lets light through (``transmission``), which these
-    materials do not carry yet (the library's projection refuses it)."""
+    A surface that lets light through (``transmission``) carries its yarns' translucency
+    (``std["translucent"]``) and passes light through its holes."""
     key = hashlib.sha256(
         f"{woven.__version__}\n{woven.STANDARD_VERSION}\n{texels_per_cell}\n{identity}".encode()).hexdigest()[:32]
     root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
@@ -75,7 +75,9 @@ def _store(cached, std, names):
 def material(bpy, name, std):
     """A Blender material named ``name`` from ``std`` (``woven.standard_surface``'s dict with
     its ``files``): the layout's textures over the uv in the cloth's units (the mesh's uv, as
-    ``woven render`` reads it), the two families' lobes, black in the holes."""
+    ``woven render`` reads it), the two families' lobes, black in the holes; where the cloth
+    lets light through, its yarns translucent, its holes transparent and its back face the
+    weave turned over."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
     tree = Tree(bpy, mat.node_tree)
@@ -91,20 +93,35 @@ def material(bpy, name, std):
     geometry = tree.node("ShaderNodeNewGeometry")
     tangent = tree.node("ShaderNodeTangent", direction_type="UV_MAP", uv_map=UV_MAP)
     normal, along_u = geometry.outputs["Normal"], tangent.outputs["Tangent"]
-    weft = _family(tree, std["weft"], factors[0], std["factor_range"], normal, along_u, 0.0)
-    warp = _family(tree, std["warp"], factors[1], std["factor_range"], normal, along_u, 0.25)
-    # The warp where it is on top, else the weft; nothing where neither is (a hole).
+    translucent = std.get("translucent")
+    weft = _family(tree, std["weft"], factors[0], std["factor_range"], normal, along_u, 0.0,
+                   translucent)
+    warp = _family(tree, std["warp"], factors[1], std["factor_range"], normal, along_u, 0.25,
+                   translucent)
+    # The warp where it is on top, else the weft.
     families = tree.mix(layout[1], weft, warp)
+    hole = None
+    if translucent is not None:
+        # A cloth that lets light through is two-sided: from behind, the weave turned over
+        # (where the weft is on top in front, the warp shows behind: the pattern's complement;
+        # Cycles turns the frame of a back face about the tangent, along the weft, as woven
+        # render does), and its holes pass light straight through.
+        back = tree.mix(layout[1], warp, weft)
+        behind = geometry.outputs["Backfacing"]
+        families = tree.mix(behind, families, back)
+        hole = tree.node("ShaderNodeBsdfTransparent").outputs["BSDF"]
     cover = tree.math("ADD", layout[0], layout[1], clamp=True)
     out = tree.node("ShaderNodeOutputMaterial")
-    tree.link(tree.mix(cover, None, families), out.inputs["Surface"])
+    # Where neither family is (a hole): nothing, or light straight through.
+    tree.link(tree.mix(cover, hole, families), out.inputs["Surface"])
     return mat
 
 
-def _family(tree, fam, factor, factor_range, normal, along_u, turn):
+def _family(tree, fam, factor, factor_range, normal, along_u, turn, translucent=None):
     """One family's closures, added: Lambert in its dye (times its yarn's factor), the GGX
-    lobe per channel, the sheen. ``turn`` (in turns) takes the weft's tangent (along u) to the
-    family's yarn."""
+    lobe per channel, the sheen, and where the cloth lets light through, the Lambertian
+    translucency ``translucent`` (per channel) of its yarns. ``turn`` (in turns) takes the
+    weft's tangent (along u) to the family's yarn."""
     scale = tree.math("MULTIPLY", factor, factor_range)
     dye = tree.node("ShaderNodeVectorMath", operation="SCALE")
     dye.inputs[0].default_value = tuple(fam["diffuse"])
@@ -136,6 +153,11 @@ def _family(tree, fam, factor, factor_range, normal, along_u, turn):
         sheen.inputs["Roughness"].default_value = fam["sheen_roughness"]
         tree.link(normal, sheen.inputs["Normal"])
         shaders.append(sheen.outputs["BSDF"])
+    if translucent is not None and max(translucent) > 0.0:
+        through = tree.node("ShaderNodeBsdfTranslucent")
+        through.inputs["Color"].default_value = (*[float(x) for x in translucent], 1.0)
+        tree.link(normal, through.inputs["Normal"])
+        shaders.append(through.outputs["BSDF"])
     total = shaders[0]
     for s in shaders[1:]:
         add = tree.node("ShaderNodeAddShader")
