@@ -151,21 +151,7 @@ def test_a_backlit_voile_renders_in_cycles_as_in_woven_render(tmp_path):
     +0.5 %; the sky alone +1.3 %, the lamp alone −0.7 %): Cycles' holes pass light at every
     angle where woven's open area closes as the view tilts, and its translucency is Lambertian,
     but the yarns' transmittance is taken along the normal, so the two balance."""
-    scene = tmp_path / "sheer.toml"
-    scene.write_text(SHEER)
-    out = tmp_path / "cycles.exr"
-    r = _run(str(scene), "-o", str(out), "--texels-per-cell", "4")
-    assert r.returncode == 0, r.stderr[-2000:]
-    binary = os.environ.get("WOVEN_BIN", str(REPO / "target/release/woven"))
-    ref = tmp_path / "woven.exr"
-    subprocess.run([binary, "render", str(scene), "--no-denoise", "-o", str(ref)], check=True,
-                   capture_output=True)
-    from showcase import read_exr, LUMINANCE
-
-    a, b = (read_exr(bpy, p) @ LUMINANCE for p in (ref, out))
-    rel = b.mean() / a.mean() - 1.0
-    print(f"backlit voile: woven {a.mean():.4f}, Cycles {b.mean():.4f} ({100 * rel:+.1f} %)")
-    assert abs(rel) < 0.03
+    assert abs(_cycles_against_woven(tmp_path, SHEER, "backlit voile")) < 0.03
 
 
 SCENE = """
@@ -210,12 +196,11 @@ def _run(*args):
                           text=True)
 
 
-def test_a_linen_plane_renders_in_cycles_as_in_woven_render(tmp_path):
-    """`python -m woven.blender` on a linen cloth under the sun and sky, against `woven render`
-    of the same scene: the means within 5 % (a matte cloth, whose BRDF the standard lobes carry;
-    the showcase's silks are measured by scripts/blender/showcase.py, docs/blender.md)."""
-    scene = tmp_path / "plane.toml"
-    scene.write_text(SCENE)
+def _cycles_against_woven(tmp_path, text, label):
+    """The scene `text` rendered by `python -m woven.blender` and by `woven render
+    --no-denoise`: the relative difference of their mean luminances, printed."""
+    scene = tmp_path / "scene.toml"
+    scene.write_text(text)
     out = tmp_path / "cycles.exr"
     r = _run(str(scene), "-o", str(out), "--texels-per-cell", "4")
     assert r.returncode == 0, r.stderr[-2000:]
@@ -227,8 +212,15 @@ def test_a_linen_plane_renders_in_cycles_as_in_woven_render(tmp_path):
 
     a, b = (read_exr(bpy, p) @ LUMINANCE for p in (ref, out))
     rel = b.mean() / a.mean() - 1.0
-    print(f"linen plane: woven {a.mean():.4f}, Cycles {b.mean():.4f} ({100 * rel:+.1f} %)")
-    assert abs(rel) < 0.05
+    print(f"{label}: woven {a.mean():.4f}, Cycles {b.mean():.4f} ({100 * rel:+.1f} %)")
+    return rel
+
+
+def test_a_linen_plane_renders_in_cycles_as_in_woven_render(tmp_path):
+    """`python -m woven.blender` on a linen cloth under the sun and sky, against `woven render`
+    of the same scene: the means within 5 % (a matte cloth, whose BRDF the standard lobes carry;
+    the showcase's silks are measured by scripts/blender/showcase.py, docs/blender.md)."""
+    assert abs(_cycles_against_woven(tmp_path, SCENE, "linen plane")) < 0.05
 
 
 def test_the_command_refuses_bad_arguments(tmp_path):
