@@ -35,7 +35,9 @@ def main(argv=None):
     )
     ap.add_argument("scene", help="a woven render scene file (TOML), or 'showcase'")
     ap.add_argument("-o", "--output", required=True, type=Path, help="OUT.exr (linear) or OUT.png")
-    ap.add_argument("--samples", type=_positive, help="samples per pixel (the scene's by default)")
+    ap.add_argument("--spp", "--samples", dest="samples", type=_positive,
+                    help="samples per pixel (the scene's by default; --spp as woven render and"
+                    " python -m woven.mitsuba spell it)")
     ap.add_argument("--width", type=_positive, help="film width (the scene's by default)")
     ap.add_argument("--height", type=_positive, help="film height (the scene's by default)")
     ap.add_argument("--seed", type=int, help="Cycles' seed (the scene's by default)")
