@@ -47,11 +47,12 @@
 //! **Departures.** The paper's cloth is opaque; this is an option beyond it. The forward lobe is
 //! round (a fibre deflects light across its axis, not along it: Zhu et al. 2023's cross-shaped
 //! highlights are not drawn), its share that of a white slab at every dye (a dark yarn's leans
-//! further forward), the slab's depth a stated constant, not a fitted one, and the reflection is the paper's, not the slab's (it stays what `woven eval`,
-//! the tables and the fits are). At the yarn level a yarn transmits `1 / (1 − gap²)` of the
-//! cloth's `f_t` and a hole nothing (it passes light straight through instead), so a cell
-//! averages to the cloth's. The table's back side is its front turned over about the weft (the
-//! back's own reflection is its pattern's complement, [`Material::back`](crate::material::Material::back)).
+//! further forward), the slab's depth a stated constant, not a fitted one, and the reflection
+//! is the paper's, not the slab's (it stays what `woven eval`, the tables and the fits are). At
+//! the yarn level a yarn transmits `1 / (1 − gap²)` of the cloth's `f_t` and a hole nothing (it
+//! passes light straight through instead), so a cell averages to the cloth's. The table's back
+//! side is its front turned over about the weft (the back's own reflection is its pattern's
+//! complement, [`Material::back`](crate::material::Material::back)).
 //! What these departures cost, light followed through explicit yarns measures (docs/model.md,
 //! "The explicit-yarn check"): `τ` within 2–7 % for pale fibres, too small for dark ones, and
 //! the exit's lean forward as the forward lobe gives it for white fibres.
@@ -109,6 +110,8 @@ pub fn forward_spread(eta: f64, alpha: f64, yarn: Option<&crate::yarn::YarnParam
 struct Forward {
     /// `λ = 1 / s²`.
     lambda: f64,
+    /// `1 − e^{−2λ}`: `K`'s integral over the sphere is `2π` times it over `λ`.
+    mass: f64,
     /// `N(μ)` at `μ = k / (N_NORM − 1)`.
     norm: Vec<f64>,
 }
@@ -118,13 +121,14 @@ impl Forward {
         let lambda = 1.0 / (spread * spread);
         let mut lobe = Forward {
             lambda,
+            mass: 1.0 - (-2.0 * lambda).exp(),
             norm: Vec::new(),
         };
         lobe.norm = (0..N_NORM)
             .map(|k| {
                 let mu = k as f64 / (N_NORM - 1) as f64;
                 let w = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
-                lobe.integral(w, |d| (-d.z).max(0.0))
+                lobe.integral(w, |d| [(-d.z).max(0.0)])[0]
             })
             .collect();
         lobe
@@ -147,8 +151,7 @@ impl Forward {
     /// `K`, on the whole sphere).
     fn direction(&self, w: Vec3, x: f64, y: f64) -> Vec3 {
         let axis = -w;
-        let spread = 1.0 - (-2.0 * self.lambda).exp();
-        let u = -(1.0 - x * spread).ln() / self.lambda;
+        let u = -(1.0 - x * self.mass).ln() / self.lambda;
         let (cos, sin) = (1.0 - u, (u * (2.0 - u)).max(0.0).sqrt());
         let (t, b) = crate::math::basis::orthonormal_basis(axis);
         let psi = 2.0 * PI * y;
@@ -157,23 +160,23 @@ impl Forward {
 
     /// The lobe's density over the sphere at `d` for the lobe about `−w`.
     fn density(&self, w: Vec3, d: Vec3) -> f64 {
-        let spread = 1.0 - (-2.0 * self.lambda).exp();
-        self.lambda * self.kernel(w, d) / (2.0 * PI * spread)
+        self.lambda * self.kernel(w, d) / (2.0 * PI * self.mass)
     }
 
-    /// `∫ K(w, d) g(d) dω` over the sphere, by the lobe's own importance sampling on a
-    /// midpoint grid.
-    fn integral(&self, w: Vec3, g: impl Fn(Vec3) -> f64) -> f64 {
+    /// `∫ K(w, d) g(d) dω` over the sphere for each of `g`'s `C` values, by the lobe's own
+    /// importance sampling on a midpoint grid.
+    fn integral<const C: usize>(&self, w: Vec3, g: impl Fn(Vec3) -> [f64; C]) -> [f64; C] {
         let n = LOBE_QUADRATURE;
-        let mut sum = 0.0;
+        let mut sum = [0.0; C];
         for i in 0..n {
             for j in 0..n {
                 let d = self.direction(w, (i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
-                sum += g(d);
+                for (s, v) in sum.iter_mut().zip(g(d)) {
+                    *s += v;
+                }
             }
         }
-        let spread = 1.0 - (-2.0 * self.lambda).exp();
-        sum / (n * n) as f64 * 2.0 * PI * spread / self.lambda
+        sum.map(|s| s / (n * n) as f64 * 2.0 * PI * self.mass / self.lambda)
     }
 }
 
@@ -268,7 +271,7 @@ impl Translucency {
             }
         }
         let mut table = Translucency {
-            diffuse: rest.clone(),
+            diffuse: Vec::new(),
             rest,
             mean: [0.0; 3],
             forward: Forward::new(spread.max(MIN_FORWARD_SPREAD)),
@@ -292,13 +295,9 @@ impl Translucency {
 
     /// The forward lobe's marginal `m_F(w) = ∫ f_F(w, wo) |cos θo| dωo` per channel, `w` above.
     fn forward_marginal(&self, w: Vec3) -> [f64; 3] {
-        let mut out = [0.0; 3];
-        for (c, o) in out.iter_mut().enumerate() {
-            *o = self
-                .forward
-                .integral(w, |d| self.forward_factor(w, d)[c] * (-d.z).max(0.0));
-        }
-        out
+        self.forward.integral(w, |d| {
+            self.forward_factor(w, d).map(|f| f * (-d.z).max(0.0))
+        })
     }
 
     /// `√(u(wi) u(wo) / (N(wi) N(wo)))` per channel, `wi` and `wo` on opposite sides: the

@@ -314,14 +314,11 @@ def _bsdf_class(mi):
             bs.wo = dr.select(null, -si.wi, wo)
             bs.eta = 1.0
             bs.pdf = dr.select(null, passed, dr.select(drawn, pdf, 0.0))
-            kinds = [(mi.BSDFFlags.GlossyReflection, 0), (mi.BSDFFlags.DiffuseTransmission, 1),
-                     (mi.BSDFFlags.Null, 2)]
-            kind = dr.select(null, 2, dr.select(same, 0, 1))
-            bs.sampled_type = mi.UInt32(+kinds[0][0])
-            bs.sampled_component = mi.UInt32(kind)
-            if self.transmits:
-                for flag, i in kinds[1:]:
-                    bs.sampled_type = dr.select(kind == i, mi.UInt32(+flag), bs.sampled_type)
+            # The component drawn, in m_components' order, and its type.
+            bs.sampled_component = mi.UInt32(dr.select(null, 2, dr.select(same, 0, 1)))
+            reflected, through = +mi.BSDFFlags.GlossyReflection, +mi.BSDFFlags.DiffuseTransmission
+            bs.sampled_type = mi.UInt32(
+                dr.select(null, +mi.BSDFFlags.Null, dr.select(same, reflected, through)))
             weight = dr.select(drawn, f / dr.select(drawn, pdf, 1.0), 0.0)
             return bs, dr.select(null, 1.0, weight)
 
